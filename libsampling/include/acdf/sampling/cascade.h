@@ -1,0 +1,106 @@
+#pragma once
+// The cascaded N-dimensional CDF (Lawrence et al. 2005): a distribution over a box, given as a
+// dense row-major grid of non-negative values (axis 0 varies slowest).
+//
+// The first `conditioningDims` axes are given at sample time and only looked up (nearest cell):
+// each of their cells ("slice") owns an independent distribution over the remaining, sampled axes
+// — the BRDF case, where ωo is given and ωh sampled. Over the sampled axes the cascade is
+//   p(x0) · p(x1 | interval of x0) · p(x2 | intervals of x0, x1) · ...
+// Each factor is a 1D CDF, uniform (every grid cell) or adaptive (simplified, see simplify.h), per
+// dimension. The conditional below an adaptive interval is, by default, the exact conditional
+// given that interval (masses summed over it, so the cascade's cell probabilities are exact
+// wherever no simplification happened); ConditionalRule::AverageOfNormalized instead averages
+// the normalised conditionals of the interval's cells (the paper's eq. 10).
+//
+// Storage: per sampled dimension, the 1D CDFs of that level are pooled: float CDF values, and for
+// adaptive levels 16/32-bit vertex indices plus one 32-bit offset per 1D CDF. The children of a
+// level's CDF are contiguous in the next level, so no child pointers are stored.
+// Precision: all sums in double; stored CDFs in float; pdf = product of the per-level densities
+// computed in double and clamped into the positive float range.
+// Zero mass: a slice (or sub-block) with no mass gets a uniform distribution of two points;
+// isUniformFallback(slice) reports it.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "acdf/sampling/grid_axis.h"
+#include "acdf/sampling/sample.h"
+#include "acdf/sampling/simplify.h"
+#include "acdf/sampling/vertex_indices.h"
+
+namespace acdf {
+
+enum class DimensionMethod : uint8_t { Uniform, Adaptive };
+enum class ConditionalRule : uint8_t { ExactMass, AverageOfNormalized };
+
+struct CascadeOptions {
+  uint32_t conditioningDims = 0;
+  // One entry per sampled dimension; empty means every sampled dimension is adaptive.
+  std::vector<DimensionMethod> methods;
+  SimplifyOptions simplify;
+  ConditionalRule conditional = ConditionalRule::ExactMass;
+};
+
+class Cascade {
+ public:
+  // values.size() must equal the product of the axes' cell counts; 1 <= axes.size() <= kMaxDims;
+  // conditioningDims < axes.size(). Throws std::invalid_argument otherwise, or on a negative, NaN
+  // or Inf value (naming the first bad index and its cell). Built in parallel (oneTBB); the result
+  // does not depend on the number of threads.
+  Cascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options = {});
+
+  // condition: conditioningDims() coordinates; u: sampledDims() variates in [0,1).
+  SampleND sample(std::span<const float> condition, std::span<const float> u) const;
+  // Density of the sampled coordinates x given the condition; 0 outside the domain.
+  float pdf(std::span<const float> condition, std::span<const float> x) const;
+  // The variates that sample() maps to x (up to float rounding); u gets sampledDims() entries.
+  void invert(std::span<const float> condition, std::span<const float> x, std::span<float> u) const;
+
+  // Shorthands without conditioning dimensions.
+  SampleND sample(std::span<const float> u) const { return sample({}, u); }
+  float pdf(std::span<const float> x) const { return pdf({}, x); }
+
+  std::size_t dims() const { return axes_.size(); }
+  std::size_t conditioningDims() const { return conditioningDims_; }
+  std::size_t sampledDims() const { return axes_.size() - conditioningDims_; }
+  const std::vector<GridAxis>& axes() const { return axes_; }
+  const CascadeOptions& options() const { return options_; }
+
+  std::size_t slices() const { return sliceIntegral_.size(); }
+  std::size_t sliceOf(std::span<const float> condition) const;
+  // ∫ f over the sampled axes of a slice (double sum); 0 means the slice samples uniformly.
+  double integral(std::size_t slice) const { return sliceIntegral_[slice]; }
+  bool isUniformFallback(std::size_t slice) const { return sliceIntegral_[slice] == 0.0; }
+
+  std::size_t bytes() const;
+  // Per axis: the average number of intervals of its 1D CDFs (the paper's "average resolution");
+  // conditioning axes report their cell count.
+  std::vector<double> averageIntervals() const;
+  // Kept points (interval ends) summed over all 1D CDFs of each sampled axis.
+  std::vector<std::size_t> pointsPerDimension() const;
+
+  // Probability the distribution of `slice` gives each cell of the sampled grid, row-major.
+  // Exact (the pdf is constant on grid cells); used for quality metrics and chi-square tests.
+  std::vector<double> cellProbabilities(std::size_t slice) const;
+
+  struct Level {
+    DimensionMethod method;
+    std::vector<float> cdf;        // pooled CDF values of all 1D CDFs of this level
+    VertexIndices vertices;        // adaptive only: grid vertex of each pooled point
+    std::vector<uint32_t> starts;  // adaptive only: first pooled point of each 1D CDF, plus end
+  };
+
+ private:
+  struct Node;  // one 1D CDF located in a level
+  Node node(std::size_t level, std::size_t index) const;
+
+  std::vector<GridAxis> axes_;
+  std::size_t conditioningDims_;
+  CascadeOptions options_;
+  std::vector<double> sliceIntegral_;
+  std::vector<Level> levels_;  // one per sampled axis
+};
+
+}  // namespace acdf

@@ -1,0 +1,52 @@
+#pragma once
+// One axis of a regular grid: `cells` equal cells over the half-open domain [lo, hi).
+//
+// Every distribution in libsampling is piecewise constant on such a grid, so the axis owns the
+// two mappings all of them need: a coordinate to its cell, and a position inside a range of cells
+// back to a coordinate. Both are written so that they agree exactly in float arithmetic: a
+// coordinate produced by place() for cells [first, end) always maps back into [first, end), and
+// always lies strictly inside (lo, hi) (never on the boundary, where e.g. sinθ = 0 at a pole).
+
+#include <cstdint>
+
+namespace acdf {
+
+class GridAxis {
+ public:
+  // Throws std::invalid_argument unless cells >= 1, lo < hi are finite and each cell is wide
+  // enough (at least 8 float ulps) to hold coordinates strictly inside it.
+  explicit GridAxis(uint32_t cells, float lo = 0.0f, float hi = 1.0f);
+
+  uint32_t cells() const { return cells_; }
+  float lo() const { return lo_; }
+  float hi() const { return hi_; }
+  double cellWidth() const { return cellWidth_; }
+
+  bool contains(float x) const { return x >= lo_ && x < hi_; }
+
+  // The cell holding x, clamped to [0, cells-1]. Monotone non-decreasing in x.
+  uint32_t cellOf(float x) const;
+
+  // Continuous grid coordinate of x in [0, cells] (cell k spans [k, k+1)).
+  double gridCoordinate(float x) const;
+
+  // The coordinate at fraction t in [0,1] of the cell range [firstCell, endCell), nudged so that
+  // cellOf(result) is in [firstCell, endCell) and lo < result < hi.
+  float place(uint32_t firstCell, uint32_t endCell, double t) const;
+
+  // Density (w.r.t. this axis' length measure) of probability `mass` spread evenly over
+  // `cellCount` cells. Used identically by sample() and pdf() so the two agree bit for bit.
+  double density(double mass, uint32_t cellCount) const {
+    return mass / (static_cast<double>(cellCount) * cellWidth_);
+  }
+
+  bool operator==(const GridAxis&) const = default;
+
+ private:
+  uint32_t cells_;
+  float lo_, hi_;
+  double cellWidth_;
+  double invCellWidth_;
+};
+
+}  // namespace acdf

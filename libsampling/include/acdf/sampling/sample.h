@@ -1,0 +1,35 @@
+#pragma once
+// Result types shared by the distributions. Coordinates and densities are float, as a renderer
+// consumes them; tables are built with double sums and stored as float (see each class).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace acdf {
+
+// The largest float strictly below 1: the biggest value a [0,1) sample generator may return.
+inline constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+// Most dimensions any grid distribution supports (conditioning plus sampled).
+inline constexpr std::size_t kMaxDims = 8;
+
+struct Sample1D {
+  float x = 0;    // strictly inside the domain
+  float pdf = 0;  // density w.r.t. length on the domain, finite and > 0
+};
+
+struct SampleND {
+  std::array<float, kMaxDims> x{};  // first sampledDims() entries are used
+  float pdf = 0;                    // density w.r.t. the product (Lebesgue) measure
+};
+
+// Clamps a density into the positive finite float range. Products of per-dimension densities
+// can underflow (1e-30 * 1e-30) or overflow in float; a returned sample must never report 0.
+float clampDensity(double density);
+
+// Clamps a caller's uniform variate into [0, kOneMinusEpsilon]; NaN maps to 0.
+float clampUnit(float u);
+
+}  // namespace acdf

@@ -1,0 +1,52 @@
+#pragma once
+// Curve simplification of a tabulated CDF: choose the grid vertices an adaptive CDF keeps.
+//
+// Input is the uniform table's CDF: n+1 non-decreasing values F[0] = 0 ... F[n] = 1 at the grid
+// vertices 0..n. Output is a sorted subset of those vertices, always containing 0 and n; the
+// adaptive CDF interpolates F linearly between them, so its pdf is piecewise constant on the
+// kept intervals and every stored CDF value is one of the uniform table's values.
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace acdf {
+
+enum class Simplifier : uint8_t {
+  // Douglas–Peucker (1973): split a segment at its worst vertex while the error exceeds ε.
+  DouglasPeucker,
+  // Greedy global refinement (Lawrence et al. 2005): always split the worst segment of the whole
+  // curve next, using a priority queue; stops at the point budget or when the error is <= ε.
+  GreedyRefinement,
+};
+
+enum class ErrorMetric : uint8_t {
+  Vertical,       // |F(k) - line(k)|: the CDF-value (L∞) error, in probability.
+  Perpendicular,  // distance to the line in the unit square (x = k/n, y = F).
+};
+
+struct SimplifyOptions {
+  Simplifier method = Simplifier::DouglasPeucker;
+  ErrorMetric metric = ErrorMetric::Vertical;
+  double epsilon = 2e-3;  // largest error left in the simplified CDF; >= 0
+  // Greedy refinement only: stop once this many points are kept (0 = no budget). The weight bound
+  // below may add points beyond the budget: it is a guarantee, the budget is a target.
+  uint32_t maxPoints = 0;
+  // ρ: after simplification, while some original cell has p_cell / p_adaptive > ρ inside an
+  // interval, split that interval at its worst vertex. Bounds the sample weight the compression
+  // can add, so it cannot create fireflies. 0 disables the bound; otherwise must be >= 1.
+  double weightBound = 4.0;
+};
+
+// Throws std::invalid_argument on inconsistent options (negative ε, ρ in (0,1), a budget below 2,
+// a budget with Douglas–Peucker).
+void validate(const SimplifyOptions& options);
+
+// cdf: n+1 values as described above (n >= 1). Returns the kept vertices, sorted, with 0 and n.
+std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOptions& options);
+
+std::string_view toString(Simplifier s);
+std::string_view toString(ErrorMetric m);
+
+}  // namespace acdf
