@@ -1,0 +1,51 @@
+# Third-party packages acdf builds against. All come from Debian packages installed by
+# scripts/install-deps; every one ships a CMake config file, so config mode is used throughout.
+#
+# Imported targets made available here:
+#   TBB::tbb                      oneTBB
+#   fmt::fmt                      {fmt}
+#   CLI11::CLI11                  CLI11 (header-only)
+#   nlohmann_json::nlohmann_json  JSON for Modern C++ (header-only)
+#   OpenImageIO::OpenImageIO      OpenImageIO (image reading/writing), OpenImageIO::OpenImageIO_Util
+#   OpenEXR::OpenEXR, Imath::Imath
+#   GTest::gtest, GTest::gtest_main, GTest::gmock   only when BUILD_TESTING is ON
+#   benchmark::benchmark, benchmark::benchmark_main
+
+find_package(TBB CONFIG REQUIRED)
+# fmt before OpenImageIO: OIIO's targets link fmt::fmt only "if it exists".
+find_package(fmt CONFIG REQUIRED)
+find_package(CLI11 CONFIG REQUIRED)
+find_package(nlohmann_json CONFIG REQUIRED)
+find_package(Imath CONFIG REQUIRED)
+find_package(OpenEXR CONFIG REQUIRED)
+find_package(OpenImageIO CONFIG REQUIRED)
+find_package(benchmark CONFIG REQUIRED)
+if(BUILD_TESTING)
+  find_package(GTest REQUIRED)
+endif()
+
+# Debian's OpenImageIO targets list include directories of optional dependencies that need not be
+# installed (/usr/include/opencv4 unless OpenCV is). CMake refuses to generate a project that uses
+# an imported target with a non-existent include directory, so drop the missing ones.
+function(acdf_drop_missing_include_dirs target)
+  if(NOT TARGET ${target})
+    return()
+  endif()
+  get_target_property(dirs ${target} INTERFACE_INCLUDE_DIRECTORIES)
+  if(NOT dirs)
+    return()
+  endif()
+  set(kept "")
+  foreach(dir IN LISTS dirs)
+    # Keep generator expressions untouched: they cannot be checked at configure time.
+    if(dir MATCHES "\\$<" OR EXISTS "${dir}")
+      list(APPEND kept "${dir}")
+    else()
+      message(STATUS "acdf: dropping missing include directory ${dir} from ${target}")
+    endif()
+  endforeach()
+  set_target_properties(${target} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${kept}")
+endfunction()
+
+acdf_drop_missing_include_dirs(OpenImageIO::OpenImageIO)
+acdf_drop_missing_include_dirs(OpenImageIO::OpenImageIO_Util)
