@@ -32,7 +32,7 @@ class AliasGrid {
   std::vector<GridAxis> axes_;
   std::vector<std::size_t> strides_;
   double cellVolume_;
-  AliasTable1D table_;
+  AliasTable table_;
 };
 
 }  // namespace acdf

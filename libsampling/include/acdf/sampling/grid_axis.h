@@ -7,6 +7,8 @@
 // coordinate produced by place() for cells [first, end) always maps back into [first, end), and
 // always lies strictly inside (lo, hi) (never on the boundary, where e.g. sinθ = 0 at a pole).
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace acdf {
@@ -14,7 +16,7 @@ namespace acdf {
 class GridAxis {
  public:
   // Throws std::invalid_argument unless cells >= 1, lo < hi are finite and each cell is wide
-  // enough (at least 8 float ulps) to hold coordinates strictly inside it.
+  // enough (at least 3 float ulps) to hold coordinates strictly inside it.
   explicit GridAxis(uint32_t cells, float lo = 0.0f, float hi = 1.0f);
 
   uint32_t cells() const { return cells_; }
@@ -25,20 +27,38 @@ class GridAxis {
   bool contains(float x) const { return x >= lo_ && x < hi_; }
 
   // The cell holding x, clamped to [0, cells-1]. Monotone non-decreasing in x.
-  uint32_t cellOf(float x) const;
+  uint32_t cellOf(float x) const {
+    const double g = (static_cast<double>(x) - lo_) * invCellWidth_;
+    if (!(g > 0.0)) return 0;
+    if (g >= cells_) return cells_ - 1;
+    return static_cast<uint32_t>(g);
+  }
 
   // Continuous grid coordinate of x in [0, cells] (cell k spans [k, k+1)).
   double gridCoordinate(float x) const;
 
   // The coordinate at fraction t in [0,1] of the cell range [firstCell, endCell), nudged so that
-  // cellOf(result) is in [firstCell, endCell) and lo < result < hi.
-  float place(uint32_t firstCell, uint32_t endCell, double t) const;
+  // cellOf(result) is in [firstCell, endCell) and innerLo() <= result <= innerHi().
+  float place(uint32_t firstCell, uint32_t endCell, double t) const {
+    const double g = firstCell + std::clamp(t, 0.0, 1.0) * (endCell - firstCell);
+    float x = std::clamp(static_cast<float>(lo_ + g * cellWidth_), innerLo_, innerHi_);
+    // Rounding may have carried x across a cell boundary; the constructor guarantees each cell
+    // holds interior floats, so these loops take at most a few steps.
+    while (cellOf(x) < firstCell) x = std::nextafter(x, hi_);
+    while (cellOf(x) >= endCell) x = std::nextafter(x, lo_);
+    return x;
+  }
 
   // Density (w.r.t. this axis' length measure) of probability `mass` spread evenly over
   // `cellCount` cells. Used identically by sample() and pdf() so the two agree bit for bit.
   double density(double mass, uint32_t cellCount) const {
     return mass / (static_cast<double>(cellCount) * cellWidth_);
   }
+
+  // The extreme coordinates place() returns: a 2^-24 fraction of a cell inside the domain (so a
+  // sample at u = 0 is not a denormal when lo = 0, and sinθ-style Jacobians stay finite).
+  float innerLo() const { return innerLo_; }
+  float innerHi() const { return innerHi_; }
 
   bool operator==(const GridAxis&) const = default;
 
@@ -47,6 +67,7 @@ class GridAxis {
   float lo_, hi_;
   double cellWidth_;
   double invCellWidth_;
+  float innerLo_, innerHi_;
 };
 
 }  // namespace acdf

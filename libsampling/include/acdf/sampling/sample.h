@@ -2,6 +2,7 @@
 // Result types shared by the distributions. Coordinates and densities are float, as a renderer
 // consumes them; tables are built with double sums and stored as float (see each class).
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -27,9 +28,17 @@ struct SampleND {
 
 // Clamps a density into the positive finite float range. Products of per-dimension densities
 // can underflow (1e-30 * 1e-30) or overflow in float; a returned sample must never report 0.
-float clampDensity(double density);
+inline float clampDensity(double density) {
+  if (!(density > 0.0)) return 0.0f;  // only unreachable points have density 0
+  constexpr double kMin = std::numeric_limits<float>::denorm_min();
+  constexpr double kMax = std::numeric_limits<float>::max();
+  return static_cast<float>(std::clamp(density, kMin, kMax));
+}
 
 // Clamps a caller's uniform variate into [0, kOneMinusEpsilon]; NaN maps to 0.
-float clampUnit(float u);
+inline float clampUnit(float u) {
+  if (!(u >= 0.0f)) return 0.0f;
+  return std::min(u, kOneMinusEpsilon);
+}
 
 }  // namespace acdf

@@ -1,0 +1,96 @@
+#pragma once
+// Internal: the one piece of code that samples, evaluates and inverts a piecewise-linear CDF whose
+// breakpoints sit on grid vertices. PiecewiseConstant1D (every vertex), AdaptiveCdf1D (kept
+// vertices) and each level of a Cascade (pooled 1D CDFs) are all views of this.
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "acdf/sampling/grid_axis.h"
+#include "acdf/sampling/vertex_indices.h"
+
+namespace acdf::detail {
+
+struct BreakpointCdf {
+  const float* cdf = nullptr;  // count values, cdf[0] = 0, cdf[count-1] = 1, non-decreasing
+  std::size_t count = 0;
+  // Grid vertex of point j is (*vertices)[vertexOffset + j]; null means point j is vertex j.
+  const VertexIndices* vertices = nullptr;
+  std::size_t vertexOffset = 0;
+
+  uint32_t vertex(std::size_t j) const {
+    return vertices ? (*vertices)[vertexOffset + j] : static_cast<uint32_t>(j);
+  }
+
+  // The interval j with cdf[j] <= u < cdf[j+1], for u in [0, 1): it always has positive mass.
+  std::size_t intervalOfVariate(float u) const {
+    const float* it = std::upper_bound(cdf, cdf + count, u);
+    return std::clamp<std::size_t>(static_cast<std::size_t>(it - cdf), 1, count - 1) - 1;
+  }
+
+  std::size_t intervalOfCell(uint32_t cell) const {
+    if (!vertices) return std::min<std::size_t>(cell, count - 2);
+    return vertices->intervalOf(vertexOffset, vertexOffset + count, cell) - vertexOffset;
+  }
+
+  // Exact in double: the difference of two floats.
+  double mass(std::size_t j) const {
+    return static_cast<double>(cdf[j + 1]) - static_cast<double>(cdf[j]);
+  }
+};
+
+// One sampled coordinate: the interval chosen, its cells, where in it the sample fell, and the
+// density along this axis.
+struct Draw {
+  std::size_t interval;
+  float x;
+  double density;
+};
+
+inline Draw draw(const BreakpointCdf& c, const GridAxis& axis, float u) {
+  const std::size_t j = c.intervalOfVariate(u);
+  const double mass = c.mass(j);
+  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
+  const double t = (static_cast<double>(u) - c.cdf[j]) / mass;
+  return {j, axis.place(first, end, t), axis.density(mass, end - first)};
+}
+
+struct Lookup {
+  std::size_t interval;
+  double density;  // 0 where the CDF has no mass
+};
+
+inline Lookup lookup(const BreakpointCdf& c, const GridAxis& axis, float x) {
+  const std::size_t j = c.intervalOfCell(axis.cellOf(x));
+  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
+  return {j, axis.density(c.mass(j), end - first)};
+}
+
+inline float invert(const BreakpointCdf& c, const GridAxis& axis, float x) {
+  const std::size_t j = c.intervalOfCell(axis.cellOf(x));
+  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
+  const double t = std::clamp((axis.gridCoordinate(x) - first) / (end - first), 0.0, 1.0);
+  return static_cast<float>(c.cdf[j] + t * c.mass(j));
+}
+
+// Appends the n+1 values of the normalised CDF of `masses` to `out` and returns Σ masses.
+// Sums in double; the last value is exactly 1. Zero total mass gives the uniform CDF k/n.
+template <class T>
+double appendCdf(std::span<const T> masses, std::vector<float>& out) {
+  double total = 0.0;
+  for (T m : masses) total += static_cast<double>(m);
+  const std::size_t n = masses.size();
+  out.push_back(0.0f);
+  double prefix = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    prefix += static_cast<double>(masses[k - 1]);
+    out.push_back(static_cast<float>(total > 0.0 ? prefix / total : static_cast<double>(k) / n));
+  }
+  out.push_back(1.0f);
+  return total;
+}
+
+}  // namespace acdf::detail

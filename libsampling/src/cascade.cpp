@@ -1,0 +1,339 @@
+#include "acdf/sampling/cascade.h"
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "acdf/sampling/grid_check.h"
+#include "breakpoint_cdf.h"
+
+namespace acdf {
+
+struct Cascade::Node {
+  detail::BreakpointCdf cdf;
+  std::size_t childBase;  // index in the next level of the child of interval 0
+};
+
+namespace {
+
+// 1D CDFs of one level as produced by a build, before offsets are fixed.
+struct LevelBuffer {
+  std::vector<float> cdf;
+  VertexIndices vertices;
+  std::vector<uint32_t> counts;  // points of each 1D CDF, in level order
+};
+using Subtree = std::vector<LevelBuffer>;  // one buffer per sampled level
+
+void append(Subtree& to, const Subtree& from) {
+  for (std::size_t d = 0; d < to.size(); ++d) {
+    to[d].cdf.insert(to[d].cdf.end(), from[d].cdf.begin(), from[d].cdf.end());
+    to[d].vertices.append(from[d].vertices);
+    to[d].counts.insert(to[d].counts.end(), from[d].counts.begin(), from[d].counts.end());
+  }
+}
+
+// Builds the 1D CDFs of a block of the grid and, depth first, of everything below it. Appending
+// depth first keeps each level in parent order, which is what makes child offsets implicit.
+class Builder {
+ public:
+  Builder(std::vector<uint32_t> sizes, const CascadeOptions& options)
+      : sizes_(std::move(sizes)), options_(options), rowSize_(sizes_.size(), 1) {
+    for (std::size_t d = sizes_.size() - 1; d-- > 0;) rowSize_[d] = rowSize_[d + 1] * sizes_[d + 1];
+  }
+
+  Subtree emptySubtree() const {
+    Subtree t(sizes_.size());
+    for (std::size_t d = 0; d < sizes_.size(); ++d) t[d].vertices = VertexIndices(sizes_[d]);
+    return t;
+  }
+
+  std::size_t blockSize() const { return rowSize_[0] * sizes_[0]; }
+
+  // block: the joint masses of the remaining axes (level..), row-major. Returns Σ block.
+  template <class T>
+  double build(std::span<const T> block, std::size_t level, Subtree& out, bool parallelChildren) const {
+    const uint32_t m = sizes_[level];
+    const std::size_t row = rowSize_[level];
+    std::vector<double> masses(m, 0.0);
+    for (uint32_t j = 0; j < m; ++j) {
+      double sum = 0.0;
+      for (std::size_t r = 0; r < row; ++r) sum += static_cast<double>(block[j * row + r]);
+      masses[j] = sum;
+    }
+
+    LevelBuffer& buffer = out[level];
+    std::vector<uint32_t> kept;  // interval ends of this 1D CDF
+    double total;
+    if (method(level) == DimensionMethod::Uniform) {
+      total = detail::appendCdf<double>(masses, buffer.cdf);
+      buffer.counts.push_back(m + 1);
+      kept.resize(m + 1);
+      for (uint32_t k = 0; k <= m; ++k) kept[k] = k;
+    } else {
+      std::vector<float> uniform;
+      uniform.reserve(m + 1);
+      total = detail::appendCdf<double>(masses, uniform);
+      kept = simplifyCdf(uniform, options_.simplify);
+      for (uint32_t v : kept) {
+        buffer.cdf.push_back(uniform[v]);
+        buffer.vertices.push_back(v);
+      }
+      buffer.counts.push_back(static_cast<uint32_t>(kept.size()));
+    }
+    if (level + 1 == sizes_.size()) return total;
+
+    auto buildChild = [&](std::size_t i, Subtree& into) {
+      const uint32_t a = kept[i], b = kept[i + 1];
+      if (b - a == 1) {
+        build<T>(block.subspan(a * row, row), level + 1, into, false);
+      } else {
+        const std::vector<double> merged = mergeRows(block, masses, a, b, row);
+        build<double>(merged, level + 1, into, false);
+      }
+    };
+    const std::size_t intervals = kept.size() - 1;
+    if (parallelChildren && intervals > 1) {
+      std::vector<Subtree> parts(intervals, emptySubtree());
+      tbb::parallel_for(std::size_t{0}, intervals, [&](std::size_t i) { buildChild(i, parts[i]); });
+      for (const Subtree& part : parts) append(out, part);
+    } else {
+      for (std::size_t i = 0; i < intervals; ++i) buildChild(i, out);
+    }
+    return total;
+  }
+
+ private:
+  DimensionMethod method(std::size_t level) const {
+    return options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[level];
+  }
+
+  // The joint of the next axes given the interval [a, b) of this one.
+  template <class T>
+  std::vector<double> mergeRows(std::span<const T> block, const std::vector<double>& masses,
+                                uint32_t a, uint32_t b, std::size_t row) const {
+    std::vector<double> merged(row, 0.0);
+    for (uint32_t j = a; j < b; ++j) {
+      // Exact conditional: sum the rows. Eq. 10: average the normalised rows (the common 1/count
+      // factor is dropped, every 1D CDF normalises its own masses).
+      double weight = 1.0;
+      if (options_.conditional == ConditionalRule::AverageOfNormalized) {
+        if (masses[j] == 0.0) continue;
+        weight = 1.0 / masses[j];
+      }
+      const T* source = block.data() + j * row;
+      for (std::size_t r = 0; r < row; ++r) merged[r] += static_cast<double>(source[r]) * weight;
+    }
+    return merged;
+  }
+
+  std::vector<uint32_t> sizes_;
+  const CascadeOptions& options_;
+  std::vector<std::size_t> rowSize_;  // cells of one row at each level (product of later sizes)
+};
+
+}  // namespace
+
+Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options)
+    : axes_(std::move(axes)), conditioningDims_(options.conditioningDims), options_(std::move(options)) {
+  checkGridShape(values.size(), axes_);
+  if (conditioningDims_ >= axes_.size()) {
+    throw std::invalid_argument("cascade: " + std::to_string(conditioningDims_) +
+                                " conditioning axes leave none to sample out of " +
+                                std::to_string(axes_.size()));
+  }
+  if (!options_.methods.empty() && options_.methods.size() != sampledDims()) {
+    throw std::invalid_argument("cascade: " + std::to_string(options_.methods.size()) +
+                                " dimension methods for " + std::to_string(sampledDims()) +
+                                " sampled axes");
+  }
+  validate(options_.simplify);
+  checkNonNegativeFinite(values, axes_);
+
+  std::vector<uint32_t> sizes;
+  double cellVolume = 1.0;
+  for (std::size_t d = conditioningDims_; d < axes_.size(); ++d) {
+    sizes.push_back(axes_[d].cells());
+    cellVolume *= axes_[d].cellWidth();
+  }
+  const Builder builder(sizes, options_);
+  const std::size_t sliceSize = builder.blockSize();
+  const std::size_t slices = values.size() / sliceSize;
+
+  std::vector<Subtree> parts(slices, builder.emptySubtree());
+  sliceIntegral_.resize(slices);
+  auto buildSlice = [&](std::size_t s) {
+    sliceIntegral_[s] =
+        builder.build<float>(values.subspan(s * sliceSize, sliceSize), 0, parts[s], slices == 1) * cellVolume;
+  };
+  if (slices == 1) buildSlice(0);
+  else tbb::parallel_for(std::size_t{0}, slices, buildSlice);
+
+  Subtree all = builder.emptySubtree();
+  for (const Subtree& part : parts) append(all, part);
+  parts.clear();
+
+  for (std::size_t d = 0; d < sizes.size(); ++d) {
+    Level level{options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[d],
+                std::move(all[d].cdf), {}, {}};
+    if (level.cdf.size() > UINT32_MAX) throw std::invalid_argument("cascade: table too large");
+    if (level.method == DimensionMethod::Adaptive) {
+      level.vertices = std::move(all[d].vertices);
+      level.starts.reserve(all[d].counts.size() + 1);
+      uint32_t start = 0;
+      for (uint32_t count : all[d].counts) {
+        level.starts.push_back(start);
+        start += count;
+      }
+      level.starts.push_back(start);
+    }
+    level.cdf.shrink_to_fit();
+    level.vertices.shrink_to_fit();
+    levels_.push_back(std::move(level));
+  }
+}
+
+Cascade::Node Cascade::node(std::size_t level, std::size_t index) const {
+  const Level& l = levels_[level];
+  const std::size_t m = axes_[conditioningDims_ + level].cells();
+  if (l.method == DimensionMethod::Uniform) {
+    return {{l.cdf.data() + index * (m + 1), m + 1, nullptr, 0}, index * m};
+  }
+  const std::size_t first = l.starts[index], end = l.starts[index + 1];
+  // Every earlier 1D CDF of the level has (points - 1) children before ours.
+  return {{l.cdf.data() + first, end - first, &l.vertices, first}, first - index};
+}
+
+std::size_t Cascade::sliceOf(std::span<const float> condition) const {
+  if (condition.size() != conditioningDims_) {
+    throw std::invalid_argument("cascade: " + std::to_string(condition.size()) +
+                                " condition coordinates for " + std::to_string(conditioningDims_) +
+                                " conditioning axes");
+  }
+  std::size_t slice = 0;
+  for (std::size_t d = 0; d < conditioningDims_; ++d) {
+    slice = slice * axes_[d].cells() + axes_[d].cellOf(condition[d]);
+  }
+  return slice;
+}
+
+namespace {
+void requireArity(std::size_t given, std::size_t needed, const char* what) {
+  if (given != needed) {
+    throw std::invalid_argument(std::string("cascade: ") + std::to_string(given) + " " + what +
+                                " for " + std::to_string(needed) + " sampled axes");
+  }
+}
+}  // namespace
+
+SampleND Cascade::sample(std::span<const float> condition, std::span<const float> u) const {
+  requireArity(u.size(), sampledDims(), "variates");
+  std::size_t index = sliceOf(condition);
+  SampleND result;
+  double density = 1.0;
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const Node n = node(level, index);
+    const detail::Draw d = detail::draw(n.cdf, axes_[conditioningDims_ + level], clampUnit(u[level]));
+    result.x[level] = d.x;
+    density *= d.density;
+    index = n.childBase + d.interval;
+  }
+  result.pdf = clampDensity(density);
+  return result;
+}
+
+float Cascade::pdf(std::span<const float> condition, std::span<const float> x) const {
+  requireArity(x.size(), sampledDims(), "coordinates");
+  std::size_t index = sliceOf(condition);
+  double density = 1.0;
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const GridAxis& axis = axes_[conditioningDims_ + level];
+    if (!axis.contains(x[level])) return 0.0f;
+    const Node n = node(level, index);
+    const detail::Lookup l = detail::lookup(n.cdf, axis, x[level]);
+    if (l.density == 0.0) return 0.0f;
+    density *= l.density;
+    index = n.childBase + l.interval;
+  }
+  return clampDensity(density);
+}
+
+void Cascade::invert(std::span<const float> condition, std::span<const float> x, std::span<float> u) const {
+  requireArity(x.size(), sampledDims(), "coordinates");
+  requireArity(u.size(), sampledDims(), "variates");
+  std::size_t index = sliceOf(condition);
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const GridAxis& axis = axes_[conditioningDims_ + level];
+    const Node n = node(level, index);
+    u[level] = detail::invert(n.cdf, axis, x[level]);
+    index = n.childBase + n.cdf.intervalOfCell(axis.cellOf(x[level]));
+  }
+}
+
+std::size_t Cascade::bytes() const {
+  std::size_t total = sliceIntegral_.size() * sizeof(double);
+  for (const Level& l : levels_) {
+    total += l.cdf.size() * sizeof(float) + l.vertices.bytes() + l.starts.size() * sizeof(uint32_t);
+  }
+  return total;
+}
+
+std::vector<double> Cascade::averageIntervals() const {
+  std::vector<double> result;
+  for (std::size_t d = 0; d < conditioningDims_; ++d) result.push_back(axes_[d].cells());
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const Level& l = levels_[level];
+    const std::size_t m = axes_[conditioningDims_ + level].cells();
+    const std::size_t nodes = l.method == DimensionMethod::Uniform ? l.cdf.size() / (m + 1) : l.starts.size() - 1;
+    result.push_back(static_cast<double>(l.cdf.size() - nodes) / static_cast<double>(nodes));
+  }
+  return result;
+}
+
+std::vector<std::size_t> Cascade::pointsPerDimension() const {
+  std::vector<std::size_t> result;
+  for (const Level& l : levels_) result.push_back(l.cdf.size());
+  return result;
+}
+
+std::vector<double> Cascade::cellProbabilities(std::size_t slice) const {
+  if (slice >= slices()) throw std::invalid_argument("cascade: no slice " + std::to_string(slice));
+  const std::size_t dims = levels_.size();
+  std::vector<std::size_t> stride(dims, 1);
+  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * axes_[conditioningDims_ + d + 1].cells();
+  std::vector<double> out(stride[0] * axes_[conditioningDims_].cells(), 0.0);
+
+  std::array<uint32_t, kMaxDims> first{}, end{};
+  // Every interval spreads its mass evenly over its cells; a cell's probability is the product
+  // of its per-level shares.
+  auto fillBox = [&](double perCell) {
+    std::array<uint32_t, kMaxDims> i = first;
+    while (true) {
+      std::size_t offset = 0;
+      for (std::size_t d = 0; d < dims; ++d) offset += i[d] * stride[d];
+      out[offset] = perCell;
+      std::size_t d = dims;
+      while (d-- > 0) {
+        if (++i[d] < end[d]) break;
+        i[d] = first[d];
+      }
+      if (d == static_cast<std::size_t>(-1)) return;
+    }
+  };
+  auto visit = [&](auto& self, std::size_t level, std::size_t index, double perCell) -> void {
+    const Node n = node(level, index);
+    for (std::size_t j = 0; j + 1 < n.cdf.count; ++j) {
+      const double mass = n.cdf.mass(j);
+      if (mass == 0.0) continue;
+      first[level] = n.cdf.vertex(j);
+      end[level] = n.cdf.vertex(j + 1);
+      const double share = perCell * mass / (end[level] - first[level]);
+      if (level + 1 == dims) fillBox(share);
+      else self(self, level + 1, n.childBase + j, share);
+    }
+  };
+  visit(visit, 0, slice, 1.0);
+  return out;
+}
+
+}  // namespace acdf

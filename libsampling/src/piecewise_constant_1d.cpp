@@ -1,0 +1,31 @@
+#include "acdf/sampling/piecewise_constant_1d.h"
+
+#include "acdf/sampling/grid_check.h"
+#include "breakpoint_cdf.h"
+
+namespace acdf {
+
+PiecewiseConstant1D::PiecewiseConstant1D(std::span<const float> function, float lo, float hi)
+    : axis_(static_cast<uint32_t>(function.size()), lo, hi) {
+  checkNonNegativeFinite(function);
+  cdf_.reserve(function.size() + 1);
+  integral_ = detail::appendCdf(function, cdf_) * axis_.cellWidth();
+}
+
+namespace {
+detail::BreakpointCdf view(std::span<const float> cdf) { return {cdf.data(), cdf.size()}; }
+}  // namespace
+
+Sample1D PiecewiseConstant1D::sample(float u) const {
+  const detail::Draw d = detail::draw(view(cdf_), axis_, clampUnit(u));
+  return {d.x, clampDensity(d.density)};
+}
+
+float PiecewiseConstant1D::pdf(float x) const {
+  if (!axis_.contains(x)) return 0.0f;
+  return clampDensity(detail::lookup(view(cdf_), axis_, x).density);
+}
+
+float PiecewiseConstant1D::invert(float x) const { return detail::invert(view(cdf_), axis_, x); }
+
+}  // namespace acdf
