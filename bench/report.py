@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""Turns the JSON of bench_sampling_1d / bench_sampling_2d into the markdown tables of
+docs/performance.md.
+
+usage: bench/report.py [results.json ...]   (default: bench/results/*.json)
+
+Times are wall-clock (real_time); for repeated benchmarks the median repetition is used.
+Ratios vs uniform come from the same JSON, i.e. the same run; the "interleaved" ratios come from
+the h2h* benchmarks, which time all samplers alternately under the same machine noise.
+"""
+
+import glob
+import json
+import os
+import sys
+
+UNIT_NS = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
+
+
+def load(paths):
+    runs = {}
+    context = None
+    for path in paths:
+        with open(path) as f:
+            data = json.load(f)
+        context = context or data.get("context")
+        for b in data["benchmarks"]:
+            # Drop the "/min_time:0.100/repeats:3/iterations:100" parts Google Benchmark appends.
+            name = "/".join(p for p in b.get("run_name", b["name"]).split("/") if ":" not in p)
+            if b.get("run_type") == "aggregate":
+                if b.get("aggregate_name") != "median":
+                    continue
+            elif name in runs and runs[name].get("run_type") == "aggregate":
+                continue
+            elif b.get("repetitions", 1) > 1:
+                continue  # a single repetition; the median aggregate is used instead
+            runs[name] = b
+    return runs, context
+
+
+def ns(b):
+    """Wall-clock time of one iteration, in ns (builds: TBB runs on every core)."""
+    return b["real_time"] * UNIT_NS[b.get("time_unit", "ns")]
+
+
+def cpu_ns(b):
+    """CPU time of the benchmark thread per iteration, in ns (single-threaded queries: robust to
+    the process being descheduled on a shared machine)."""
+    return b["cpu_time"] * UNIT_NS[b.get("time_unit", "ns")]
+
+
+def fmt_bytes(x):
+    if x < 0:
+        return "n/a"
+    for unit, scale in (("MiB", 2**20), ("KiB", 2**10)):
+        if x >= scale:
+            return f"{x / scale:.2f} {unit}"
+    return f"{x:.0f} B"
+
+
+def g(x, digits=3):
+    return f"{x:.{digits}g}"
+
+
+def table(header, rows):
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(out)
+
+
+def report_1d(runs):
+    sizes = sorted({int(n.split("/")[2]) for n in runs if n.startswith("build1d/")})
+    if not sizes:
+        return ""
+    out = ["### 1D (bench_sampling_1d)", ""]
+    rows = []
+    for n in sizes:
+        uni = runs.get(f"build1d/uniform/{n}")
+        for m in ("uniform", "alias", "adaptive"):
+            b, s, p = (runs.get(f"{w}1d/{m}/{n}") for w in ("build", "sample", "pdf"))
+            if not (b and s and p):
+                continue
+            extra = ""
+            if m == "adaptive":
+                extra = f"{b['points']:.0f} pts, χ² {g(b['chi2'])}, max w {g(b['max_weight_ratio'])}"
+            rows.append([n, m, f"{ns(b) / 1e3:.1f}", f"{ns(b) / ns(uni):.2f}" if uni else "",
+                         f"{cpu_ns(s):.1f}", f"{cpu_ns(p):.1f}", fmt_bytes(b["bytes"]),
+                         f"{b['bytes_vs_uniform']:.3g}", extra])
+    out.append(table(["cells", "method", "build µs", "build ÷ uniform", "sample ns/op", "pdf ns/op",
+                      "bytes", "bytes ÷ uniform", "adaptive: points, quality"], rows))
+    out += ["", "Interleaved (h2h1d): median ns/op when the three run alternately in 4096-op chunks.", ""]
+    rows = []
+    for n in sizes:
+        h = runs.get(f"h2h1d/{n}")
+        if not h:
+            continue
+        rows.append([n] + [f"{h[f'{w}_ns_{m}']:.1f}" for w in ("sample", "pdf")
+                           for m in ("uniform", "alias", "adaptive")] +
+                    [f"{h['sample_alias_vs_uniform']:.2f}", f"{h['sample_adaptive_vs_uniform']:.2f}",
+                     f"{h['pdf_alias_vs_uniform']:.2f}", f"{h['pdf_adaptive_vs_uniform']:.2f}"])
+    out.append(table(["cells", "sample uni", "sample alias", "sample adapt", "pdf uni", "pdf alias",
+                      "pdf adapt", "sample alias÷uni", "sample adapt÷uni", "pdf alias÷uni",
+                      "pdf adapt÷uni"], rows))
+    return "\n".join(out) + "\n"
+
+
+def report_2d(runs):
+    sizes = []
+    for n in runs:
+        if n.startswith("build2d/") and n.split("/")[2] not in sizes:
+            sizes.append(n.split("/")[2])
+    sizes.sort(key=lambda s: int(s.split("x")[0]))
+    if not sizes:
+        return ""
+    out = ["### 2D (bench_sampling_2d)", ""]
+    rows = []
+    for size in sizes:
+        uni = runs.get(f"build2d/uniform/{size}")
+        for m in ("uniform", "alias", "adaptive"):
+            b, s, p = (runs.get(f"{w}2d/{m}/{size}") for w in ("build", "sample", "pdf"))
+            if not (b and s and p):
+                continue
+            rows.append([size, m, f"{ns(b) / 1e6:.1f}", f"{ns(b) / ns(uni):.2f}" if uni else "",
+                         fmt_bytes(b["peak_build_bytes"]), f"{cpu_ns(s):.1f}", f"{cpu_ns(p):.1f}",
+                         fmt_bytes(b["bytes"]), f"{b['bytes_vs_uniform']:.3g}", g(b["chi2"]),
+                         g(b["max_weight_ratio"])])
+    out.append(table(["grid", "method", "build ms", "build ÷ uniform", "peak build RSS",
+                      "sample ns/op", "pdf ns/op", "bytes", "bytes ÷ uniform", "χ² div",
+                      "max p/q"], rows))
+    out += ["", "Interleaved (h2h2d): median ns/op when the three run alternately in 8192-op chunks.", ""]
+    rows = []
+    for size in sizes:
+        h = runs.get(f"h2h2d/{size}")
+        if not h:
+            continue
+        rows.append([size] + [f"{h[f'{w}_ns_{m}']:.1f}" for w in ("sample", "pdf")
+                              for m in ("uniform", "alias", "adaptive")] +
+                    [f"{h['sample_alias_vs_uniform']:.2f}", f"{h['sample_adaptive_vs_uniform']:.2f}",
+                     f"{h['pdf_alias_vs_uniform']:.2f}", f"{h['pdf_adaptive_vs_uniform']:.2f}"])
+    out.append(table(["grid", "sample uni", "sample alias", "sample adapt", "pdf uni", "pdf alias",
+                      "pdf adapt", "sample alias÷uni", "sample adapt÷uni", "pdf alias÷uni",
+                      "pdf adapt÷uni"], rows))
+    out += ["", "Adaptive build per simplifier (ε = 2e-3, ρ = 4, exact-mass conditionals):", ""]
+    rows = []
+    for size in sizes:
+        for sim in ("dp-vertical", "dp-perpendicular", "greedy-vertical", "greedy-perpendicular",
+                    "greedy-vertical-budget8"):
+            b = runs.get(f"simplify2d/{sim}/{size}")
+            if not b:
+                continue
+            rows.append([size, sim, f"{ns(b) / 1e6:.1f}", fmt_bytes(b["peak_build_bytes"]),
+                         fmt_bytes(b["bytes"]), f"{b['bytes_vs_uniform']:.3g}",
+                         f"{b['avg_intervals_theta']:.0f}", f"{b['avg_intervals_phi']:.1f}",
+                         g(b["chi2"]), g(b["max_weight_ratio"])])
+    out.append(table(["grid", "simplifier", "build ms", "peak build RSS", "bytes", "bytes ÷ uniform",
+                      "intervals θ", "avg intervals φ", "χ² div", "max p/q"], rows))
+    return "\n".join(out) + "\n"
+
+
+def main():
+    paths = sys.argv[1:] or sorted(glob.glob(os.path.join(os.path.dirname(__file__), "results", "*.json")))
+    if not paths:
+        sys.exit("report.py: no JSON results given or found in bench/results/")
+    runs, context = load(paths)
+    if context:
+        load = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
+        print(f"Run: {context.get('date')}, {context.get('num_cpus')} CPUs @ {context.get('mhz_per_cpu')} MHz, "
+              f"load average at start {load}\n")
+    print(report_1d(runs))
+    print(report_2d(runs))
+
+
+if __name__ == "__main__":
+    main()
