@@ -36,7 +36,7 @@ struct SimplifyOptions {
   // ρ: after simplification, while some original cell has p_cell / p_adaptive > ρ inside an
   // interval, split that interval at its worst vertex. Bounds the sample weight the compression
   // can add, so it cannot create fireflies. 0 disables the bound; otherwise must be >= 1.
-  double weightBound = 4.0;
+  double weightBound = 2.0;
 };
 
 // Throws std::invalid_argument on inconsistent options (negative ε, ρ in (0,1), a budget below 2,
