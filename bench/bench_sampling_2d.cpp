@@ -16,6 +16,8 @@
 //   sample2d/*    one sample from 2 variates taken from a pre-generated buffer of 64K u-pairs (ns/op)
 //   pdf2d/*       one pdf at 64K points pre-sampled from the exact (uniform) distribution, the same
 //                 points for every method (ns/op)
+//   build2d-rough/{uniform,adaptive}/4096x2048  the cascade builds on heavy-tailed noise (see
+//                 fixtureValues), the hard case for the simplifier
 //   h2h2d/<W>x<H> sample and pdf of all three interleaved in chunks: median ns/op of each and the
 //                 ratios vs uniform measured under the same machine noise (counters only)
 
@@ -28,6 +30,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -59,11 +62,35 @@ CascadeOptions simplifierOptions(Simplifier s, ErrorMetric m, uint32_t maxPoints
 // Greedy refinement with a point budget per 1D CDF (ε still applies; ρ may exceed the budget).
 constexpr uint32_t kGreedyBudget = 8;
 
+enum class Fixture { SunAndSky, Rough };
+
+// SunAndSky: the fixture. Rough: a_row^8 · b_cell^8 with a, b i.i.d. uniform
+// (acdf::fixtures::random) — heavy-tailed in both axes, so the weight bound ρ = 4 splits almost
+// every row and every cell: the adaptive build's worst realistic case (little to simplify, the
+// simplifier still scans everything).
+std::vector<float> fixtureValues(Fixture fixture, uint32_t width, uint32_t height) {
+  if (fixture == Fixture::SunAndSky) return fixtures::sunAndSky(width, height);
+  const uint32_t dims[] = {height, width};
+  const uint32_t rowDims[] = {height};
+  std::vector<float> v = fixtures::random(dims, 0x5eed);
+  const std::vector<float> row = fixtures::random(rowDims, 0x7a11);
+  auto pow8 = [](float x) {
+    float x2 = x * x, x4 = x2 * x2;
+    return x4 * x4;
+  };
+  for (uint32_t i = 0; i < height; ++i)
+    for (uint32_t j = 0; j < width; ++j) {
+      float& c = v[std::size_t{i} * width + j];
+      c = pow8(row[i]) * pow8(c);
+    }
+  return v;
+}
+
 struct Set2D {
-  Set2D(uint32_t width, uint32_t height)
+  Set2D(Fixture fixture, uint32_t width, uint32_t height)
       : width(width),
         height(height),
-        values(fixtures::sunAndSky(width, height)),
+        values(fixtureValues(fixture, width, height)),
         axes{GridAxis(height, 0.0f, std::numbers::pi_v<float>),
              GridAxis(width, 0.0f, 2.0f * std::numbers::pi_v<float>)},
         u(variates(2 * kVariates, 0x2d5eed)) {}
@@ -123,10 +150,10 @@ struct Set2D {
   std::vector<double> exact_;
 };
 
-Set2D& set2D(uint32_t width, uint32_t height) {
-  static std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<Set2D>> cache;
-  auto& slot = cache[{width, height}];
-  if (!slot) slot = std::make_unique<Set2D>(width, height);
+Set2D& set2D(uint32_t width, uint32_t height, Fixture fixture = Fixture::SunAndSky) {
+  static std::map<std::tuple<Fixture, uint32_t, uint32_t>, std::unique_ptr<Set2D>> cache;
+  auto& slot = cache[{fixture, width, height}];
+  if (!slot) slot = std::make_unique<Set2D>(fixture, width, height);
   return *slot;
 }
 
@@ -175,12 +202,17 @@ std::optional<Distribution> timedBuilds(benchmark::State& st, Set2D& s, Args&&..
   return d;
 }
 
-void buildCascade(benchmark::State& st, uint32_t w, uint32_t h, CascadeOptions options) {
-  Set2D& s = set2D(w, h);
+void buildCascadeOn(benchmark::State& st, uint32_t w, uint32_t h, CascadeOptions options,
+                    Fixture fixture) {
+  Set2D& s = set2D(w, h, fixture);
   s.uniform();  // the reference for bytes_vs_uniform, built before the peak-memory probe
   s.exact();
   std::optional<Cascade> c = timedBuilds<Cascade>(st, s, options);
   cascadeCounters(st, s, *c);
+}
+
+void buildCascade(benchmark::State& st, uint32_t w, uint32_t h, CascadeOptions options) {
+  buildCascadeOn(st, w, h, std::move(options), Fixture::SunAndSky);
 }
 
 void buildAlias(benchmark::State& st, uint32_t w, uint32_t h) {
@@ -333,9 +365,24 @@ void registerSize(uint32_t w, uint32_t h) {
 
 }  // namespace
 
+// The sun-and-sky map compresses extremely well; the rough fixture is the opposite (the weight
+// bound keeps nearly every vertex), so it bounds the adaptive build time from the other side.
+void registerRough(uint32_t w, uint32_t h) {
+  const std::string size = std::to_string(w) + "x" + std::to_string(h);
+  for (auto [name, options] : {std::pair{"uniform", uniformOptions()}, std::pair{"adaptive", CascadeOptions{}}}) {
+    benchmark::RegisterBenchmark(("build2d-rough/" + std::string(name) + "/" + size).c_str(),
+                                 buildCascadeOn, w, h, options, Fixture::Rough)
+        ->Unit(benchmark::kMillisecond)
+        ->MinTime(0.3)
+        ->Repetitions(3)
+        ->DisplayAggregatesOnly(true);
+  }
+}
+
 int main(int argc, char** argv) {
   registerSize(1024, 512);
   registerSize(4096, 2048);
+  registerRough(4096, 2048);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -154,6 +154,20 @@ def report_2d(runs):
                          g(b["chi2"]), g(b["max_weight_ratio"])])
     out.append(table(["grid", "simplifier", "build ms", "peak build RSS", "bytes", "bytes ÷ uniform",
                       "intervals θ", "avg intervals φ", "χ² div", "max p/q"], rows))
+    rows = []
+    for name in sorted(n for n in runs if n.startswith("build2d-rough/")):
+        b = runs[name]
+        _, method, size = name.split("/")
+        rows.append([size, method, f"{ns(b) / 1e6:.1f}", f"{cpu_ns(b) / 1e6:.1f}",
+                     fmt_bytes(b["peak_build_bytes"]), fmt_bytes(b["bytes"]),
+                     f"{b['bytes_vs_uniform']:.3g}", f"{b['avg_intervals_theta']:.0f}",
+                     f"{b['avg_intervals_phi']:.0f}", g(b["chi2"]), g(b["max_weight_ratio"]),
+                     g(b["unreachable_mass"])])
+    if rows:
+        out += ["", "Worst case for the simplifier: the rough (heavy-tailed noise) map:", ""]
+        out.append(table(["grid", "method", "build ms (wall)", "main-thread CPU ms", "peak build RSS",
+                          "bytes", "bytes ÷ uniform", "intervals θ", "avg intervals φ", "χ² div",
+                          "max p/q", "unreachable mass"], rows))
     return "\n".join(out) + "\n"
 
 
@@ -163,9 +177,9 @@ def main():
         sys.exit("report.py: no JSON results given or found in bench/results/")
     runs, context = load(paths)
     if context:
-        load = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
+        load_avg = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
         print(f"Run: {context.get('date')}, {context.get('num_cpus')} CPUs @ {context.get('mhz_per_cpu')} MHz, "
-              f"load average at start {load}\n")
+              f"load average at start {load_avg}\n")
     print(report_1d(runs))
     print(report_2d(runs))
 
