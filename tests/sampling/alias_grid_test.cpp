@@ -1,0 +1,129 @@
+// AliasGrid: chi-square on every fixture in 2D and 3D, per-sample consistency, ∫pdf = 1, exact
+// cell probabilities, zero cells never sampled, another domain.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "acdf/sampling/alias_grid.h"
+#include "acdf/sampling/rng.h"
+#include "acdf/test_support/chi_square_harness.h"
+#include "acdf/test_support/samplers.h"
+
+namespace {
+
+using namespace acdf;
+using namespace acdf::test_support;
+
+// runChiSquare calls in this program: 2 shapes × 5 fixtures + 1 domain.
+constexpr uint32_t kChiSquareTestsInSuite = 11;
+
+ChiSquareOptions chi2Options() {
+  ChiSquareOptions o;
+  o.testsInProgram = kChiSquareTestsInSuite;
+  return o;
+}
+
+const std::vector<uint32_t> k2D = {64, 32};
+const std::vector<uint32_t> k3D = {16, 8, 12};
+
+using Param = std::tuple<int, Fixture>;  // shape (0: 2D, 1: 3D), fixture
+
+class AliasGridTest : public ::testing::TestWithParam<Param> {
+ protected:
+  const std::vector<uint32_t>& dims() const { return std::get<0>(GetParam()) == 0 ? k2D : k3D; }
+  std::vector<float> values() const { return makeFixture(std::get<1>(GetParam()), dims()); }
+  Sampler sampler() const {
+    const auto v = values();
+    return makeAliasGrid(v, unitAxes(dims()));
+  }
+};
+
+TEST_P(AliasGridTest, ChiSquare) {
+  const ChiSquareReport r = runChiSquare(sampler(), chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
+TEST_P(AliasGridTest, SamplesAreConsistent) {
+  const ChiSquareReport r = checkSamples(sampler());
+  EXPECT_TRUE(r.samplesValid()) << r.summary();
+}
+
+TEST_P(AliasGridTest, PdfIntegratesToOne) {
+  const Sampler s = sampler();
+  EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
+}
+
+TEST_P(AliasGridTest, CellProbabilities) {
+  const Sampler s = sampler();
+  const auto q = s.cellProbabilities();
+  const auto exact = exactCellProbabilities(values());
+  const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
+  ASSERT_EQ(q.size(), exact.size());
+  EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    ASSERT_NEAR(q[i], exact[i], 1e-6 * exact[i]) << "cell " << i;
+    ASSERT_NEAR(fromPdf[i], q[i], 1e-6 * q[i]) << "cell " << i;
+  }
+}
+
+TEST_P(AliasGridTest, NeverSamplesZeroCellsAndStaysInTheChosenCell) {
+  const Sampler s = sampler();
+  const auto v = values();
+  Pcg32 rng(5);
+  std::vector<float> u(s.axes.size());
+  for (int i = 0; i < 200'000; ++i) {
+    for (float& x : u) x = rng.nextFloat();
+    const SampleND x = s.sample(u);
+    const std::size_t cell = cellIndex(s.axes, std::span<const float>(x.x.data(), s.axes.size()));
+    ASSERT_GT(v[cell], 0.0f) << "sample " << i;
+  }
+}
+
+TEST_P(AliasGridTest, PdfIsZeroOutsideTheDomain) {
+  const Sampler s = sampler();
+  std::vector<float> x(s.axes.size(), 0.5f);
+  for (std::size_t d = 0; d < x.size(); ++d)
+    for (float bad : {-0.1f, 1.0f, 2.0f, NAN}) {
+      std::vector<float> y = x;
+      y[d] = bad;
+      EXPECT_EQ(s.pdf(y), 0.0f) << "axis " << d << " x=" << bad;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFixtures, AliasGridTest,
+                         ::testing::Combine(::testing::Values(0, 1), ::testing::ValuesIn(kAllFixtures)),
+                         [](const auto& info) {
+                           return std::string(std::get<0>(info.param) == 0 ? "2D_" : "3D_") +
+                                  toString(std::get<1>(info.param));
+                         });
+
+TEST(AliasGrid, SphericalDomain) {
+  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
+  const auto v = makeFixture(Fixture::Random, k2D);
+  const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
+  const Sampler s = makeAliasGrid(v, axes);
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  // A constant function has density 1/(2π·π).
+  const AliasGrid flat(std::vector<float>(64 * 32, 1.0f), axes);
+  const float x[] = {1.0f, 2.0f};
+  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
+}
+
+TEST(AliasGrid, BytesAreTwelvePerCell) {
+  const auto v = makeFixture(Fixture::Smooth, k3D);
+  const AliasGrid g(v, unitAxes(k3D));
+  EXPECT_EQ(g.bytes(), 12u * v.size());
+  EXPECT_EQ(g.dims(), 3u);
+  EXPECT_FALSE(g.isUniformFallback());
+}
+
+}  // namespace

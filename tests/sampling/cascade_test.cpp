@@ -1,0 +1,497 @@
+// Cascade: chi-square in 2D, 3D and 4D with conditioning dimensions, uniform / adaptive / mixed
+// dimension methods, both conditional rules, both simplifiers and both error metrics; invert,
+// ∫pdf = 1, cell probabilities, structure, slices, threads and build determinism.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "acdf/sampling/cascade.h"
+#include "acdf/sampling/quality.h"
+#include "acdf/sampling/rng.h"
+#include "acdf/sampling/simplify.h"
+#include "acdf/test_support/chi_square_harness.h"
+#include "acdf/test_support/samplers.h"
+
+namespace {
+
+using namespace acdf;
+using namespace acdf::test_support;
+using DM = DimensionMethod;
+
+// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2.
+constexpr uint32_t kChiSquareTestsInSuite = 41;
+
+ChiSquareOptions chi2Options() {
+  ChiSquareOptions o;
+  o.testsInProgram = kChiSquareTestsInSuite;
+  return o;
+}
+
+const std::vector<uint32_t> k2D = {64, 32};
+const std::vector<uint32_t> k3D = {16, 8, 12};
+const std::vector<uint32_t> k4D = {8, 4, 32, 16};  // 8×4 conditioning × 32×16 sampled
+
+CascadeOptions withMethods(std::vector<DM> methods, uint32_t conditioning = 0) {
+  CascadeOptions o;
+  o.conditioningDims = conditioning;
+  o.methods = std::move(methods);
+  return o;
+}
+
+// ---- Every fixture × shape × method set ---------------------------------------------------
+
+struct Shape {
+  std::string name;
+  std::vector<uint32_t> dims;
+  std::vector<DM> methods;  // empty: all adaptive (the default)
+};
+
+const std::vector<Shape>& shapes() {
+  static const std::vector<Shape> s = {
+      {"2D_Uniform", k2D, {DM::Uniform, DM::Uniform}},
+      {"2D_Adaptive", k2D, {}},
+      {"3D_Adaptive", k3D, {DM::Adaptive, DM::Adaptive, DM::Adaptive}},
+      {"3D_MixedAUA", k3D, {DM::Adaptive, DM::Uniform, DM::Adaptive}},
+  };
+  return s;
+}
+
+using ShapeParam = std::tuple<int, Fixture>;
+
+class CascadeFixtures : public ::testing::TestWithParam<ShapeParam> {
+ protected:
+  const Shape& shape() const { return shapes()[std::get<0>(GetParam())]; }
+  std::vector<float> values() const { return makeFixture(std::get<1>(GetParam()), shape().dims); }
+  Sampler sampler() const {
+    const auto v = values();
+    return makeCascade(v, unitAxes(shape().dims), withMethods(shape().methods));
+  }
+};
+
+TEST_P(CascadeFixtures, ChiSquare) {
+  const ChiSquareReport r = runChiSquare(sampler(), chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
+TEST_P(CascadeFixtures, SamplesAreConsistent) {
+  const ChiSquareReport r = checkSamples(sampler());
+  EXPECT_TRUE(r.samplesValid()) << r.summary();
+}
+
+TEST_P(CascadeFixtures, PdfIntegratesToOne) {
+  const Sampler s = sampler();
+  EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
+}
+
+TEST_P(CascadeFixtures, InvertRecoversTheVariates) {
+  const Sampler s = sampler();
+  const std::size_t dims = s.axes.size();
+  Pcg32 rng(17);
+  std::vector<float> u(dims), back(dims);
+  for (int i = 0; i < 50'000; ++i) {
+    for (float& x : u) x = rng.nextFloat();
+    if (i < 3) std::fill(u.begin(), u.end(), i == 0 ? 0.0f : i == 1 ? kOneMinusEpsilon : 0.5f);
+    const SampleND x = s.sample(u);
+    if (!(x.pdf > 0)) continue;
+    s.invert(std::span<const float>(x.x.data(), dims), back);
+    for (std::size_t d = 0; d < dims; ++d) ASSERT_NEAR(back[d], u[d], 1e-4) << "axis " << d << " sample " << i;
+  }
+}
+
+TEST_P(CascadeFixtures, CellProbabilitiesSumToOneAndMatchPdf) {
+  const Sampler s = sampler();
+  const auto q = s.cellProbabilities();
+  const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
+  ASSERT_EQ(q.size(), fromPdf.size());
+  EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
+  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << "cell " << i;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeFixtures,
+                         ::testing::Combine(::testing::Range(0, 4), ::testing::ValuesIn(kAllFixtures)),
+                         [](const auto& info) {
+                           return shapes()[std::get<0>(info.param)].name + "_" + toString(std::get<1>(info.param));
+                         });
+
+class CascadeUniformExact : public ::testing::TestWithParam<Fixture> {};
+
+TEST_P(CascadeUniformExact, CellProbabilitiesAreTheFunctions) {
+  // With every dimension uniform nothing is simplified, so ExactMass reproduces value / Σ up to
+  // the float CDFs' rounding (a few 1e-7 absolute per level).
+  for (const std::vector<uint32_t>& dims : {k2D, k3D}) {
+    const auto v = makeFixture(GetParam(), dims);
+    const Sampler s = makeCascade(v, unitAxes(dims), withMethods(std::vector<DM>(dims.size(), DM::Uniform)));
+    const auto q = s.cellProbabilities();
+    const auto exact = exactCellProbabilities(v);
+    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(q[i], exact[i], 3e-7 + 1e-5 * exact[i]) << "cell " << i;
+    EXPECT_LT(compareCellProbabilities(exact, q).chi2Divergence, 1e-4);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeUniformExact, ::testing::ValuesIn(kAllFixtures),
+                         [](const auto& info) { return toString(info.param); });
+
+// ---- 4D: 8×4 conditioning × 32×16 sampled ------------------------------------------------------
+
+// The conditioning coordinates of the two slices tested per fixture: cell (1, 0), inside the
+// islands of zerosWithIslands, and cell (7, 2), where zerosWithIslands is all zero.
+const std::vector<std::vector<float>> kConditions = {{0.13f, 0.1f}, {0.93f, 0.6f}};
+
+std::vector<float> sliceValues(const std::vector<float>& values, std::size_t slice) {
+  const std::size_t n = std::size_t(k4D[2]) * k4D[3];
+  return {values.begin() + static_cast<std::ptrdiff_t>(slice * n),
+          values.begin() + static_cast<std::ptrdiff_t>((slice + 1) * n)};
+}
+
+class CascadeConditioned : public ::testing::TestWithParam<std::tuple<Fixture, int>> {
+ protected:
+  Fixture fixture() const { return std::get<0>(GetParam()); }
+  const std::vector<float>& condition() const { return kConditions[std::get<1>(GetParam())]; }
+  std::shared_ptr<const Cascade> cascade(std::vector<DM> methods = {}) const {
+    const auto v = makeFixture(fixture(), k4D);
+    return std::make_shared<const Cascade>(v, unitAxes(k4D), withMethods(std::move(methods), 2));
+  }
+};
+
+TEST_P(CascadeConditioned, ChiSquareOfTheSlice) {
+  const Sampler s = makeCascade(cascade(), condition());
+  ASSERT_EQ(s.axes.size(), 2u);
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
+TEST_P(CascadeConditioned, SliceEqualsAStandaloneCascadeOfItsValues) {
+  for (const std::vector<DM>& methods : {std::vector<DM>{}, std::vector<DM>{DM::Uniform, DM::Adaptive}}) {
+    const auto c = cascade(methods);
+    const std::size_t slice = c->sliceOf(condition());
+    const auto v = makeFixture(fixture(), k4D);
+    const auto own = sliceValues(v, slice);
+    const Cascade alone(own, unitAxes(std::vector<uint32_t>{k4D[2], k4D[3]}), withMethods(methods));
+    const auto q = c->cellProbabilities(slice), expected = alone.cellProbabilities(0);
+    ASSERT_EQ(q.size(), expected.size());
+    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(q[i], expected[i], 1e-12) << "cell " << i;
+    const double volume = (1.0 / k4D[2]) * (1.0 / k4D[3]);
+    EXPECT_NEAR(c->integral(slice), std::accumulate(own.begin(), own.end(), 0.0) * volume,
+                1e-9 * c->integral(slice) + 1e-300);
+    EXPECT_EQ(c->isUniformFallback(slice), std::all_of(own.begin(), own.end(), [](float x) { return x == 0; }));
+  }
+}
+
+TEST_P(CascadeConditioned, InvertIntegralAndCellProbabilities) {
+  const auto c = cascade();
+  const Sampler s = makeCascade(c, condition());
+  EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
+  const auto q = s.cellProbabilities();
+  EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
+  const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
+  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << i;
+  Pcg32 rng(23);
+  float u[2], back[2];
+  for (int i = 0; i < 20'000; ++i) {
+    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
+    const SampleND x = s.sample(u);
+    s.invert(std::span<const float>(x.x.data(), 2), back);
+    ASSERT_NEAR(back[0], u[0], 1e-4);
+    ASSERT_NEAR(back[1], u[1], 1e-4);
+  }
+  const ChiSquareReport r = checkSamples(s, 20'000);
+  EXPECT_TRUE(r.samplesValid()) << r.summary();
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeConditioned,
+                         ::testing::Combine(::testing::ValuesIn(kAllFixtures), ::testing::Values(0, 1)),
+                         [](const auto& info) {
+                           return toString(std::get<0>(info.param)) + "_slice" + std::to_string(std::get<1>(info.param));
+                         });
+
+TEST(CascadeConditioning, SliceLookupIsTheNearestCell) {
+  const auto v = makeFixture(Fixture::Random, k4D);
+  const Cascade c(v, unitAxes(k4D), withMethods({}, 2));
+  EXPECT_EQ(c.slices(), 32u);
+  EXPECT_EQ(c.conditioningDims(), 2u);
+  EXPECT_EQ(c.sampledDims(), 2u);
+  for (uint32_t i = 0; i < 8; ++i)
+    for (uint32_t j = 0; j < 4; ++j) {
+      const float cond[] = {(i + 0.5f) / 8, (j + 0.5f) / 4};
+      EXPECT_EQ(c.sliceOf(cond), i * 4 + j);
+    }
+  const float outside[] = {-5.0f, 99.0f};
+  EXPECT_EQ(c.sliceOf(outside), 3u);  // clamped to cell (0, 3)
+  // Different slices are different distributions.
+  const float a[] = {0.1f, 0.1f}, b[] = {0.9f, 0.9f}, x[] = {0.3f, 0.3f};
+  EXPECT_NE(c.pdf(a, x), c.pdf(b, x));
+}
+
+TEST(CascadeConditioning, AllZeroSliceIsUniform) {
+  const auto v = makeFixture(Fixture::ZerosWithIslands, k4D);
+  const auto c = std::make_shared<const Cascade>(v, unitAxes(k4D), withMethods({}, 2));
+  const std::size_t slice = c->sliceOf(kConditions[1]);
+  ASSERT_TRUE(c->isUniformFallback(slice));
+  const Sampler s = makeCascade(c, kConditions[1]);
+  for (float x : {0.01f, 0.5f, 0.99f}) {
+    const float p[] = {x, 1 - x};
+    EXPECT_NEAR(s.pdf(p), 1.0f, 1e-6f);
+  }
+  for (double q : s.cellProbabilities()) ASSERT_NEAR(q, 1.0 / (32 * 16), 1e-9);
+}
+
+// ---- Options: conditional rule, simplifier, metric, weight bound, budget ---------------------
+
+struct Variant {
+  std::string name;
+  CascadeOptions options;
+  Fixture fixture;
+};
+
+std::vector<Variant> variants() {
+  std::vector<Variant> out;
+  CascadeOptions o;
+  o.conditional = ConditionalRule::AverageOfNormalized;
+  for (Fixture f : {Fixture::Smooth, Fixture::Random, Fixture::ZerosWithIslands})
+    out.push_back({"AverageOfNormalized_" + toString(f), o, f});
+  o = {};
+  o.simplify.method = Simplifier::GreedyRefinement;
+  out.push_back({"Greedy_random", o, Fixture::Random});
+  out.push_back({"Greedy_checkerboard", o, Fixture::Checkerboard});
+  o = {};
+  o.simplify.metric = ErrorMetric::Perpendicular;
+  out.push_back({"Perpendicular_peakedSun", o, Fixture::PeakedSun});
+  out.push_back({"Perpendicular_smooth", o, Fixture::Smooth});
+  o = {};
+  o.simplify.method = Simplifier::GreedyRefinement;
+  o.simplify.metric = ErrorMetric::Perpendicular;
+  o.simplify.maxPoints = 6;
+  o.simplify.epsilon = 0;
+  out.push_back({"GreedyPerpendicularBudget6_random", o, Fixture::Random});
+  o = {};
+  o.simplify.epsilon = 0.05;
+  o.simplify.weightBound = 0;
+  o.conditional = ConditionalRule::AverageOfNormalized;
+  out.push_back({"CoarseNoWeightBoundAverage_zerosWithIslands", o, Fixture::ZerosWithIslands});
+  return out;
+}
+
+class CascadeOptionsTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(CascadeOptionsTest, ChiSquareAndConsistency) {
+  const Variant v = variants()[GetParam()];
+  const auto values = makeFixture(v.fixture, k2D);
+  const Sampler s = makeCascade(values, unitAxes(k2D), v.options);
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r)) << v.name;
+  const auto q = s.cellProbabilities();
+  EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
+  const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
+  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << i;
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, CascadeOptionsTest, ::testing::Range(0, int(variants().size())),
+                         [](const auto& info) { return variants()[info.param].name; });
+
+TEST(CascadeOptions, ExactMassConditionalKeepsBlockMasses) {
+  // Level 0 adaptive (rows merged into intervals), level 1 uniform. With ExactMass the
+  // conditional below an interval is Σ_rows f / Σ_block f, so for every interval I and column j
+  // Σ_{rows in I} q(row, j) equals the function's mass of (I, j). AverageOfNormalized averages
+  // normalised row conditionals instead and misses it on rows of different totals.
+  const auto v = makeFixture(Fixture::Random, k2D);
+  const uint32_t rows = k2D[0], cols = k2D[1];
+  CascadeOptions exact = withMethods({DM::Adaptive, DM::Uniform});
+  exact.simplify.epsilon = 0.02;
+  CascadeOptions average = exact;
+  average.conditional = ConditionalRule::AverageOfNormalized;
+  const Cascade a(v, unitAxes(k2D), exact), b(v, unitAxes(k2D), average);
+
+  // The row marginal's CDF, simplified with the same options, gives level 0's intervals.
+  std::vector<double> rowMass(rows, 0.0);
+  for (uint32_t i = 0; i < rows; ++i)
+    for (uint32_t j = 0; j < cols; ++j) rowMass[i] += v[i * cols + j];
+  const double total = std::accumulate(rowMass.begin(), rowMass.end(), 0.0);
+  std::vector<float> cdf(rows + 1, 0.0f);
+  double running = 0;
+  for (uint32_t i = 0; i < rows; ++i) cdf[i + 1] = static_cast<float>((running += rowMass[i]) / total);
+  cdf.back() = 1.0f;
+  const auto kept = simplifyCdf(cdf, exact.simplify);
+  ASSERT_EQ(a.pointsPerDimension()[0], kept.size());
+  ASSERT_LT(kept.size(), rows + 1u) << "level 0 must merge rows for the rules to differ";
+
+  const auto exactP = exactCellProbabilities(v);
+  const auto qa = a.cellProbabilities(0), qb = b.cellProbabilities(0);
+  double worstA = 0, worstB = 0;
+  for (std::size_t k = 0; k + 1 < kept.size(); ++k)
+    for (uint32_t j = 0; j < cols; ++j) {
+      double want = 0, gotA = 0, gotB = 0;
+      for (uint32_t i = kept[k]; i < kept[k + 1]; ++i) {
+        want += exactP[i * cols + j];
+        gotA += qa[i * cols + j];
+        gotB += qb[i * cols + j];
+      }
+      worstA = std::max(worstA, std::abs(gotA - want) / want);
+      worstB = std::max(worstB, std::abs(gotB - want) / want);
+    }
+  EXPECT_LT(worstA, 1e-4) << "ExactMass block masses";
+  EXPECT_GT(worstB, 1e-3) << "AverageOfNormalized should differ on rows of different totals";
+}
+
+TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
+  const auto v = makeFixture(Fixture::Smooth, k2D);
+  CascadeOptions vertical, perpendicular, greedy;
+  vertical.simplify.epsilon = perpendicular.simplify.epsilon = greedy.simplify.epsilon = 1e-4;
+  vertical.simplify.weightBound = perpendicular.simplify.weightBound = greedy.simplify.weightBound = 0;
+  perpendicular.simplify.metric = ErrorMetric::Perpendicular;
+  greedy.simplify.method = Simplifier::GreedyRefinement;
+  greedy.simplify.maxPoints = 4;
+  const Cascade a(v, unitAxes(k2D), vertical), b(v, unitAxes(k2D), perpendicular), c(v, unitAxes(k2D), greedy);
+  EXPECT_NE(a.pointsPerDimension(), b.pointsPerDimension());
+  // A budget of 4 points per 1D CDF: 4 points at level 0, 3 intervals × 4 points at level 1.
+  EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{4, 12}));
+}
+
+// ---- Structure --------------------------------------------------------------------------------
+
+TEST(CascadeStructure, UniformLevelsStoreEveryVertex) {
+  const auto v = makeFixture(Fixture::Smooth, k2D);
+  const Cascade c(v, unitAxes(k2D), withMethods({DM::Uniform, DM::Uniform}));
+  EXPECT_EQ(c.averageIntervals(), (std::vector<double>{64, 32}));
+  EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{65, 64 * 33}));
+  EXPECT_GE(c.bytes(), (65 + 64 * 33) * sizeof(float));
+  EXPECT_LT(c.bytes(), (65 + 64 * 33) * sizeof(float) + 1024);
+}
+
+TEST(CascadeStructure, ConditionedUniformLevels) {
+  const auto v = makeFixture(Fixture::Smooth, k4D);
+  const Cascade c(v, unitAxes(k4D), withMethods({DM::Uniform, DM::Uniform}, 2));
+  EXPECT_EQ(c.averageIntervals(), (std::vector<double>{8, 4, 32, 16}));
+  EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{32 * 33, 32 * 32 * 17}));
+}
+
+TEST(CascadeStructure, AdaptiveLevelsCompress) {
+  const auto v = makeFixture(Fixture::Smooth, k3D);
+  const Cascade adaptive(v, unitAxes(k3D));
+  const Cascade uniform(v, unitAxes(k3D), withMethods({DM::Uniform, DM::Uniform, DM::Uniform}));
+  const auto intervals = adaptive.averageIntervals();
+  ASSERT_EQ(intervals.size(), 3u);
+  for (std::size_t d = 0; d < 3; ++d) {
+    EXPECT_GE(intervals[d], 1.0);
+    EXPECT_LE(intervals[d], k3D[d]);
+  }
+  EXPECT_LT(adaptive.bytes(), uniform.bytes());
+}
+
+// ---- Domains ------------------------------------------------------------------------------------
+
+TEST(CascadeDomains, SphericalDomainChiSquare) {
+  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
+  const auto v = makeFixture(Fixture::Random, k2D);
+  const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
+  const Sampler s = makeCascade(v, axes);
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  const Cascade flat(std::vector<float>(64 * 32, 1.0f), axes);
+  const float x[] = {1.0f, 2.0f};
+  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
+}
+
+TEST(CascadeDomains, ShiftedDomains3D) {
+  const auto v = makeFixture(Fixture::Smooth, k3D);
+  const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
+  const Sampler s = makeCascade(v, axes, withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive}));
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  std::vector<float> u(3), back(3);
+  Pcg32 rng(8);
+  for (int i = 0; i < 10'000; ++i) {
+    for (float& x : u) x = rng.nextFloat();
+    const SampleND x = s.sample(u);
+    s.invert(std::span<const float>(x.x.data(), 3), back);
+    for (int d = 0; d < 3; ++d) ASSERT_NEAR(back[d], u[d], 1e-4);
+  }
+}
+
+// ---- Concurrency and determinism ----------------------------------------------------------
+
+struct Draws {
+  std::vector<float> x, pdf, pdfAgain, inverted;
+  bool operator==(const Draws& o) const {
+    auto same = [](const std::vector<float>& a, const std::vector<float>& b) {
+      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+    };
+    return same(x, o.x) && same(pdf, o.pdf) && same(pdfAgain, o.pdfAgain) && same(inverted, o.inverted);
+  }
+};
+
+// Samples i in [0, n) with i % stride == offset, each with its own variates u(i).
+void drawInto(const Cascade& c, std::span<const float> condition, std::size_t n, std::size_t offset,
+              std::size_t stride, Draws& out) {
+  const std::size_t dims = c.sampledDims();
+  std::vector<float> u(dims), back(dims);
+  for (std::size_t i = offset; i < n; i += stride) {
+    Pcg32 rng(i, 77);
+    for (float& v : u) v = rng.nextFloat();
+    const SampleND s = c.sample(condition, u);
+    const std::span<const float> x(s.x.data(), dims);
+    c.invert(condition, x, back);
+    for (std::size_t d = 0; d < dims; ++d) {
+      out.x[i * dims + d] = s.x[d];
+      out.inverted[i * dims + d] = back[d];
+    }
+    out.pdf[i] = s.pdf;
+    out.pdfAgain[i] = c.pdf(condition, x);
+  }
+}
+
+Draws allocate(std::size_t n, std::size_t dims) {
+  return {std::vector<float>(n * dims), std::vector<float>(n), std::vector<float>(n), std::vector<float>(n * dims)};
+}
+
+TEST(CascadeConcurrency, EightThreadsMatchOneThread) {
+  const auto v = makeFixture(Fixture::Random, k4D);
+  const Cascade c(v, unitAxes(k4D), withMethods({}, 2));
+  const float condition[] = {0.4f, 0.7f};
+  constexpr std::size_t kN = 200'000;
+  Draws single = allocate(kN, 2), parallel = allocate(kN, 2);
+  drawInto(c, condition, kN, 0, 1, single);
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < 8; ++t)
+    threads.emplace_back([&, t] { drawInto(c, condition, kN, t, 8, parallel); });
+  for (std::thread& t : threads) t.join();
+  EXPECT_TRUE(single == parallel);
+}
+
+TEST(CascadeConcurrency, BuildDoesNotDependOnTheThreadCount) {
+  const auto v = makeFixture(Fixture::Random, std::vector<uint32_t>{8, 4, 64, 32});
+  std::unique_ptr<Cascade> serial;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    serial = std::make_unique<Cascade>(v, unitAxes(std::vector<uint32_t>{8, 4, 64, 32}), withMethods({}, 2));
+  }
+  const Cascade parallel(v, unitAxes(std::vector<uint32_t>{8, 4, 64, 32}), withMethods({}, 2));
+  EXPECT_EQ(serial->bytes(), parallel.bytes());
+  EXPECT_EQ(serial->pointsPerDimension(), parallel.pointsPerDimension());
+  for (std::size_t slice = 0; slice < parallel.slices(); ++slice) {
+    ASSERT_EQ(serial->cellProbabilities(slice), parallel.cellProbabilities(slice)) << slice;
+    ASSERT_EQ(serial->integral(slice), parallel.integral(slice)) << slice;
+  }
+  const float condition[] = {0.6f, 0.2f};
+  Draws a = allocate(20'000, 2), b = allocate(20'000, 2);
+  drawInto(*serial, condition, 20'000, 0, 1, a);
+  drawInto(parallel, condition, 20'000, 0, 1, b);
+  EXPECT_TRUE(a == b);
+}
+
+}  // namespace
