@@ -107,6 +107,8 @@ void setCommonCounters(benchmark::State& st, const Set1D& s) {
     st.counters["points"] = static_cast<double>(s.adaptive.points());
     st.counters["chi2"] = s.adaptiveQuality.chi2Divergence;
     st.counters["max_weight_ratio"] = s.adaptiveQuality.maxWeightRatio;
+    st.counters["epsilon"] = SimplifyOptions{}.epsilon;
+    st.counters["weight_bound"] = SimplifyOptions{}.weightBound;
   }
 }
 

@@ -4,10 +4,12 @@
 // Three samplers of the same grid:
 //   uniform   Cascade with every dimension DimensionMethod::Uniform (the pbrt/Mitsuba baseline)
 //   alias     AliasGrid (one Vose table over all cells)
-//   adaptive  Cascade with default options (Douglas–Peucker, vertical error, ε = 2e-3, ρ = 4)
+//   adaptive  Cascade with default options (Douglas–Peucker, vertical error, the
+//             default ε and weight bound ρ of SimplifyOptions; reported as counters)
 //
 // Benchmarks (names are "<what>/<method>/<W>x<H>"):
-//   build2d/*     construction (ms/op, TBB on all cores); counters: bytes, bytes_vs_uniform,
+//   build2d/*     construction (wall ms/op, TBB on all cores); counters: process_cpu_ms (CPU time
+//                 of all threads per build), bytes, bytes_vs_uniform,
 //                 peak_build_bytes (rise of the process' resident high-water mark during the build
 //                 loop, see PeakMemory), chi2 / max_weight_ratio of the cell probabilities vs exact
 //   simplify2d/<simplifier>-<metric>/*  the adaptive build with each simplifier: what it costs
@@ -65,7 +67,7 @@ constexpr uint32_t kGreedyBudget = 8;
 enum class Fixture { SunAndSky, Rough };
 
 // SunAndSky: the fixture. Rough: a_row^8 · b_cell^8 with a, b i.i.d. uniform
-// (acdf::fixtures::random) — heavy-tailed in both axes, so the weight bound ρ = 4 splits almost
+// (acdf::fixtures::random) — heavy-tailed in both axes, so the weight bound ρ splits almost
 // every row and every cell: the adaptive build's worst realistic case (little to simplify, the
 // simplifier still scans everything).
 std::vector<float> fixtureValues(Fixture fixture, uint32_t width, uint32_t height) {
@@ -175,6 +177,10 @@ void sizeCounters(benchmark::State& st, Set2D& s, std::size_t bytes) {
 
 void cascadeCounters(benchmark::State& st, Set2D& s, const Cascade& c) {
   sizeCounters(st, s, c.bytes());
+  const SimplifyOptions& o = c.options().simplify;
+  st.counters["epsilon"] = o.epsilon;
+  st.counters["weight_bound"] = o.weightBound;
+  st.counters["max_points"] = o.maxPoints;
   std::vector<double> intervals = c.averageIntervals();
   st.counters["avg_intervals_theta"] = intervals[0];
   st.counters["avg_intervals_phi"] = intervals[1];
@@ -188,17 +194,22 @@ std::optional<Distribution> timedBuilds(benchmark::State& st, Set2D& s, Args&&..
   std::optional<Distribution> d;
   PeakMemory peak;
   peak.start();
+  double cpuSeconds = 0;
   for (auto _ : st) {
     if (d) {
       st.PauseTiming();
       d.reset();
       st.ResumeTiming();
     }
+    const double cpu0 = processCpuSeconds();
     d.emplace(s.values, s.axes, args...);
     benchmark::DoNotOptimize(&*d);
     benchmark::ClobberMemory();
+    cpuSeconds += processCpuSeconds() - cpu0;
   }
   st.counters["peak_build_bytes"] = peak.stopBytes();
+  // CPU time of all threads per build (ms): the work, independent of how busy the machine is.
+  st.counters["process_cpu_ms"] = 1e3 * cpuSeconds / static_cast<double>(st.iterations());
   return d;
 }
 

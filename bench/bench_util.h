@@ -3,6 +3,7 @@
 // interleaved head-to-head timer for ratios that survive a noisy machine.
 
 #include <malloc.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -63,6 +64,15 @@ class PeakMemory {
   bool ok_ = false;
   long baseKb_ = -1;
 };
+
+// CPU time (user + system) used so far by every thread of the process, in seconds. On a shared
+// machine, wall time depends on what else runs; this is the work a build did.
+inline double processCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  auto sec = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  return sec(u.ru_utime) + sec(u.ru_stime);
+}
 
 inline double median(std::vector<double> v) {
   if (v.empty()) return 0;
