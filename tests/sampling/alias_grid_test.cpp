@@ -20,8 +20,8 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program: 2 shapes × 5 fixtures + 1 domain.
-constexpr uint32_t kChiSquareTestsInSuite = 11;
+// runChiSquare calls in this program: 2 shapes × 5 fixtures + 1 domain + 1 within cells + 1 4D.
+constexpr uint32_t kChiSquareTestsInSuite = 13;
 
 ChiSquareOptions chi2Options() {
   ChiSquareOptions o;
@@ -116,6 +116,31 @@ TEST(AliasGrid, SphericalDomain) {
   const AliasGrid flat(std::vector<float>(64 * 32, 1.0f), axes);
   const float x[] = {1.0f, 2.0f};
   EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
+}
+
+TEST(AliasGrid, PositionsAreUniformWithinCells) {
+  // Bins halving every cell along both axes: axis 0's position comes from the cell variate's
+  // unused fraction, axis 1's from u[1]; both must be uniform inside the cell.
+  const std::vector<uint32_t> dims = {32, 16};
+  const auto v = makeFixture(Fixture::Random, dims);
+  const Sampler s = makeAliasGrid(v, unitAxes(dims));
+  ChiSquareOptions o = chi2Options();
+  o.bins = {64, 32};
+  const ChiSquareReport r = runChiSquare(s, o);
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
+TEST(AliasGrid, FourDimensions) {
+  const std::vector<uint32_t> dims = {8, 4, 8, 4};
+  const auto v = makeFixture(Fixture::ZerosWithIslands, dims);
+  const Sampler s = makeAliasGrid(v, unitAxes(dims));
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  const auto q = s.cellProbabilities();
+  const auto exact = exactCellProbabilities(v);
+  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(q[i], exact[i], 1e-6 * exact[i]) << i;
 }
 
 TEST(AliasGrid, BytesAreTwelvePerCell) {

@@ -29,8 +29,9 @@ using namespace acdf;
 using namespace acdf::test_support;
 using DM = DimensionMethod;
 
-// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2.
-constexpr uint32_t kChiSquareTestsInSuite = 41;
+// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2 + within
+// cells 1 + wide indices 1 + unconditioned 4D 1.
+constexpr uint32_t kChiSquareTestsInSuite = 44;
 
 ChiSquareOptions chi2Options() {
   ChiSquareOptions o;
@@ -216,6 +217,15 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeConditioned,
                          [](const auto& info) {
                            return toString(std::get<0>(info.param)) + "_slice" + std::to_string(std::get<1>(info.param));
                          });
+
+TEST(CascadeConditioning, FourSampledDimensionsWithoutConditioning) {
+  const std::vector<uint32_t> dims = {8, 4, 8, 4};
+  const auto v = makeFixture(Fixture::Checkerboard, dims);
+  const Sampler s = makeCascade(v, unitAxes(dims), withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive, DM::Adaptive}));
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
 
 TEST(CascadeConditioning, SliceLookupIsTheNearestCell) {
   const auto v = makeFixture(Fixture::Random, k4D);
@@ -406,6 +416,18 @@ TEST(CascadeDomains, SphericalDomainChiSquare) {
   EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
 }
 
+TEST(CascadeDomains, PositionsAreUniformWithinCells) {
+  // Bins halving every cell along both axes: the position inside an interval is linear in u.
+  const std::vector<uint32_t> dims = {32, 16};
+  const auto v = makeFixture(Fixture::Random, dims);
+  const Sampler s = makeCascade(v, unitAxes(dims));
+  ChiSquareOptions o = chi2Options();
+  o.bins = {64, 32};
+  const ChiSquareReport r = runChiSquare(s, o);
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
 TEST(CascadeDomains, ShiftedDomains3D) {
   const auto v = makeFixture(Fixture::Smooth, k3D);
   const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
@@ -420,6 +442,73 @@ TEST(CascadeDomains, ShiftedDomains3D) {
     const SampleND x = s.sample(u);
     s.invert(std::span<const float>(x.x.data(), 3), back);
     for (int d = 0; d < 3; ++d) ASSERT_NEAR(back[d], u[d], 1e-4);
+  }
+}
+
+// ---- Wide vertex indices and random configurations -------------------------------------------
+
+TEST(CascadeWide, AxesOver65535CellsUse32BitIndices) {
+  // 70000 × 3: level 0 needs 32-bit vertex indices. Chi-square on bins of 100 × 1 cells.
+  const std::vector<uint32_t> dims = {70000, 3};
+  const auto v = makeFixture(Fixture::ZerosWithIslands, dims);
+  const Sampler s = makeCascade(v, unitAxes(dims));
+  ChiSquareOptions o = chi2Options();
+  o.bins = {700, 3};
+  o.subPoints = 1;
+  const ChiSquareReport r = runChiSquare(s, o);
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  std::vector<float> u(2), back(2);
+  Pcg32 rng(31);
+  for (int i = 0; i < 20'000; ++i) {
+    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
+    const SampleND x = s.sample(u);
+    s.invert(std::span<const float>(x.x.data(), 2), back);
+    ASSERT_NEAR(back[0], u[0], 1e-4);
+    ASSERT_NEAR(back[1], u[1], 1e-4);
+  }
+}
+
+TEST(CascadeRandomConfigurations, ContractHolds) {
+  // Random shapes (1..4 axes, some conditioning), fixtures and options: every sample valid,
+  // ∫pdf = 1, cell probabilities match pdf() and sum to 1, invert recovers u.
+  Pcg32 rng(2026);
+  auto pick = [&](uint32_t n) { return rng.nextUint() % n; };
+  for (int trial = 0; trial < 60; ++trial) {
+    const uint32_t dimsCount = 1 + pick(4);
+    std::vector<uint32_t> dims(dimsCount);
+    for (uint32_t& d : dims) d = 1 + pick(dimsCount <= 2 ? 40 : 12);
+    CascadeOptions o;
+    o.conditioningDims = pick(dimsCount);
+    for (uint32_t d = o.conditioningDims; d < dimsCount; ++d) o.methods.push_back(pick(3) ? DM::Adaptive : DM::Uniform);
+    o.conditional = pick(2) ? ConditionalRule::ExactMass : ConditionalRule::AverageOfNormalized;
+    o.simplify.method = pick(2) ? Simplifier::DouglasPeucker : Simplifier::GreedyRefinement;
+    o.simplify.metric = pick(2) ? ErrorMetric::Vertical : ErrorMetric::Perpendicular;
+    o.simplify.epsilon = std::pow(10.0, -1.0 - 3.0 * rng.nextFloat());
+    o.simplify.weightBound = pick(3) == 0 ? 0.0 : 1.0 + 4.0 * rng.nextFloat();
+    if (o.simplify.method == Simplifier::GreedyRefinement && pick(2)) o.simplify.maxPoints = 2 + pick(10);
+    const Fixture f = kAllFixtures[pick(5)];
+    const auto v = makeFixture(f, dims);
+    const auto c = std::make_shared<const Cascade>(v, unitAxes(dims), o);
+    std::vector<float> condition(o.conditioningDims);
+    for (float& x : condition) x = rng.nextFloat();
+    const Sampler s = makeCascade(c, condition);
+    const std::string what = "trial " + std::to_string(trial) + " " + toString(f) + " dims " + std::to_string(dimsCount) +
+                             " conditioning " + std::to_string(o.conditioningDims);
+    const ChiSquareReport r = checkSamples(s, 3'000);
+    ASSERT_TRUE(r.samplesValid()) << what << ": " << r.summary();
+    ASSERT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4) << what;
+    const auto q = s.cellProbabilities();
+    ASSERT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6) << what;
+    const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
+    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << what << " cell " << i;
+    std::vector<float> u(s.axes.size()), back(s.axes.size());
+    for (int i = 0; i < 500; ++i) {
+      for (float& x : u) x = rng.nextFloat();
+      const SampleND x = s.sample(u);
+      s.invert(std::span<const float>(x.x.data(), u.size()), back);
+      for (std::size_t d = 0; d < u.size(); ++d) ASSERT_NEAR(back[d], u[d], 1e-4) << what << " axis " << d;
+    }
   }
 }
 

@@ -23,8 +23,9 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program: 15 (kind × fixture) + 3 (domain) + 8 (adaptive options).
-constexpr uint32_t kChiSquareTestsInSuite = 26;
+// runChiSquare calls in this program: 15 (kind × fixture) + 3 (domain) + 8 (adaptive options)
+// + 3 (within cells).
+constexpr uint32_t kChiSquareTestsInSuite = 29;
 constexpr uint32_t kCells = 1000;
 
 ChiSquareOptions chi2Options() {
@@ -98,9 +99,12 @@ TEST_P(Distribution1D, NeverSamplesZeroCells) {
   }
 }
 
-TEST_P(Distribution1D, InvertRecoversTheVariate) {
+// PiecewiseConstant1D and AdaptiveCdf1D have invert().
+class Invertible1D : public Distribution1D {};
+
+TEST_P(Invertible1D, InvertRecoversTheVariate) {
   const Sampler s = sampler();
-  if (!s.invert) GTEST_SKIP() << s.name << " has no invert";
+  ASSERT_TRUE(s.invert);
   Pcg32 rng(11);
   std::vector<float> us = {0.0f, kOneMinusEpsilon, 0.5f, 1e-7f, 0.999999f};
   for (int i = 0; i < 100'000; ++i) us.push_back(rng.nextFloat());
@@ -116,10 +120,12 @@ TEST_P(Distribution1D, InvertRecoversTheVariate) {
   EXPECT_EQ(compared, int(us.size()));
 }
 
-TEST_P(Distribution1D, CellProbabilitiesMatchTheFunction) {
+// The uncompressed tables (the adaptive CDF is checked interval by interval below).
+class Exact1D : public Distribution1D {};
+
+TEST_P(Exact1D, CellProbabilitiesMatchTheFunction) {
   // pdf × cell width against value / Σ values. The piecewise-constant table stores a float CDF
   // (absolute error ~1 ulp of 1 per cell); the alias table stores each probability as a float.
-  if (kind() == Kind1D::Adaptive) GTEST_SKIP() << "compressed: see AdaptiveCdf1D tests";
   const Sampler s = sampler();
   const auto exact = exactCellProbabilities(values());
   const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
@@ -132,6 +138,14 @@ TEST_P(Distribution1D, CellProbabilitiesMatchTheFunction) {
 
 INSTANTIATE_TEST_SUITE_P(AllFixtures, Distribution1D,
                          ::testing::Combine(::testing::ValuesIn(kKinds), ::testing::ValuesIn(kAllFixtures)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(AllFixtures, Invertible1D,
+                         ::testing::Combine(::testing::Values(Kind1D::PiecewiseConstant, Kind1D::Adaptive),
+                                            ::testing::ValuesIn(kAllFixtures)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(AllFixtures, Exact1D,
+                         ::testing::Combine(::testing::Values(Kind1D::PiecewiseConstant, Kind1D::Alias),
+                                            ::testing::ValuesIn(kAllFixtures)),
                          paramName);
 
 // ---- Other domains ------------------------------------------------------------------------------
@@ -150,6 +164,18 @@ TEST_P(OtherDomain1D, ChiSquareOnMinus3To5) {
   const std::vector<float> flat(16, 2.0f);
   const Sampler u = make1D(GetParam(), flat, -3.0f, 5.0f);
   for (float x : {-2.99f, -1.0f, 0.0f, 4.99f}) EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
+}
+
+TEST_P(OtherDomain1D, PositionsAreUniformWithinCells) {
+  // Bins subdividing every cell in 4: the position inside the chosen cell (the alias table
+  // reuses the variate's unused fraction) must be uniform too.
+  const auto v = fixture1D(Fixture::Random, 250);
+  const Sampler s = make1D(GetParam(), v, -3.0f, 5.0f);
+  ChiSquareOptions o = chi2Options();
+  o.bins = {1000};
+  const ChiSquareReport r = runChiSquare(s, o);
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
 }
 
 INSTANTIATE_TEST_SUITE_P(AllKinds, OtherDomain1D, ::testing::ValuesIn(kKinds),

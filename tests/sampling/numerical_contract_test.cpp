@@ -416,6 +416,30 @@ TEST(Variates, EndsOfTheUnitIntervalGiveInteriorSamples) {
       }
 }
 
+TEST(Variates, OutOfRangeVariatesAreClampedLikeClampUnit) {
+  // Variates outside [0, 1) (1, 7, −0.5, ±Inf, NaN) behave as clampUnit(u): same sample, inside
+  // the domain, never a hang or a NaN.
+  const std::vector<uint32_t> grid = {16, 8, 12};
+  for (Class c : kAllClasses) {
+    SCOPED_TRACE(name(c));
+    const std::vector<uint32_t> dims = is1D(c) ? std::vector<uint32_t>{1000} : grid;
+    const Sampler s = build(c, makeFixture(Fixture::ZerosWithIslands, dims), dims);
+    for (float bad : {1.0f, 7.0f, -0.5f, kInf, -kInf, kNaN}) {
+      for (std::size_t d = 0; d < dims.size(); ++d) {
+        std::vector<float> u(dims.size(), 0.3f), clamped(dims.size(), 0.3f);
+        u[d] = bad;
+        clamped[d] = clampUnit(bad);
+        const SampleND a = s.sample(u), b = s.sample(clamped);
+        for (std::size_t k = 0; k < dims.size(); ++k) {
+          ASSERT_EQ(a.x[k], b.x[k]) << "u=" << bad << " on axis " << d;
+          ASSERT_TRUE(a.x[k] > s.axes[k].lo() && a.x[k] < s.axes[k].hi());
+        }
+        ASSERT_EQ(a.pdf, b.pdf);
+      }
+    }
+  }
+}
+
 TEST(Variates, ClampHelpers) {
   EXPECT_EQ(clampUnit(0.25f), 0.25f);
   EXPECT_EQ(clampUnit(1.0f), kOneMinusEpsilon);

@@ -3,6 +3,7 @@
 // PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid and Cascade, plus named fixtures.
 
 #include <functional>
+#include <ostream>
 #include <memory>
 #include <span>
 #include <string>
@@ -31,6 +32,7 @@ struct Sampler {
 
 enum class Kind1D { PiecewiseConstant, Alias, Adaptive };
 std::string toString(Kind1D kind);
+inline void PrintTo(Kind1D kind, std::ostream* os) { *os << toString(kind); }  // gtest names
 
 Sampler make1D(Kind1D kind, std::span<const float> values, float lo = 0.0f, float hi = 1.0f,
                const SimplifyOptions& options = {});
@@ -45,6 +47,7 @@ inline constexpr Fixture kAllFixtures[] = {Fixture::Smooth, Fixture::PeakedSun,
                                            Fixture::ZerosWithIslands, Fixture::Checkerboard,
                                            Fixture::Random};
 std::string toString(Fixture fixture);
+inline void PrintTo(Fixture fixture, std::ostream* os) { *os << toString(fixture); }
 std::vector<float> makeFixture(Fixture fixture, std::span<const uint32_t> dims);
 
 // Axes of `dims` cells each over [0, 1).
