@@ -1,0 +1,27 @@
+#include "errors.h"
+
+namespace acdf::app {
+
+std::string oneLine(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool pendingBreak = false;
+  for (char c : text) {
+    if (c == '\n' || c == '\r' || c == '\t') {
+      pendingBreak = true;
+      continue;
+    }
+    if (pendingBreak && !out.empty() && out.back() != ' ' && c != ' ') out.push_back(' ');
+    pendingBreak = false;
+    out.push_back(c);
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+InputError::InputError(const std::string& file, const std::string& problem)
+    : std::runtime_error(oneLine(file) + ": " + oneLine(problem)), file_(file), problem_(problem) {}
+
+UsageError::UsageError(const std::string& message) : std::runtime_error(oneLine(message)) {}
+
+}  // namespace acdf::app

@@ -1,0 +1,41 @@
+#include "files.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "errors.h"
+
+namespace acdf::app {
+
+namespace fs = std::filesystem;
+
+std::uintmax_t checkInputFile(const std::string& path) {
+  if (path.empty()) throw InputError(path, "empty file name");
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) throw InputError(path, "no such file");
+  if (ec) throw InputError(path, "cannot access file (" + ec.message() + ")");
+  if (status.type() == fs::file_type::directory) throw InputError(path, "is a directory, not a file");
+  if (status.type() != fs::file_type::regular) throw InputError(path, "not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot read file size (" + ec.message() + ")");
+  if (size == 0) throw InputError(path, "file is empty");
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) throw InputError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
+  return size;
+}
+
+std::vector<unsigned char> readFileBytes(const std::string& path) {
+  const std::uintmax_t size = checkInputFile(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (static_cast<std::uintmax_t>(in.gcount()) != size) throw InputError(path, "read error (file changed while reading?)");
+  return bytes;
+}
+
+}  // namespace acdf::app

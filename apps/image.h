@@ -1,0 +1,26 @@
+#pragma once
+// Reader for any image OpenImageIO can read, as a 2D grid of luminance values.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace acdf::app {
+
+struct LuminanceImage {
+  std::size_t width = 0, height = 0;
+  std::size_t channels = 0;         // channels in the file
+  std::vector<float> values;        // height x width, row-major (row 0 = top scanline)
+  std::size_t negativeClamped = 0;  // luminances < 0 that were set to 0
+  std::size_t negativeChannelPixels = 0;  // pixels with a used channel < 0 (kept in the luminance)
+  std::string format;               // OpenImageIO format name, e.g. "openexr"
+};
+
+// Subimage 0, MIP level 0. Luminance = 0.2126 R + 0.7152 G + 0.0722 B from the first three
+// channels; an image with one or two channels (gray, gray + alpha) uses channel 0. Channels enter
+// the luminance as they are (a slightly negative channel of a lossy file is counted, not changed);
+// a negative luminance is clamped to 0 and counted; a NaN or Inf in a used channel is an error.
+// Throws InputError("<path>: <problem>").
+LuminanceImage readLuminanceImage(const std::string& path);
+
+}  // namespace acdf::app

@@ -1,0 +1,69 @@
+// acdf: command-line front end of the adaptive-CDF importance-sampling toolkit.
+//
+// Exit status: 0 success; 2 a bad input file or a bad command line (one line on stderr,
+// "acdf: <file>: <problem>" or "acdf: <problem>"); 1 an internal error.
+
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cdf_stats.h"
+#include "command.h"
+#include "errors.h"
+
+#ifndef ACDF_VERSION
+#define ACDF_VERSION "unknown"
+#endif
+
+namespace {
+
+constexpr int kExitInternal = 1;
+constexpr int kExitBadInput = 2;
+
+int report(const std::string& message, int code) {
+  std::fprintf(stderr, "acdf: %s\n", acdf::app::oneLine(message).c_str());
+  return code;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"acdf: adaptive-CDF importance sampling toolkit", "acdf"};
+  app.set_version_flag("--version", std::string("acdf ") + ACDF_VERSION);
+  app.require_subcommand(1);
+  app.footer("Run 'acdf <command> --help' for a command's options.");
+
+  std::vector<acdf::app::Command> commands;
+  commands.push_back(acdf::app::addCdfStats(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
+    return report(std::string(e.what()) + " (see acdf --help)", kExitBadInput);
+  }
+
+  for (const auto& command : commands)
+    if (command.app->parsed()) return command.run();
+  return report("no command given (see acdf --help)", kExitBadInput);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const acdf::app::InputError& e) {
+    return report(e.what(), kExitBadInput);
+  } catch (const acdf::app::UsageError& e) {
+    return report(e.what(), kExitBadInput);
+  } catch (const std::bad_alloc&) {
+    return report("out of memory", kExitInternal);
+  } catch (const std::exception& e) {
+    return report(std::string("internal error: ") + e.what(), kExitInternal);
+  } catch (...) {
+    return report("internal error: unknown exception", kExitInternal);
+  }
+}
