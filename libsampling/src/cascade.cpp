@@ -2,10 +2,12 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "acdf/sampling/grid_check.h"
+#include "acdf/sampling/quality.h"
 #include "breakpoint_cdf.h"
 
 namespace acdf {
@@ -148,6 +150,9 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
                                 " sampled axes");
   }
   validate(options_.simplify);
+  if (!(options_.sliceGroupingTolerance >= 0.0) || !std::isfinite(options_.sliceGroupingTolerance)) {
+    throw std::invalid_argument("cascade: slice grouping tolerance must be finite and >= 0");
+  }
   checkNonNegativeFinite(values, axes_);
 
   std::vector<uint32_t> sizes;
@@ -169,28 +174,64 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
   if (slices == 1) buildSlice(0);
   else tbb::parallel_for(std::size_t{0}, slices, buildSlice);
 
-  Subtree all = builder.emptySubtree();
-  for (const Subtree& part : parts) append(all, part);
-  parts.clear();
-
-  for (std::size_t d = 0; d < sizes.size(); ++d) {
-    Level level{options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[d],
-                std::move(all[d].cdf), {}, {}};
-    if (level.cdf.size() > UINT32_MAX) throw std::invalid_argument("cascade: table too large");
-    if (level.method == DimensionMethod::Adaptive) {
-      level.vertices = std::move(all[d].vertices);
-      level.starts.reserve(all[d].counts.size() + 1);
-      uint32_t start = 0;
-      for (uint32_t count : all[d].counts) {
+  // Pools the chosen slices' subtrees into levels_; root i of level 0 is roots[i].
+  auto assemble = [&](const std::vector<std::size_t>& roots) {
+    Subtree all = builder.emptySubtree();
+    for (std::size_t s : roots) append(all, parts[s]);
+    levels_.clear();
+    for (std::size_t d = 0; d < sizes.size(); ++d) {
+      Level level{options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[d],
+                  std::move(all[d].cdf), {}, {}};
+      if (level.cdf.size() > UINT32_MAX) throw std::invalid_argument("cascade: table too large");
+      if (level.method == DimensionMethod::Adaptive) {
+        level.vertices = std::move(all[d].vertices);
+        level.starts.reserve(all[d].counts.size() + 1);
+        uint32_t start = 0;
+        for (uint32_t count : all[d].counts) {
+          level.starts.push_back(start);
+          start += count;
+        }
         level.starts.push_back(start);
-        start += count;
       }
-      level.starts.push_back(start);
+      level.cdf.shrink_to_fit();
+      level.vertices.shrink_to_fit();
+      levels_.push_back(std::move(level));
     }
-    level.cdf.shrink_to_fit();
-    level.vertices.shrink_to_fit();
-    levels_.push_back(std::move(level));
+  };
+  std::vector<std::size_t> roots(slices);
+  for (std::size_t s = 0; s < slices; ++s) roots[s] = s;
+  assemble(roots);
+  if (options_.sliceGroupingTolerance > 0.0 && slices > 1) {
+    roots = groupSlices(values, sliceSize);
+    if (roots.size() < slices) assemble(roots);
+    else sliceRoot_.clear();
   }
+}
+
+std::vector<std::size_t> Cascade::groupSlices(std::span<const float> values, std::size_t sliceSize) {
+  // Greedy run-length grouping: compare each slice's exact cell probabilities with the
+  // distribution of the current group's first slice.
+  std::vector<std::size_t> firsts{0};
+  sliceRoot_.assign(slices(), 0);
+  std::vector<double> groupCells = cellProbabilities(0);
+  std::vector<double> exact(sliceSize);
+  for (std::size_t s = 1; s < slices(); ++s) {
+    const std::span<const float> slice = values.subspan(s * sliceSize, sliceSize);
+    double total = 0.0;
+    for (float v : slice) total += v;
+    for (std::size_t i = 0; i < sliceSize; ++i) exact[i] = total > 0.0 ? slice[i] / total : 0.0;
+    const CompressionQuality q = compareCellProbabilities(exact, groupCells);
+    if (q.unreachableMass == 0.0 && q.chi2Divergence <= options_.sliceGroupingTolerance) {
+      sliceRoot_[s] = static_cast<uint32_t>(firsts.size() - 1);
+      continue;
+    }
+    sliceRoot_[s] = static_cast<uint32_t>(firsts.size());
+    firsts.push_back(s);
+    // levels_ still holds every slice here, and sliceRoot_ only maps slices before s: ask for
+    // root s directly.
+    groupCells = cellProbabilitiesOfRoot(s);
+  }
+  return firsts;
 }
 
 Cascade::Node Cascade::node(std::size_t level, std::size_t index) const {
@@ -228,7 +269,7 @@ void requireArity(std::size_t given, std::size_t needed, const char* what) {
 
 SampleND Cascade::sample(std::span<const float> condition, std::span<const float> u) const {
   requireArity(u.size(), sampledDims(), "variates");
-  std::size_t index = sliceOf(condition);
+  std::size_t index = rootOf(sliceOf(condition));
   SampleND result;
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
@@ -244,7 +285,7 @@ SampleND Cascade::sample(std::span<const float> condition, std::span<const float
 
 float Cascade::pdf(std::span<const float> condition, std::span<const float> x) const {
   requireArity(x.size(), sampledDims(), "coordinates");
-  std::size_t index = sliceOf(condition);
+  std::size_t index = rootOf(sliceOf(condition));
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];
@@ -261,7 +302,7 @@ float Cascade::pdf(std::span<const float> condition, std::span<const float> x) c
 void Cascade::invert(std::span<const float> condition, std::span<const float> x, std::span<float> u) const {
   requireArity(x.size(), sampledDims(), "coordinates");
   requireArity(u.size(), sampledDims(), "variates");
-  std::size_t index = sliceOf(condition);
+  std::size_t index = rootOf(sliceOf(condition));
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];
     const Node n = node(level, index);
@@ -271,11 +312,17 @@ void Cascade::invert(std::span<const float> condition, std::span<const float> x,
 }
 
 std::size_t Cascade::bytes() const {
-  std::size_t total = sliceIntegral_.size() * sizeof(double);
+  std::size_t total = sliceIntegral_.size() * sizeof(double) + sliceRoot_.size() * sizeof(uint32_t);
   for (const Level& l : levels_) {
     total += l.cdf.size() * sizeof(float) + l.vertices.bytes() + l.starts.size() * sizeof(uint32_t);
   }
   return total;
+}
+
+std::size_t Cascade::distinctSlices() const {
+  const Level& first = levels_.front();
+  const std::size_t m = axes_[conditioningDims_].cells();
+  return first.method == DimensionMethod::Uniform ? first.cdf.size() / (m + 1) : first.starts.size() - 1;
 }
 
 std::vector<double> Cascade::averageIntervals() const {
@@ -298,6 +345,10 @@ std::vector<std::size_t> Cascade::pointsPerDimension() const {
 
 std::vector<double> Cascade::cellProbabilities(std::size_t slice) const {
   if (slice >= slices()) throw std::invalid_argument("cascade: no slice " + std::to_string(slice));
+  return cellProbabilitiesOfRoot(rootOf(slice));
+}
+
+std::vector<double> Cascade::cellProbabilitiesOfRoot(std::size_t root) const {
   const std::size_t dims = levels_.size();
   std::vector<std::size_t> stride(dims, 1);
   for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * axes_[conditioningDims_ + d + 1].cells();
@@ -332,7 +383,7 @@ std::vector<double> Cascade::cellProbabilities(std::size_t slice) const {
       else self(self, level + 1, n.childBase + j, share);
     }
   };
-  visit(visit, 0, slice, 1.0);
+  visit(visit, 0, root, 1.0);
   return out;
 }
 

@@ -41,6 +41,11 @@ struct CascadeOptions {
   std::vector<DimensionMethod> methods;
   SimplifyOptions simplify;
   ConditionalRule conditional = ConditionalRule::ExactMass;
+  // Slice grouping (the paper's future work): when > 0, a conditioning slice reuses the
+  // distribution of the slice before it in row-major order (the current group's first slice) if
+  // sampling it with that distribution adds a χ²-divergence (see quality.h) of at most this
+  // tolerance and leaves none of its mass unreachable. 0 keeps one distribution per slice.
+  double sliceGroupingTolerance = 0.0;
 };
 
 class Cascade {
@@ -69,6 +74,8 @@ class Cascade {
   const CascadeOptions& options() const { return options_; }
 
   std::size_t slices() const { return sliceIntegral_.size(); }
+  // Distributions stored: slices() unless slice grouping merged some.
+  std::size_t distinctSlices() const;
   std::size_t sliceOf(std::span<const float> condition) const;
   // ∫ f over the sampled axes of a slice (double sum); 0 means the slice samples uniformly.
   double integral(std::size_t slice) const { return sliceIntegral_[slice]; }
@@ -95,11 +102,15 @@ class Cascade {
  private:
   struct Node;  // one 1D CDF located in a level
   Node node(std::size_t level, std::size_t index) const;
+  std::vector<std::size_t> groupSlices(std::span<const float> values, std::size_t sliceSize);
+  std::vector<double> cellProbabilitiesOfRoot(std::size_t root) const;
+  std::size_t rootOf(std::size_t slice) const { return sliceRoot_.empty() ? slice : sliceRoot_[slice]; }
 
   std::vector<GridAxis> axes_;
   std::size_t conditioningDims_;
   CascadeOptions options_;
   std::vector<double> sliceIntegral_;
+  std::vector<uint32_t> sliceRoot_;  // slice -> its distribution's root; empty: the identity
   std::vector<Level> levels_;  // one per sampled axis
 };
 
