@@ -13,7 +13,8 @@ std::string oneLine(const std::string& text) {
     }
     if (pendingBreak && !out.empty() && out.back() != ' ' && c != ' ') out.push_back(' ');
     pendingBreak = false;
-    out.push_back(c);
+    const auto u = static_cast<unsigned char>(c);
+    out.push_back(u < 0x20 || u == 0x7f ? '?' : c);  // no other control characters either
   }
   while (!out.empty() && out.back() == ' ') out.pop_back();
   return out;

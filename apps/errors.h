@@ -25,7 +25,8 @@ class UsageError : public std::runtime_error {
   explicit UsageError(const std::string& message);
 };
 
-// Collapses line breaks and tabs into single spaces and trims, so a message fits on one line.
+// Collapses line breaks and tabs into single spaces, replaces other control characters with '?'
+// and trims, so a message fits on one line.
 std::string oneLine(const std::string& text);
 
 }  // namespace acdf::app

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <new>
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
@@ -53,7 +54,13 @@ LuminanceImage readLuminanceImage(const std::string& path) {
   const int used = spec.nchannels >= 3 ? 3 : 1;
   const std::size_t pixels = image.width * image.height;
 
-  std::vector<float> pixelsRgb(pixels * static_cast<std::size_t>(used));
+  std::vector<float> pixelsRgb;
+  try {
+    pixelsRgb.resize(pixels * static_cast<std::size_t>(used));
+    image.values.reserve(pixels);
+  } catch (const std::bad_alloc&) {
+    fail(fmt::format("image of {} x {} pixels is too large to load", spec.width, spec.height));
+  }
   if (!input->read_image(0, 0, 0, used, OIIO::TypeDesc::FLOAT, pixelsRgb.data()))
     fail("cannot read the pixels");
   input->close();

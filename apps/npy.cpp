@@ -23,6 +23,17 @@ namespace {
 
 constexpr unsigned char kMagic[6] = {0x93, 'N', 'U', 'M', 'P', 'Y'};
 
+// Text taken from the file, made safe to print: non-ASCII and control bytes as \xNN.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x7f) out += fmt::format("\\x{:02x}", u);
+    else out.push_back(c);
+  }
+  return out;
+}
+
 std::string shapeString(const std::vector<std::size_t>& shape) {
   if (shape.size() == 1) return fmt::format("({},)", shape[0]);
   return fmt::format("({})", fmt::join(shape, ", "));
@@ -53,9 +64,9 @@ class HeaderParser {
       if (peek() != '\'' && peek() != '"') fail("expected a quoted key");
       std::string key = parseString();
       for (const auto& e : entries)
-        if (e.first == key) fail(fmt::format("duplicate key '{}'", key));
+        if (e.first == key) fail(fmt::format("duplicate key '{}'", printable(key)));
       skipSpace();
-      expect(':', fmt::format("':' after key '{}'", key));
+      expect(':', fmt::format("':' after key '{}'", printable(key)));
       skipSpace();
       Value value = parseValue(key);
       entries.emplace_back(std::move(key), std::move(value));
@@ -123,7 +134,7 @@ class HeaderParser {
 
   Value parseValue(const std::string& key) {
     Value v;
-    if (atEnd()) fail(fmt::format("missing value for '{}'", key));
+    if (atEnd()) fail(fmt::format("missing value for '{}'", printable(key)));
     const char c = peek();
     if (c == '\'' || c == '"') {
       v.kind = Value::Kind::String;
@@ -167,7 +178,7 @@ class HeaderParser {
       }
       expect(']', "']' closing a list");
     } else {
-      fail(fmt::format("unsupported value for '{}'", key));
+      fail(fmt::format("unsupported value for '{}'", printable(key)));
     }
     return v;
   }
@@ -236,7 +247,7 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
     if (key == "descr") descr = &value;
     else if (key == "fortran_order") fortran = &value;
     else if (key == "shape") shape = &value;
-    else throw InputError(name, fmt::format("bad .npy header: unexpected key '{}'", key));
+    else throw InputError(name, fmt::format("bad .npy header: unexpected key '{}'", printable(key)));
   }
   if (!descr) throw InputError(name, "bad .npy header: no 'descr' key");
   if (!fortran) throw InputError(name, "bad .npy header: no 'fortran_order' key");
@@ -246,7 +257,7 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
   constexpr const char* kNeed = "need float32 ('<f4') or float64 ('<f8')";
   if (descr->kind != Value::Kind::String)
     throw InputError(name, fmt::format("unsupported dtype (structured or non-string 'descr'); {}", kNeed));
-  const std::string& d = descr->text;
+  const std::string d = printable(descr->text);
   if (d == "<f4") array.dtype = NpyDtype::Float32;
   else if (d == "<f8") array.dtype = NpyDtype::Float64;
   else if (d == ">f4" || d == ">f8")

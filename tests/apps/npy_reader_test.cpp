@@ -38,7 +38,7 @@ class NpyReader : public TempDirTest {
       const std::string what = e.what();
       EXPECT_EQ(what.rfind(file + ": ", 0), 0u) << "message does not start with the file: " << what;
       EXPECT_EQ(e.file(), file);
-      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      for (char c : what) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20) << "control character in: " << what;
       for (const auto& needle : needles) EXPECT_NE(what.find(needle), std::string::npos) << "'" << needle << "' not in: " << what;
     }
   }
@@ -183,6 +183,14 @@ TEST_F(NpyReader, BadHeaderSyntax) {
               {"bad .npy header", "after the header dict"});
   expectError("h5.npy", npyPreamble("{'descr': '<f4', 'fortran_order': Maybe, 'shape': (2,)}") + rawBytes(iota(2)),
               {"bad .npy header", "fortran_order"});
+}
+
+TEST_F(NpyReader, BytesFromTheFileArePrintedEscaped) {
+  expectError("ctl.npy",
+              npyPreamble(std::string("{'de\x0bscr\x85': '<f4', 'fortran_order': False, 'shape': (2,)}")) +
+                  rawBytes(iota(2)),
+              {"unexpected key 'de\\x0bscr\\x85'"});
+  expectError("ctl2.npy", npyPreamble(npyDict("<f\x0c", {2})) + rawBytes(iota(2)), {"unsupported dtype '<f\\x0c'"});
 }
 
 TEST_F(NpyReader, MissingAndUnknownKeys) {
