@@ -2,6 +2,8 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -12,15 +14,77 @@
 
 namespace acdf {
 
-struct Cascade::Node {
+namespace {
+
+// One 1D CDF of a level, and where its children start in the next level.
+struct NodeView {
   detail::BreakpointCdf cdf;
   std::size_t childBase;  // index in the next level of the child of interval 0
 };
 
-namespace {
+// The pooled 1D CDFs of one level. A uniform level (no starts) holds cells+1 points per CDF, one
+// per grid vertex; an adaptive level locates CDF k at points [starts[k], starts[k+1]).
+struct LevelView {
+  const float* cdf;
+  const VertexIndices* vertices;
+  const uint32_t* starts;
+  uint32_t cells;
+
+  NodeView node(std::size_t index) const {
+    if (!starts) return {{cdf + index * (cells + 1), cells + 1u, nullptr, 0}, index * cells};
+    const std::size_t first = starts[index], end = starts[index + 1];
+    // Every earlier 1D CDF of the level has (points - 1) children before ours.
+    return {{cdf + first, end - first, vertices, first}, first - index};
+  }
+};
+
+// Probability of every cell of the grid below `root` of levels[0], row-major. Each interval
+// spreads its mass evenly over its cells; a cell's probability is the product of its shares.
+void fillCellProbabilities(std::span<const LevelView> levels, std::size_t root, std::span<double> out) {
+  const std::size_t dims = levels.size();
+  std::array<std::size_t, kMaxDims> stride{};
+  stride[dims - 1] = 1;
+  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * levels[d + 1].cells;
+  std::fill(out.begin(), out.end(), 0.0);
+
+  std::array<uint32_t, kMaxDims> first{}, end{};
+  auto fillBox = [&](double perCell) {
+    std::array<uint32_t, kMaxDims> i = first;
+    while (true) {
+      std::size_t offset = 0;
+      for (std::size_t d = 0; d < dims; ++d) offset += i[d] * stride[d];
+      out[offset] = perCell;
+      std::size_t d = dims;
+      while (d-- > 0) {
+        if (++i[d] < end[d]) break;
+        i[d] = first[d];
+      }
+      if (d == static_cast<std::size_t>(-1)) return;
+    }
+  };
+  auto visit = [&](auto& self, std::size_t level, std::size_t index, double perCell) -> void {
+    const NodeView n = levels[level].node(index);
+    for (std::size_t j = 0; j + 1 < n.cdf.count; ++j) {
+      const double mass = n.cdf.mass(j);
+      if (mass == 0.0) continue;
+      first[level] = n.cdf.vertex(j);
+      end[level] = n.cdf.vertex(j + 1);
+      const double share = perCell * mass / (end[level] - first[level]);
+      if (level + 1 == dims) fillBox(share);
+      else self(self, level + 1, n.childBase + j, share);
+    }
+  };
+  visit(visit, 0, root, 1.0);
+}
+
+LevelView viewOf(const Cascade::Level& level, uint32_t cells) {
+  if (level.method == DimensionMethod::Uniform) return {level.cdf.data(), nullptr, nullptr, cells};
+  return {level.cdf.data(), &level.vertices, level.starts.data(), cells};
+}
 
 // 1D CDFs of one level as produced by a build, before offsets are fixed.
 struct LevelBuffer {
+  DimensionMethod method;
   std::vector<float> cdf;
   VertexIndices vertices;
   std::vector<uint32_t> counts;  // points of each 1D CDF, in level order
@@ -35,6 +99,22 @@ void append(Subtree& to, const Subtree& from) {
   }
 }
 
+std::vector<uint32_t> startsOf(const std::vector<uint32_t>& counts) {
+  std::vector<uint32_t> starts;
+  starts.reserve(counts.size() + 1);
+  uint32_t start = 0;
+  for (uint32_t count : counts) {
+    starts.push_back(start);
+    start += count;
+  }
+  starts.push_back(start);
+  return starts;
+}
+
+// Float CDFs resolve probabilities to about 2^-24; the joint weight bound forgives differences
+// below this, or it would split intervals over rounding it cannot remove.
+constexpr double kProbabilityResolution = 0x1p-22;
+
 // Builds the 1D CDFs of a block of the grid and, depth first, of everything below it. Appending
 // depth first keeps each level in parent order, which is what makes child offsets implicit.
 class Builder {
@@ -46,13 +126,17 @@ class Builder {
 
   Subtree emptySubtree() const {
     Subtree t(sizes_.size());
-    for (std::size_t d = 0; d < sizes_.size(); ++d) t[d].vertices = VertexIndices(sizes_[d]);
+    for (std::size_t d = 0; d < sizes_.size(); ++d) {
+      t[d].method = method(d);
+      t[d].vertices = VertexIndices(sizes_[d]);
+    }
     return t;
   }
 
   std::size_t blockSize() const { return rowSize_[0] * sizes_[0]; }
 
-  // block: the joint masses of the remaining axes (level..), row-major. Returns Σ block.
+  // block: the joint masses of the remaining axes (level..), row-major. Appends the block's 1D
+  // CDFs to `out` and returns Σ block.
   template <class T>
   double build(std::span<const T> block, std::size_t level, Subtree& out, bool parallelChildren) const {
     const uint32_t m = sizes_[level];
@@ -63,51 +147,130 @@ class Builder {
       for (std::size_t r = 0; r < row; ++r) sum += static_cast<double>(block[j * row + r]);
       masses[j] = sum;
     }
+    std::vector<float> cdf;
+    cdf.reserve(m + 1);
+    const double total = detail::appendCdf<double>(masses, cdf);
 
-    LevelBuffer& buffer = out[level];
     std::vector<uint32_t> kept;  // interval ends of this 1D CDF
-    double total;
     if (method(level) == DimensionMethod::Uniform) {
-      total = detail::appendCdf<double>(masses, buffer.cdf);
-      buffer.counts.push_back(m + 1);
       kept.resize(m + 1);
       for (uint32_t k = 0; k <= m; ++k) kept[k] = k;
     } else {
-      std::vector<float> uniform;
-      uniform.reserve(m + 1);
-      total = detail::appendCdf<double>(masses, uniform);
-      kept = simplifyCdf(uniform, options_.simplify);
-      for (uint32_t v : kept) {
-        buffer.cdf.push_back(uniform[v]);
-        buffer.vertices.push_back(v);
-      }
-      buffer.counts.push_back(static_cast<uint32_t>(kept.size()));
+      kept = simplifyCdf(cdf, options_.simplify);
     }
-    if (level + 1 == sizes_.size()) return total;
 
-    auto buildChild = [&](std::size_t i, Subtree& into) {
-      const uint32_t a = kept[i], b = kept[i + 1];
-      if (b - a == 1) {
-        build<T>(block.subspan(a * row, row), level + 1, into, false);
-      } else {
-        const std::vector<double> merged = mergeRows(block, masses, a, b, row);
-        build<double>(merged, level + 1, into, false);
-      }
-    };
-    const std::size_t intervals = kept.size() - 1;
-    if (parallelChildren && intervals > 1) {
-      std::vector<Subtree> parts(intervals, emptySubtree());
-      tbb::parallel_for(std::size_t{0}, intervals, [&](std::size_t i) { buildChild(i, parts[i]); });
-      for (const Subtree& part : parts) append(out, part);
-    } else {
-      for (std::size_t i = 0; i < intervals; ++i) buildChild(i, out);
+    std::vector<Child> children;
+    if (level + 1 < sizes_.size()) {
+      children = buildChildren(block, masses, cdf, level, kept, parallelChildren);
+      kept.clear();
+      for (const Child& c : children) kept.push_back(c.a);
+      kept.push_back(m);
     }
+
+    LevelBuffer& buffer = out[level];
+    for (uint32_t v : kept) {
+      buffer.cdf.push_back(cdf[v]);
+      if (buffer.method == DimensionMethod::Adaptive) buffer.vertices.push_back(v);
+    }
+    buffer.counts.push_back(static_cast<uint32_t>(kept.size()));
+    for (const Child& c : children) append(out, c.tree);
     return total;
   }
 
  private:
+  struct Child {
+    uint32_t a, b;  // the interval [a, b) of the parent's axis
+    Subtree tree;
+    bool built = false, checked = false;
+  };
+
   DimensionMethod method(std::size_t level) const {
     return options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[level];
+  }
+
+  // Builds the children of the intervals `kept`. With a weight bound on an adaptive level, an
+  // interval is split while a cell of its rows would get more than ρ times the probability the
+  // cascade gives it: (row mass share) × (the row's conditional / the child's cell probability).
+  template <class T>
+  std::vector<Child> buildChildren(std::span<const T> block, const std::vector<double>& masses,
+                                   const std::vector<float>& cdf, std::size_t level,
+                                   const std::vector<uint32_t>& kept, bool parallel) const {
+    std::vector<Child> children;
+    for (std::size_t i = 0; i + 1 < kept.size(); ++i) children.push_back({kept[i], kept[i + 1], emptySubtree()});
+    const bool bounded = method(level) == DimensionMethod::Adaptive && options_.simplify.weightBound >= 1.0;
+    while (true) {
+      std::vector<std::size_t> pending;
+      for (std::size_t i = 0; i < children.size(); ++i) {
+        if (!children[i].built) pending.push_back(i);
+      }
+      auto buildOne = [&](std::size_t k) {
+        Child& c = children[pending[k]];
+        buildChild(block, masses, level, c);
+        c.built = true;
+      };
+      if (parallel && pending.size() > 1) tbb::parallel_for(std::size_t{0}, pending.size(), buildOne);
+      else for (std::size_t k = 0; k < pending.size(); ++k) buildOne(k);
+      if (!bounded) return children;
+
+      std::vector<Child> next;
+      bool split = false;
+      for (Child& c : children) {
+        const bool violates = !c.checked && c.b - c.a >= 2 && exceedsJointBound(block, masses, level, c);
+        c.checked = true;
+        if (!violates) {
+          next.push_back(std::move(c));
+          continue;
+        }
+        const uint32_t v = worstVertex(cdf, c.a, c.b, options_.simplify.metric);
+        next.push_back({c.a, v, emptySubtree()});
+        next.push_back({v, c.b, emptySubtree()});
+        split = true;
+      }
+      children = std::move(next);
+      if (!split) return children;
+    }
+  }
+
+  template <class T>
+  void buildChild(std::span<const T> block, const std::vector<double>& masses, std::size_t level, Child& c) const {
+    const std::size_t row = rowSize_[level];
+    if (c.b - c.a == 1) {
+      build<T>(block.subspan(c.a * row, row), level + 1, c.tree, false);
+    } else {
+      const std::vector<double> merged = mergeRows(block, masses, c.a, c.b, row);
+      build<double>(merged, level + 1, c.tree, false);
+    }
+  }
+
+  template <class T>
+  bool exceedsJointBound(std::span<const T> block, const std::vector<double>& masses, std::size_t level,
+                         const Child& c) const {
+    double intervalMass = 0.0;
+    for (uint32_t j = c.a; j < c.b; ++j) intervalMass += masses[j];
+    if (intervalMass == 0.0) return false;
+    const std::size_t row = rowSize_[level];
+    std::vector<std::vector<uint32_t>> starts(sizes_.size());
+    std::vector<LevelView> views;
+    for (std::size_t d = level + 1; d < sizes_.size(); ++d) {
+      const LevelBuffer& b = c.tree[d];
+      if (b.method == DimensionMethod::Uniform) {
+        views.push_back({b.cdf.data(), nullptr, nullptr, sizes_[d]});
+      } else {
+        starts[d] = startsOf(b.counts);
+        views.push_back({b.cdf.data(), &b.vertices, starts[d].data(), sizes_[d]});
+      }
+    }
+    std::vector<double> q(row);
+    fillCellProbabilities(views, 0, q);
+    // p(cell) / q(cell) = block[j][r] · (b − a) / (intervalMass · q[r]) must stay <= ρ.
+    const double scale = static_cast<double>(c.b - c.a) / (options_.simplify.weightBound * intervalMass);
+    for (uint32_t j = c.a; j < c.b; ++j) {
+      const T* source = block.data() + j * row;
+      for (std::size_t r = 0; r < row; ++r) {
+        if (static_cast<double>(source[r]) * scale > q[r] + kProbabilityResolution) return true;
+      }
+    }
+    return false;
   }
 
   // The joint of the next axes given the interval [a, b) of this one.
@@ -185,13 +348,7 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
       if (level.cdf.size() > UINT32_MAX) throw std::invalid_argument("cascade: table too large");
       if (level.method == DimensionMethod::Adaptive) {
         level.vertices = std::move(all[d].vertices);
-        level.starts.reserve(all[d].counts.size() + 1);
-        uint32_t start = 0;
-        for (uint32_t count : all[d].counts) {
-          level.starts.push_back(start);
-          start += count;
-        }
-        level.starts.push_back(start);
+        level.starts = startsOf(all[d].counts);
       }
       level.cdf.shrink_to_fit();
       level.vertices.shrink_to_fit();
@@ -209,40 +366,34 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
 }
 
 std::vector<std::size_t> Cascade::groupSlices(std::span<const float> values, std::size_t sliceSize) {
-  // Greedy run-length grouping: compare each slice's exact cell probabilities with the
-  // distribution of the current group's first slice.
+  // Greedy run-length grouping against the current group's first slice. levels_ still holds
+  // every slice here (root s is slice s), so each slice's own distribution is at hand.
   std::vector<std::size_t> firsts{0};
   sliceRoot_.assign(slices(), 0);
-  std::vector<double> groupCells = cellProbabilities(0);
+  std::vector<double> groupCells = cellProbabilitiesOfRoot(0);
   std::vector<double> exact(sliceSize);
   for (std::size_t s = 1; s < slices(); ++s) {
-    const std::span<const float> slice = values.subspan(s * sliceSize, sliceSize);
-    double total = 0.0;
-    for (float v : slice) total += v;
-    for (std::size_t i = 0; i < sliceSize; ++i) exact[i] = total > 0.0 ? slice[i] / total : 0.0;
-    const CompressionQuality q = compareCellProbabilities(exact, groupCells);
-    if (q.unreachableMass == 0.0 && q.chi2Divergence <= options_.sliceGroupingTolerance) {
+    const bool zero = isUniformFallback(s);
+    bool join = zero == isUniformFallback(firsts.back());  // empty slices keep their uniform table
+    if (join && !zero) {
+      const std::span<const float> slice = values.subspan(s * sliceSize, sliceSize);
+      double total = 0.0;
+      for (float v : slice) total += v;
+      for (std::size_t i = 0; i < sliceSize; ++i) exact[i] = slice[i] / total;
+      const CompressionQuality shared = compareCellProbabilities(exact, groupCells);
+      const CompressionQuality own = compareCellProbabilities(exact, cellProbabilitiesOfRoot(s));
+      join = shared.unreachableMass == 0.0 &&
+             shared.chi2Divergence - own.chi2Divergence <= options_.sliceGroupingTolerance;
+    }
+    if (join) {
       sliceRoot_[s] = static_cast<uint32_t>(firsts.size() - 1);
       continue;
     }
     sliceRoot_[s] = static_cast<uint32_t>(firsts.size());
     firsts.push_back(s);
-    // levels_ still holds every slice here, and sliceRoot_ only maps slices before s: ask for
-    // root s directly.
     groupCells = cellProbabilitiesOfRoot(s);
   }
   return firsts;
-}
-
-Cascade::Node Cascade::node(std::size_t level, std::size_t index) const {
-  const Level& l = levels_[level];
-  const std::size_t m = axes_[conditioningDims_ + level].cells();
-  if (l.method == DimensionMethod::Uniform) {
-    return {{l.cdf.data() + index * (m + 1), m + 1, nullptr, 0}, index * m};
-  }
-  const std::size_t first = l.starts[index], end = l.starts[index + 1];
-  // Every earlier 1D CDF of the level has (points - 1) children before ours.
-  return {{l.cdf.data() + first, end - first, &l.vertices, first}, first - index};
 }
 
 std::size_t Cascade::sliceOf(std::span<const float> condition) const {
@@ -273,7 +424,7 @@ SampleND Cascade::sample(std::span<const float> condition, std::span<const float
   SampleND result;
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
-    const Node n = node(level, index);
+    const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);
     const detail::Draw d = detail::draw(n.cdf, axes_[conditioningDims_ + level], clampUnit(u[level]));
     result.x[level] = d.x;
     density *= d.density;
@@ -290,7 +441,7 @@ float Cascade::pdf(std::span<const float> condition, std::span<const float> x) c
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];
     if (!axis.contains(x[level])) return 0.0f;
-    const Node n = node(level, index);
+    const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);
     const detail::Lookup l = detail::lookup(n.cdf, axis, x[level]);
     if (l.density == 0.0) return 0.0f;
     density *= l.density;
@@ -305,7 +456,7 @@ void Cascade::invert(std::span<const float> condition, std::span<const float> x,
   std::size_t index = rootOf(sliceOf(condition));
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];
-    const Node n = node(level, index);
+    const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);
     u[level] = detail::invert(n.cdf, axis, x[level]);
     index = n.childBase + n.cdf.intervalOfCell(axis.cellOf(x[level]));
   }
@@ -349,41 +500,14 @@ std::vector<double> Cascade::cellProbabilities(std::size_t slice) const {
 }
 
 std::vector<double> Cascade::cellProbabilitiesOfRoot(std::size_t root) const {
-  const std::size_t dims = levels_.size();
-  std::vector<std::size_t> stride(dims, 1);
-  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * axes_[conditioningDims_ + d + 1].cells();
-  std::vector<double> out(stride[0] * axes_[conditioningDims_].cells(), 0.0);
-
-  std::array<uint32_t, kMaxDims> first{}, end{};
-  // Every interval spreads its mass evenly over its cells; a cell's probability is the product
-  // of its per-level shares.
-  auto fillBox = [&](double perCell) {
-    std::array<uint32_t, kMaxDims> i = first;
-    while (true) {
-      std::size_t offset = 0;
-      for (std::size_t d = 0; d < dims; ++d) offset += i[d] * stride[d];
-      out[offset] = perCell;
-      std::size_t d = dims;
-      while (d-- > 0) {
-        if (++i[d] < end[d]) break;
-        i[d] = first[d];
-      }
-      if (d == static_cast<std::size_t>(-1)) return;
-    }
-  };
-  auto visit = [&](auto& self, std::size_t level, std::size_t index, double perCell) -> void {
-    const Node n = node(level, index);
-    for (std::size_t j = 0; j + 1 < n.cdf.count; ++j) {
-      const double mass = n.cdf.mass(j);
-      if (mass == 0.0) continue;
-      first[level] = n.cdf.vertex(j);
-      end[level] = n.cdf.vertex(j + 1);
-      const double share = perCell * mass / (end[level] - first[level]);
-      if (level + 1 == dims) fillBox(share);
-      else self(self, level + 1, n.childBase + j, share);
-    }
-  };
-  visit(visit, 0, root, 1.0);
+  std::vector<LevelView> views;
+  std::size_t cells = 1;
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    views.push_back(viewOf(levels_[level], axes_[conditioningDims_ + level].cells()));
+    cells *= views.back().cells;
+  }
+  std::vector<double> out(cells);
+  fillCellProbabilities(views, root, out);
   return out;
 }
 

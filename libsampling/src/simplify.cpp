@@ -144,6 +144,11 @@ std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOpti
   return kept;
 }
 
+uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMetric metric) {
+  if (b < a + 2 || b >= cdf.size()) throw std::invalid_argument("simplify: no interior vertex to split at");
+  return Chords(cdf, metric).worst(a, b).vertex;
+}
+
 std::string_view toString(Simplifier s) {
   return s == Simplifier::DouglasPeucker ? "douglas-peucker" : "greedy";
 }

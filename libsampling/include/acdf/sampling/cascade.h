@@ -42,9 +42,11 @@ struct CascadeOptions {
   SimplifyOptions simplify;
   ConditionalRule conditional = ConditionalRule::ExactMass;
   // Slice grouping (the paper's future work): when > 0, a conditioning slice reuses the
-  // distribution of the slice before it in row-major order (the current group's first slice) if
-  // sampling it with that distribution adds a χ²-divergence (see quality.h) of at most this
-  // tolerance and leaves none of its mass unreachable. 0 keeps one distribution per slice.
+  // distribution of the current group (run of neighbouring slices in row-major order, represented
+  // by its first slice) if that leaves none of the slice's mass unreachable and raises its
+  // χ²-divergence (see quality.h) by at most this tolerance over the slice's own distribution.
+  // Slices without mass only group with each other (they keep their uniform distribution).
+  // 0 keeps one distribution per slice.
   double sliceGroupingTolerance = 0.0;
 };
 
@@ -100,8 +102,6 @@ class Cascade {
   };
 
  private:
-  struct Node;  // one 1D CDF located in a level
-  Node node(std::size_t level, std::size_t index) const;
   std::vector<std::size_t> groupSlices(std::span<const float> values, std::size_t sliceSize);
   std::vector<double> cellProbabilitiesOfRoot(std::size_t root) const;
   std::size_t rootOf(std::size_t slice) const { return sliceRoot_.empty() ? slice : sliceRoot_[slice]; }

@@ -35,8 +35,9 @@ struct SimplifyOptions {
   uint32_t maxPoints = 0;
   // ρ: after simplification, while some original cell has p_cell / p_adaptive > ρ inside an
   // interval, split that interval at its worst vertex. Bounds the sample weight the compression
-  // can add, so it cannot create fireflies. 0 disables the bound; otherwise must be >= 1.
-  double weightBound = 2.0;
+  // can add, so it cannot create fireflies. A Cascade applies it to whole cells of the grid, not
+  // only to each 1D CDF (see cascade.h). 0 disables the bound; otherwise must be >= 1.
+  double weightBound = 4.0;
 };
 
 // Throws std::invalid_argument on inconsistent options (negative ε, ρ in (0,1), a budget below 2,
@@ -45,6 +46,10 @@ void validate(const SimplifyOptions& options);
 
 // cdf: n+1 values as described above (n >= 1). Returns the kept vertices, sorted, with 0 and n.
 std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOptions& options);
+
+// The interior vertex of [a, b] (b - a >= 2) farthest from the chord of the CDF; the middle
+// vertex when the CDF is linear there. Used to split an interval that breaks the weight bound.
+uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMetric metric);
 
 std::string_view toString(Simplifier s);
 std::string_view toString(ErrorMetric m);
