@@ -1,6 +1,8 @@
 // AliasGrid: chi-square on every fixture in 2D and 3D, per-sample consistency, ∫pdf = 1, exact
 // cell probabilities, zero cells never sampled, another domain.
 
+#include "acdf/sampling/alias_grid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include <tuple>
 #include <vector>
 
-#include "acdf/sampling/alias_grid.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/test_support/chi_square_harness.h"
 #include "acdf/test_support/samplers.h"

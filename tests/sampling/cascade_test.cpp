@@ -2,12 +2,15 @@
 // dimension methods, both conditional rules, both simplifiers and both error metrics; invert,
 // ∫pdf = 1, cell probabilities, structure, slices, threads and build determinism.
 
+#include "acdf/sampling/cascade.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <numeric>
@@ -16,7 +19,6 @@
 #include <tuple>
 #include <vector>
 
-#include "acdf/sampling/cascade.h"
 #include "acdf/sampling/quality.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/simplify.h"
@@ -30,8 +32,8 @@ using namespace acdf::test_support;
 using DM = DimensionMethod;
 
 // runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2 + within
-// cells 1 + wide indices 1 + unconditioned 4D 1.
-constexpr uint32_t kChiSquareTestsInSuite = 44;
+// cells 1 + wide indices 1 + unconditioned 4D 1 + slice grouping 1.
+constexpr uint32_t kChiSquareTestsInSuite = 45;
 
 ChiSquareOptions chi2Options() {
   ChiSquareOptions o;
@@ -107,7 +109,8 @@ TEST_P(CascadeFixtures, InvertRecoversTheVariates) {
     const SampleND x = s.sample(u);
     if (!(x.pdf > 0)) continue;
     s.invert(std::span<const float>(x.x.data(), dims), back);
-    for (std::size_t d = 0; d < dims; ++d) ASSERT_NEAR(back[d], u[d], 1e-4) << "axis " << d << " sample " << i;
+    for (std::size_t d = 0; d < dims; ++d)
+      ASSERT_NEAR(back[d], u[d], 1e-4) << "axis " << d << " sample " << i;
   }
 }
 
@@ -117,13 +120,15 @@ TEST_P(CascadeFixtures, CellProbabilitiesSumToOneAndMatchPdf) {
   const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
   ASSERT_EQ(q.size(), fromPdf.size());
   EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
-  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << "cell " << i;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << "cell " << i;
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeFixtures,
                          ::testing::Combine(::testing::Range(0, 4), ::testing::ValuesIn(kAllFixtures)),
                          [](const auto& info) {
-                           return shapes()[std::get<0>(info.param)].name + "_" + toString(std::get<1>(info.param));
+                           return shapes()[std::get<0>(info.param)].name + "_" +
+                                  toString(std::get<1>(info.param));
                          });
 
 class CascadeUniformExact : public ::testing::TestWithParam<Fixture> {};
@@ -136,7 +141,8 @@ TEST_P(CascadeUniformExact, CellProbabilitiesAreTheFunctions) {
     const Sampler s = makeCascade(v, unitAxes(dims), withMethods(std::vector<DM>(dims.size(), DM::Uniform)));
     const auto q = s.cellProbabilities();
     const auto exact = exactCellProbabilities(v);
-    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(q[i], exact[i], 3e-7 + 1e-5 * exact[i]) << "cell " << i;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      ASSERT_NEAR(q[i], exact[i], 3e-7 + 1e-5 * exact[i]) << "cell " << i;
     EXPECT_LT(compareCellProbabilities(exact, q).chi2Divergence, 1e-4);
   }
 }
@@ -187,7 +193,8 @@ TEST_P(CascadeConditioned, SliceEqualsAStandaloneCascadeOfItsValues) {
     const double volume = (1.0 / k4D[2]) * (1.0 / k4D[3]);
     EXPECT_NEAR(c->integral(slice), std::accumulate(own.begin(), own.end(), 0.0) * volume,
                 1e-9 * c->integral(slice) + 1e-300);
-    EXPECT_EQ(c->isUniformFallback(slice), std::all_of(own.begin(), own.end(), [](float x) { return x == 0; }));
+    EXPECT_EQ(c->isUniformFallback(slice),
+              std::all_of(own.begin(), own.end(), [](float x) { return x == 0; }));
   }
 }
 
@@ -215,13 +222,15 @@ TEST_P(CascadeConditioned, InvertIntegralAndCellProbabilities) {
 INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeConditioned,
                          ::testing::Combine(::testing::ValuesIn(kAllFixtures), ::testing::Values(0, 1)),
                          [](const auto& info) {
-                           return toString(std::get<0>(info.param)) + "_slice" + std::to_string(std::get<1>(info.param));
+                           return toString(std::get<0>(info.param)) + "_slice" +
+                                  std::to_string(std::get<1>(info.param));
                          });
 
 TEST(CascadeConditioning, FourSampledDimensionsWithoutConditioning) {
   const std::vector<uint32_t> dims = {8, 4, 8, 4};
   const auto v = makeFixture(Fixture::Checkerboard, dims);
-  const Sampler s = makeCascade(v, unitAxes(dims), withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive, DM::Adaptive}));
+  const Sampler s =
+      makeCascade(v, unitAxes(dims), withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive, DM::Adaptive}));
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
   EXPECT_TRUE(Passed(r));
@@ -321,6 +330,9 @@ TEST(CascadeOptions, ExactMassConditionalKeepsBlockMasses) {
   const uint32_t rows = k2D[0], cols = k2D[1];
   CascadeOptions exact = withMethods({DM::Adaptive, DM::Uniform});
   exact.simplify.epsilon = 0.02;
+  // Without the weight bound level 0 keeps exactly the 1D simplification's intervals (the bound
+  // may refine them to protect whole cells, which is tested in weight_bound_test.cpp).
+  exact.simplify.weightBound = 0.0;
   CascadeOptions average = exact;
   average.conditional = ConditionalRule::AverageOfNormalized;
   const Cascade a(v, unitAxes(k2D), exact), b(v, unitAxes(k2D), average);
@@ -364,10 +376,50 @@ TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
   perpendicular.simplify.metric = ErrorMetric::Perpendicular;
   greedy.simplify.method = Simplifier::GreedyRefinement;
   greedy.simplify.maxPoints = 4;
-  const Cascade a(v, unitAxes(k2D), vertical), b(v, unitAxes(k2D), perpendicular), c(v, unitAxes(k2D), greedy);
+  const Cascade a(v, unitAxes(k2D), vertical), b(v, unitAxes(k2D), perpendicular),
+      c(v, unitAxes(k2D), greedy);
   EXPECT_NE(a.pointsPerDimension(), b.pointsPerDimension());
   // A budget of 4 points per 1D CDF: 4 points at level 0, 3 intervals × 4 points at level 1.
   EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{4, 12}));
+}
+
+// DISABLED until the joint (whole-cell) weight bound the lead is adding to cascade.cpp lands: the
+// committed engine (b53e30a) bounds each 1D CDF only, and this fails there (e.g. checkerboard at
+// ε = 0.3, ρ = 1.5). Passes against the work tree's cascade.cpp of 23:45.
+TEST(CascadeOptions, DISABLED_WeightBoundHoldsForWholeCells) {
+  // simplify.h: a Cascade applies ρ to whole grid cells: p(cell) / q(cell) <= ρ, where p is the
+  // function's cell probability and q the cascade's, up to the float CDFs' resolution (2^-22
+  // absolute on a conditional probability, so tiny cells may exceed it slightly).
+  for (Fixture f : kAllFixtures)
+    for (const std::vector<uint32_t>& dims : {k2D, k3D})
+      for (double rho : {1.5, 2.0, 4.0})
+        for (double eps : {0.02, 0.3}) {
+          CascadeOptions o;
+          o.simplify.weightBound = rho;
+          o.simplify.epsilon = eps;
+          const auto v = makeFixture(f, dims);
+          const Cascade c(v, unitAxes(dims), o);
+          const auto p = exactCellProbabilities(v);
+          const auto q = c.cellProbabilities(0);
+          double worst = 0;
+          for (std::size_t i = 0; i < p.size(); ++i) {
+            ASSERT_TRUE(p[i] == 0 || q[i] > 0) << toString(f) << " cell " << i << " unreachable";
+            if (p[i] > 0) {
+              ASSERT_LE(p[i], rho * q[i] * (1 + 1e-6) + rho * 0x1p-22)
+                  << toString(f) << " rho " << rho << " cell " << i;
+            }
+            if (p[i] > 1e-4) worst = std::max(worst, p[i] / q[i]);
+          }
+          EXPECT_LE(worst, rho * 1.01)
+              << toString(f) << " " << dims.size() << "D rho " << rho << " eps " << eps;
+        }
+  // Without the bound a coarse ε leaves much larger ratios: the check above is not vacuous.
+  CascadeOptions loose;
+  loose.simplify.weightBound = 0;
+  loose.simplify.epsilon = 0.3;
+  const auto v = makeFixture(Fixture::ZerosWithIslands, k2D);
+  const auto q = Cascade(v, unitAxes(k2D), loose).cellProbabilities(0);
+  EXPECT_GT(compareCellProbabilities(exactCellProbabilities(v), q).maxWeightRatio, 4.0);
 }
 
 // ---- Structure --------------------------------------------------------------------------------
@@ -430,7 +482,8 @@ TEST(CascadeDomains, PositionsAreUniformWithinCells) {
 
 TEST(CascadeDomains, ShiftedDomains3D) {
   const auto v = makeFixture(Fixture::Smooth, k3D);
-  const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
+  const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f),
+                                      GridAxis(12, -1.0f, -0.5f)};
   const Sampler s = makeCascade(v, axes, withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive}));
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
@@ -480,7 +533,8 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
     for (uint32_t& d : dims) d = 1 + pick(dimsCount <= 2 ? 40 : 12);
     CascadeOptions o;
     o.conditioningDims = pick(dimsCount);
-    for (uint32_t d = o.conditioningDims; d < dimsCount; ++d) o.methods.push_back(pick(3) ? DM::Adaptive : DM::Uniform);
+    for (uint32_t d = o.conditioningDims; d < dimsCount; ++d)
+      o.methods.push_back(pick(3) ? DM::Adaptive : DM::Uniform);
     o.conditional = pick(2) ? ConditionalRule::ExactMass : ConditionalRule::AverageOfNormalized;
     o.simplify.method = pick(2) ? Simplifier::DouglasPeucker : Simplifier::GreedyRefinement;
     o.simplify.metric = pick(2) ? ErrorMetric::Vertical : ErrorMetric::Perpendicular;
@@ -493,15 +547,17 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
     std::vector<float> condition(o.conditioningDims);
     for (float& x : condition) x = rng.nextFloat();
     const Sampler s = makeCascade(c, condition);
-    const std::string what = "trial " + std::to_string(trial) + " " + toString(f) + " dims " + std::to_string(dimsCount) +
-                             " conditioning " + std::to_string(o.conditioningDims);
+    const std::string what = "trial " + std::to_string(trial) + " " + toString(f) + " dims " +
+                             std::to_string(dimsCount) + " conditioning " +
+                             std::to_string(o.conditioningDims);
     const ChiSquareReport r = checkSamples(s, 3'000);
     ASSERT_TRUE(r.samplesValid()) << what << ": " << r.summary();
     ASSERT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4) << what;
     const auto q = s.cellProbabilities();
     ASSERT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6) << what;
     const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
-    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << what << " cell " << i;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << what << " cell " << i;
     std::vector<float> u(s.axes.size()), back(s.axes.size());
     for (int i = 0; i < 500; ++i) {
       for (float& x : u) x = rng.nextFloat();
@@ -509,6 +565,120 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
       s.invert(std::span<const float>(x.x.data(), u.size()), back);
       for (std::size_t d = 0; d < u.size(); ++d) ASSERT_NEAR(back[d], u[d], 1e-4) << what << " axis " << d;
     }
+  }
+}
+
+// ---- Slice grouping ----------------------------------------------------------------------------
+
+CascadeOptions grouped(double tolerance) {
+  CascadeOptions o = withMethods({}, 2);
+  o.sliceGroupingTolerance = tolerance;
+  return o;
+}
+
+TEST(CascadeSliceGrouping, OffByDefault) {
+  const auto v = makeFixture(Fixture::Smooth, k4D);
+  const Cascade c(v, unitAxes(k4D), withMethods({}, 2));
+  EXPECT_EQ(c.options().sliceGroupingTolerance, 0.0);
+  EXPECT_EQ(c.distinctSlices(), c.slices());
+}
+
+TEST(CascadeSliceGrouping, RejectsBadTolerances) {
+  const auto v = makeFixture(Fixture::Smooth, k4D);
+  for (double bad :
+       {-1e-3, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW((Cascade{v, unitAxes(k4D), grouped(bad)}), std::invalid_argument) << bad;
+}
+
+// DISABLED: fails on the engine at b53e30a (reported to the lead): groupSlices() compares a slice's
+// exact cell probabilities with the group's *compressed* distribution, so the adaptive
+// compression's own divergence (0.13 here) counts against the tolerance and identical slices are
+// not grouped unless the tolerance exceeds it. Run with --gtest_also_run_disabled_tests.
+TEST(CascadeSliceGrouping, DISABLED_IdenticalSlicesShareOneDistribution) {
+  // Reusing an identical slice's distribution adds no divergence at all, so any tolerance > 0
+  // groups them (the adaptive compression's own divergence is not "added" by grouping).
+  const std::vector<uint32_t> sampled = {k4D[2], k4D[3]};
+  const auto one = makeFixture(Fixture::Random, sampled);
+  std::vector<float> v;
+  for (int s = 0; s < 32; ++s) v.insert(v.end(), one.begin(), one.end());
+  const Cascade separate(v, unitAxes(k4D), withMethods({}, 2)), shared(v, unitAxes(k4D), grouped(1e-6));
+  EXPECT_EQ(separate.distinctSlices(), 32u);
+  EXPECT_EQ(shared.distinctSlices(), 1u);
+  EXPECT_LT(shared.bytes() * 10, separate.bytes());
+  for (std::size_t slice = 0; slice < 32; ++slice)
+    ASSERT_EQ(shared.cellProbabilities(slice), separate.cellProbabilities(0)) << slice;
+}
+
+TEST(CascadeSliceGrouping, GroupedSlicesStayWithinTheTolerance) {
+  // Smoothly varying slices: some are grouped. Every slice keeps all of its mass reachable, and
+  // a slice sampled with another slice's distribution adds at most the tolerance to the
+  // χ²-divergence its own distribution has.
+  constexpr double kTolerance = 0.02;
+  for (Fixture f : {Fixture::Smooth, Fixture::Checkerboard, Fixture::ZerosWithIslands, Fixture::PeakedSun}) {
+    SCOPED_TRACE(toString(f));
+    const auto v = makeFixture(f, k4D);
+    const Cascade separate(v, unitAxes(k4D), withMethods({}, 2)),
+        shared(v, unitAxes(k4D), grouped(kTolerance));
+    if (f == Fixture::Smooth) {
+      EXPECT_LT(shared.distinctSlices(), shared.slices());
+    }
+    std::size_t reused = 0;
+    for (std::size_t slice = 0; slice < shared.slices(); ++slice) {
+      const auto own = sliceValues(v, slice);
+      const bool zero = std::all_of(own.begin(), own.end(), [](float x) { return x == 0; });
+      const auto q = shared.cellProbabilities(slice);
+      EXPECT_EQ(shared.integral(slice), separate.integral(slice));
+      if (zero) continue;  // see ZeroSlicesStayUniform
+      const CompressionQuality quality = compareCellProbabilities(exactCellProbabilities(own), q);
+      EXPECT_EQ(quality.unreachableMass, 0.0) << "slice " << slice;
+      const auto ownQ = separate.cellProbabilities(slice);
+      if (q != ownQ) {
+        ++reused;
+        const double ownDivergence =
+            compareCellProbabilities(exactCellProbabilities(own), ownQ).chi2Divergence;
+        EXPECT_LE(quality.chi2Divergence, ownDivergence + kTolerance) << "slice " << slice;
+      }
+    }
+    if (f == Fixture::Smooth) {
+      EXPECT_GT(reused, 0u);
+    }
+  }
+}
+
+// DISABLED: fails on the engine at b53e30a (reported to the lead): an all-zero slice passes the
+// grouping test trivially (no mass, divergence 0) and takes the previous group's distribution,
+// while isUniformFallback(slice) still reports it as uniform.
+TEST(CascadeSliceGrouping, DISABLED_ZeroSlicesStayUniform) {
+  // cascade.h: a slice with no mass samples uniformly and isUniformFallback(slice) reports it;
+  // grouping must not hand such a slice another slice's distribution.
+  const auto v = makeFixture(Fixture::ZerosWithIslands, k4D);
+  const Cascade shared(v, unitAxes(k4D), grouped(0.05));
+  std::size_t zeroSlices = 0;
+  for (std::size_t slice = 0; slice < shared.slices(); ++slice) {
+    if (!shared.isUniformFallback(slice)) continue;
+    ++zeroSlices;
+    for (double q : shared.cellProbabilities(slice))
+      ASSERT_NEAR(q, 1.0 / (32 * 16), 1e-9) << "slice " << slice;
+  }
+  EXPECT_GT(zeroSlices, 0u);
+}
+
+TEST(CascadeSliceGrouping, GroupedSliceChiSquare) {
+  const auto v = makeFixture(Fixture::Smooth, k4D);
+  const auto c = std::make_shared<const Cascade>(v, unitAxes(k4D), grouped(0.02));
+  // The last slice of the first row of conditioning cells: grouped with an earlier one.
+  const Sampler s = makeCascade(c, {0.05f, 0.9f});
+  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+  std::vector<float> u(2), back(2);
+  Pcg32 rng(12);
+  for (int i = 0; i < 10'000; ++i) {
+    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
+    const SampleND x = s.sample(u);
+    s.invert(std::span<const float>(x.x.data(), 2), back);
+    ASSERT_NEAR(back[0], u[0], 1e-4);
+    ASSERT_NEAR(back[1], u[1], 1e-4);
   }
 }
 
@@ -545,7 +715,8 @@ void drawInto(const Cascade& c, std::span<const float> condition, std::size_t n,
 }
 
 Draws allocate(std::size_t n, std::size_t dims) {
-  return {std::vector<float>(n * dims), std::vector<float>(n), std::vector<float>(n), std::vector<float>(n * dims)};
+  return {std::vector<float>(n * dims), std::vector<float>(n), std::vector<float>(n),
+          std::vector<float>(n * dims)};
 }
 
 TEST(CascadeConcurrency, EightThreadsMatchOneThread) {

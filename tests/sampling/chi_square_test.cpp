@@ -2,13 +2,14 @@
 // values, and proof that the test harness can fail: samplers with a wrong pdf, a wrong sample
 // distribution, samples outside the domain or an inconsistent returned pdf are all rejected.
 
+#include "acdf/sampling/chi_square.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "acdf/sampling/cascade.h"
-#include "acdf/sampling/chi_square.h"
 #include "acdf/sampling/piecewise_constant_1d.h"
 #include "acdf/test_support/chi_square_harness.h"
 #include "acdf/test_support/samplers.h"
@@ -32,17 +33,12 @@ struct Known {
   double x, dof, q;
 };
 constexpr Known kKnown[] = {
-    {3.841459, 1, 0.0499999946531958},
-    {23.209, 10, 0.0100008658147408},
+    {3.841459, 1, 0.0499999946531958},     {23.209, 10, 0.0100008658147408},
     {10, 2, 0.00673794699908547},  // exp(-5)
-    {135.807, 100, 0.0099995737292488},
-    {1106.969, 1000, 0.00999999685390744},
-    {10233.75, 10000, 0.0499992083855754},
-    {101000, 100000, 0.0128688403772337},
-    {0.5, 3, 0.918891411654676},
-    {1e-3, 1, 0.97477287936996},
-    {50, 1, 1.53745979442803e-12},
-    {200, 10, 1.61393053369773e-37},
+    {135.807, 100, 0.0099995737292488},    {1106.969, 1000, 0.00999999685390744},
+    {10233.75, 10000, 0.0499992083855754}, {101000, 100000, 0.0128688403772337},
+    {0.5, 3, 0.918891411654676},           {1e-3, 1, 0.97477287936996},
+    {50, 1, 1.53745979442803e-12},         {200, 10, 1.61393053369773e-37},
 };
 
 TEST(ChiSquareSurvival, KnownValues) {
@@ -57,7 +53,8 @@ TEST(ChiSquareSurvival, EdgesAndClosedForms) {
   for (double x : {0.1, 1.0, 4.0, 17.0, 60.0}) {
     // dof = 2: Q = exp(-x/2); dof = 4: Q = exp(-x/2)(1 + x/2).
     EXPECT_NEAR(chiSquareSurvival(x, 2), std::exp(-x / 2), 1e-10 * std::exp(-x / 2)) << x;
-    EXPECT_NEAR(chiSquareSurvival(x, 4), std::exp(-x / 2) * (1 + x / 2), 1e-10 * std::exp(-x / 2) * (1 + x / 2))
+    EXPECT_NEAR(chiSquareSurvival(x, 4), std::exp(-x / 2) * (1 + x / 2),
+                1e-10 * std::exp(-x / 2) * (1 + x / 2))
         << x;
   }
   // Monotone decreasing in x.
@@ -226,14 +223,17 @@ TEST(Harness, RejectsInvalidSamples) {
   s.x[0] = 0.0f;
   s.pdf = 1.0f;
   const float u[] = {0.0f};
-  EXPECT_FALSE(checkSample(axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary));
+  EXPECT_FALSE(checkSample(
+      axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary));
   EXPECT_EQ(boundary.outsideDomain, 1u);
   // A zero or NaN returned pdf is bad.
   s.x[0] = 0.5f;
   s.pdf = 0.0f;
-  checkSample(axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary);
+  checkSample(
+      axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary);
   s.pdf = std::nanf("");
-  checkSample(axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary);
+  checkSample(
+      axes, u, s, [&](std::span<const float> x) { return t.pdf(x[0]); }, 1e-5, boundary);
   EXPECT_EQ(boundary.badPdf, 2u);
   EXPECT_FALSE(boundary.samplesValid());
 

@@ -163,7 +163,8 @@ TEST_P(OtherDomain1D, ChiSquareOnMinus3To5) {
   // The density is w.r.t. length on [-3, 5): a uniform function has pdf 1/8.
   const std::vector<float> flat(16, 2.0f);
   const Sampler u = make1D(GetParam(), flat, -3.0f, 5.0f);
-  for (float x : {-2.99f, -1.0f, 0.0f, 4.99f}) EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
+  for (float x : {-2.99f, -1.0f, 0.0f, 4.99f})
+    EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
 }
 
 TEST_P(OtherDomain1D, PositionsAreUniformWithinCells) {
@@ -266,7 +267,8 @@ TEST(AdaptiveCdf1D, PdfIsTheIntervalMassSpreadEvenly) {
     const uint32_t first = a.vertex(j), end = a.vertex(j + 1);
     const double mass = std::accumulate(exact.begin() + first, exact.begin() + end, 0.0);
     const float x = a.axis().place(first, end, 0.5);
-    EXPECT_NEAR(a.pdf(x) * a.axis().cellWidth() * (end - first), mass, 2.5e-7 + 1e-5 * mass) << "interval " << j;
+    EXPECT_NEAR(a.pdf(x) * a.axis().cellWidth() * (end - first), mass, 2.5e-7 + 1e-5 * mass)
+        << "interval " << j;
   }
 }
 
@@ -305,8 +307,7 @@ TEST(AliasTable1D, ProbabilitiesAreFloatRoundedExactValues) {
   const auto v = fixture1D(Fixture::PeakedSun);
   const AliasTable1D t(v);
   const auto exact = exactCellProbabilities(v);
-  for (uint32_t i = 0; i < kCells; ++i)
-    ASSERT_NEAR(t.table().probability(i), exact[i], 1e-6 * exact[i]) << i;
+  for (uint32_t i = 0; i < kCells; ++i) ASSERT_NEAR(t.table().probability(i), exact[i], 1e-6 * exact[i]) << i;
   EXPECT_EQ(t.bytes(), kCells * 12u);
 }
 

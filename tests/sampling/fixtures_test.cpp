@@ -1,6 +1,8 @@
 // The fixtures themselves: deterministic, the documented shapes, and a sun that is what the
 // quality tests and benchmarks assume it is.
 
+#include "acdf/fixtures/fixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,8 +11,6 @@
 #include <numeric>
 #include <stdexcept>
 #include <vector>
-
-#include "acdf/fixtures/fixtures.h"
 
 namespace fx = acdf::fixtures;
 
@@ -65,8 +65,10 @@ TEST(Fixtures, PeakedSunHasOnePeak) {
   const std::size_t peak = fx::peakedSunCell(dims);
   EXPECT_EQ(peak, std::size_t(23) * 32 + 11);  // floor(0.37·64), floor(0.37·32)
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (i == peak) EXPECT_NEAR(p[i] / s[i], 1e6, 1.0);
-    else ASSERT_EQ(p[i], s[i]) << i;
+    if (i == peak)
+      EXPECT_NEAR(p[i] / s[i], 1e6, 1.0);
+    else
+      ASSERT_EQ(p[i], s[i]) << i;
   }
 }
 
@@ -120,8 +122,10 @@ TEST(Fixtures, SunAndSkyShape) {
     total += v[i];
     const double sinT = std::sin((i / W + 0.5) * kPi / H);
     const double coverage = v[i] / (sun * sinT);
-    if (coverage > 0.999) ++full;
-    else if (coverage > 0.01) ++partial;
+    if (coverage > 0.999)
+      ++full;
+    else if (coverage > 0.01)
+      ++partial;
     if (coverage > 0.01) sunMass += v[i];
   }
   EXPECT_GE(full, 1);

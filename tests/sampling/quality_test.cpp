@@ -1,6 +1,8 @@
 // Storage and quality of the default adaptive Cascade on an environment map with a sun: it must be
 // much smaller than the all-uniform cascade and stay close to the function's distribution.
 
+#include "acdf/sampling/quality.h"
+
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -11,7 +13,6 @@
 
 #include "acdf/fixtures/fixtures.h"
 #include "acdf/sampling/cascade.h"
-#include "acdf/sampling/quality.h"
 #include "acdf/test_support/chi_square_harness.h"
 #include "acdf/test_support/samplers.h"
 
@@ -55,8 +56,8 @@ TEST(Quality, AdaptiveSunAndSkyIsSmallAndClose) {
             << uniform.bytes() << " bytes, ratio " << ratio << "\n"
             << "  chi2Divergence " << q.chi2Divergence << ", maxWeightRatio " << q.maxWeightRatio
             << ", unreachableMass " << q.unreachableMass << "\n"
-            << "  average intervals θ " << intervals[0] << ", φ " << intervals[1] << "; points "
-            << points[0] << ", " << points[1] << "\n"
+            << "  average intervals θ " << intervals[0] << ", φ " << intervals[1] << "; points " << points[0]
+            << ", " << points[1] << "\n"
             << "  uniform cascade: chi2Divergence " << qu.chi2Divergence << "\n";
   RecordProperty("adaptive_bytes", std::to_string(adaptive.bytes()));
   RecordProperty("uniform_bytes", std::to_string(uniform.bytes()));
@@ -73,7 +74,8 @@ TEST(Quality, AdaptiveSunAndSkyIsSmallAndClose) {
   const Sampler sampler = makeCascade(std::make_shared<const Cascade>(s.values, s.axes));
   const auto fromPdf = pdfCellProbabilities(sampler.axes, sampler.pdf);
   const auto cells = adaptive.cellProbabilities(0);
-  for (std::size_t i = 0; i < cells.size(); ++i) ASSERT_NEAR(fromPdf[i], cells[i], 2e-6 * cells[i] + 1e-30) << i;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    ASSERT_NEAR(fromPdf[i], cells[i], 2e-6 * cells[i] + 1e-30) << i;
 }
 
 TEST(Quality, AdaptiveSunAndSkyPassesChiSquare) {

@@ -1,6 +1,8 @@
 // simplifyCdf and validate(SimplifyOptions): structural guarantees checked by brute force against
 // the input CDF, on the fixtures and on random functions.
 
+#include "acdf/sampling/simplify.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +16,6 @@
 
 #include "acdf/fixtures/fixtures.h"
 #include "acdf/sampling/rng.h"
-#include "acdf/sampling/simplify.h"
 #include "acdf/test_support/samplers.h"
 
 namespace {
@@ -91,7 +92,8 @@ std::vector<Input> inputs() {
   for (uint32_t n : {7u, 100u, 1000u, 4096u}) {
     const uint32_t dims[] = {n};
     for (Fixture f : test_support::kAllFixtures)
-      out.push_back({test_support::toString(f) + "/" + std::to_string(n), cdfOf(test_support::makeFixture(f, dims))});
+      out.push_back(
+          {test_support::toString(f) + "/" + std::to_string(n), cdfOf(test_support::makeFixture(f, dims))});
   }
   const auto sky = fixtures::sunAndSky(1024, 512);
   out.push_back({"sunAndSky row 184", cdfOf({sky.begin() + 184 * 1024, sky.begin() + 185 * 1024})});
@@ -195,7 +197,8 @@ TEST(Simplify, GreedyBudgetPrefixesAreNested) {
   const auto cdf = cdfOf(fixtures::random(dims, 5));
   std::vector<uint32_t> previous;
   for (uint32_t budget = 2; budget < 60; ++budget) {
-    const auto kept = simplifyCdf(cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, budget));
+    const auto kept =
+        simplifyCdf(cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, budget));
     EXPECT_TRUE(std::includes(kept.begin(), kept.end(), previous.begin(), previous.end())) << budget;
     previous = kept;
   }
@@ -275,7 +278,8 @@ TEST(Simplify, MetricsDiffer) {
   std::size_t vertical = 0, perpendicular = 0;
   for (const auto* c : {&cdf, &cdf2}) {
     vertical += simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-4, 0.0)).size();
-    perpendicular += simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 1e-4, 0.0)).size();
+    perpendicular +=
+        simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 1e-4, 0.0)).size();
   }
   EXPECT_NE(vertical, perpendicular);
 }
@@ -284,11 +288,16 @@ TEST(Simplify, OptionsValidation) {
   EXPECT_NO_THROW(validate(SimplifyOptions{}));
   EXPECT_NO_THROW(validate(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, 2)));
   EXPECT_NO_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 0.0, 1.0)));
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1e-3, 4.0)), std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.5)), std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.999)), std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 1e-3, 4.0, 1)), std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 4.0, 10)), std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1e-3, 4.0)),
+               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.5)),
+               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.999)),
+               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 1e-3, 4.0, 1)),
+               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 4.0, 10)),
+               std::invalid_argument);
   EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical,
                              std::numeric_limits<double>::quiet_NaN(), 4.0)),
                std::invalid_argument);

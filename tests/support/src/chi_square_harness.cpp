@@ -16,9 +16,9 @@ namespace {
 // Per axis: how bins relate to grid cells.
 struct BinAxis {
   uint32_t bins = 0;
-  uint32_t cellsPerBin = 1;  // > 1: bins are unions of cells
-  uint32_t binsPerCell = 1;  // > 1: bins subdivide cells
-  uint32_t pointsPerBin = 1; // midpoint-rule points per bin along this axis
+  uint32_t cellsPerBin = 1;   // > 1: bins are unions of cells
+  uint32_t binsPerCell = 1;   // > 1: bins subdivide cells
+  uint32_t pointsPerBin = 1;  // midpoint-rule points per bin along this axis
 };
 
 std::vector<BinAxis> binAxes(std::span<const GridAxis> axes, const ChiSquareOptions& options) {
@@ -52,8 +52,8 @@ uint32_t binOf(const GridAxis& axis, const BinAxis& b, float x) {
   if (b.binsPerCell == 1) return cell / b.cellsPerBin;
   // Subdivided cell: the position inside the cell, kept consistent with cellOf.
   const double within = axis.gridCoordinate(x) - cell;
-  const auto sub = static_cast<uint32_t>(
-      std::clamp(std::floor(within * b.binsPerCell), 0.0, double(b.binsPerCell - 1)));
+  const auto sub =
+      static_cast<uint32_t>(std::clamp(std::floor(within * b.binsPerCell), 0.0, double(b.binsPerCell - 1)));
   return cell * b.binsPerCell + sub;
 }
 
@@ -157,8 +157,8 @@ bool checkSample(std::span<const GridAxis> axes, std::span<const float> u, const
   return true;
 }
 
-ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sample,
-                             const PdfFn& pdf, const ChiSquareOptions& options) {
+ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sample, const PdfFn& pdf,
+                             const ChiSquareOptions& options) {
   const std::vector<BinAxis> bins = binAxes(axes, options);
   const std::size_t dims = axes.size();
   std::size_t binCount = 1;
@@ -235,8 +235,8 @@ std::vector<double> pdfCellProbabilities(std::span<const GridAxis> axes, const P
 }
 
 std::vector<double> exactCellProbabilities(std::span<const float> values) {
-  const double total = std::accumulate(values.begin(), values.end(), 0.0,
-                                       [](double a, float v) { return a + double(v); });
+  const double total =
+      std::accumulate(values.begin(), values.end(), 0.0, [](double a, float v) { return a + double(v); });
   std::vector<double> p(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) p[i] = double(values[i]) / total;
   return p;

@@ -39,9 +39,12 @@ Sampler wrap1D(std::shared_ptr<const T> d, std::string name) {
 
 std::string toString(Kind1D kind) {
   switch (kind) {
-    case Kind1D::PiecewiseConstant: return "PiecewiseConstant1D";
-    case Kind1D::Alias: return "AliasTable1D";
-    case Kind1D::Adaptive: return "AdaptiveCdf1D";
+    case Kind1D::PiecewiseConstant:
+      return "PiecewiseConstant1D";
+    case Kind1D::Alias:
+      return "AliasTable1D";
+    case Kind1D::Adaptive:
+      return "AdaptiveCdf1D";
   }
   return "?";
 }
@@ -96,22 +99,32 @@ Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, C
 
 std::string toString(Fixture fixture) {
   switch (fixture) {
-    case Fixture::Smooth: return "smooth";
-    case Fixture::PeakedSun: return "peakedSun";
-    case Fixture::ZerosWithIslands: return "zerosWithIslands";
-    case Fixture::Checkerboard: return "checkerboard";
-    case Fixture::Random: return "random";
+    case Fixture::Smooth:
+      return "smooth";
+    case Fixture::PeakedSun:
+      return "peakedSun";
+    case Fixture::ZerosWithIslands:
+      return "zerosWithIslands";
+    case Fixture::Checkerboard:
+      return "checkerboard";
+    case Fixture::Random:
+      return "random";
   }
   return "?";
 }
 
 std::vector<float> makeFixture(Fixture fixture, std::span<const uint32_t> dims) {
   switch (fixture) {
-    case Fixture::Smooth: return fixtures::smooth(dims);
-    case Fixture::PeakedSun: return fixtures::peakedSun(dims);
-    case Fixture::ZerosWithIslands: return fixtures::zerosWithIslands(dims);
-    case Fixture::Checkerboard: return fixtures::checkerboard(dims);
-    case Fixture::Random: return fixtures::random(dims, 20261121);
+    case Fixture::Smooth:
+      return fixtures::smooth(dims);
+    case Fixture::PeakedSun:
+      return fixtures::peakedSun(dims);
+    case Fixture::ZerosWithIslands:
+      return fixtures::zerosWithIslands(dims);
+    case Fixture::Checkerboard:
+      return fixtures::checkerboard(dims);
+    case Fixture::Random:
+      return fixtures::random(dims, 20261121);
   }
   throw std::logic_error("makeFixture: unknown fixture");
 }

@@ -51,13 +51,13 @@ struct ChiSquareReport {
   ChiSquareResult chi2;
   double alpha = 0;  // per-test level after the Šidák correction
   uint64_t samples = 0;
-  uint64_t outsideDomain = 0;  // samples not strictly inside (lo, hi) on some axis
-  uint64_t badPdf = 0;         // returned pdf not finite or <= 0
-  uint64_t pdfMismatch = 0;    // |pdf(x) − returned| > tolerance · returned
-  double worstPdfMismatch = 0; // largest relative mismatch seen
-  double pdfIntegral = 0;      // ∫ pdf over the domain (midpoint rule, double)
+  uint64_t outsideDomain = 0;   // samples not strictly inside (lo, hi) on some axis
+  uint64_t badPdf = 0;          // returned pdf not finite or <= 0
+  uint64_t pdfMismatch = 0;     // |pdf(x) − returned| > tolerance · returned
+  double worstPdfMismatch = 0;  // largest relative mismatch seen
+  double pdfIntegral = 0;       // ∫ pdf over the domain (midpoint rule, double)
   double integralTolerance = 0;
-  std::string firstProblem;    // description of the first bad sample, if any
+  std::string firstProblem;  // description of the first bad sample, if any
 
   bool chiSquarePassed() const { return chi2.pvalue >= alpha; }
   bool samplesValid() const { return outsideDomain == 0 && badPdf == 0 && pdfMismatch == 0; }
@@ -70,8 +70,8 @@ using SampleFn = std::function<SampleND(std::span<const float> u)>;
 using PdfFn = std::function<float(std::span<const float> x)>;
 
 // axes: the sampled axes (domain and grid cells); the sampler takes axes.size() variates.
-ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sample,
-                             const PdfFn& pdf, const ChiSquareOptions& options);
+ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sample, const PdfFn& pdf,
+                             const ChiSquareOptions& options);
 
 // The per-sample checks of the harness, on one sample drawn with variates u: updates the sample
 // counters of `report` (and firstProblem). Returns false if x is outside the domain.

@@ -3,8 +3,8 @@
 // PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid and Cascade, plus named fixtures.
 
 #include <functional>
-#include <ostream>
 #include <memory>
+#include <ostream>
 #include <span>
 #include <string>
 #include <vector>
@@ -23,7 +23,7 @@ struct Sampler {
   std::vector<GridAxis> axes;  // the sampled axes; sample() takes axes.size() variates
   SampleFn sample;
   PdfFn pdf;
-  InvertFn invert;                                     // empty when the class has no invert
+  InvertFn invert;  // empty when the class has no invert
   std::function<bool()> uniformFallback;
   std::function<std::vector<double>()> cellProbabilities;  // empty for the 1D classes
   std::function<std::size_t()> bytes;
@@ -39,13 +39,11 @@ Sampler make1D(Kind1D kind, std::span<const float> values, float lo = 0.0f, floa
 Sampler makeAliasGrid(std::span<const float> values, std::vector<GridAxis> axes);
 // The distribution of one slice of a Cascade: `condition` holds conditioningDims() coordinates.
 Sampler makeCascade(std::shared_ptr<const Cascade> cascade, std::vector<float> condition = {});
-Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes,
-                    CascadeOptions options = {});
+Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options = {});
 
 enum class Fixture { Smooth, PeakedSun, ZerosWithIslands, Checkerboard, Random };
-inline constexpr Fixture kAllFixtures[] = {Fixture::Smooth, Fixture::PeakedSun,
-                                           Fixture::ZerosWithIslands, Fixture::Checkerboard,
-                                           Fixture::Random};
+inline constexpr Fixture kAllFixtures[] = {Fixture::Smooth, Fixture::PeakedSun, Fixture::ZerosWithIslands,
+                                           Fixture::Checkerboard, Fixture::Random};
 std::string toString(Fixture fixture);
 inline void PrintTo(Fixture fixture, std::ostream* os) { *os << toString(fixture); }
 std::vector<float> makeFixture(Fixture fixture, std::span<const uint32_t> dims);
@@ -56,8 +54,8 @@ std::vector<GridAxis> unitAxes(std::span<const uint32_t> dims);
 // Per-sample checks only (no chi-square): x strictly inside the domain, pdf finite > 0, pdf(x)
 // matches the returned pdf. Runs `samples` Pcg32 variates plus every corner combination of
 // {0, 0.5, kOneMinusEpsilon} across the axes. Fills the sample fields of the report.
-ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples = 100'000,
-                             double pdfTolerance = 1e-5, uint64_t seed = 0x9E3779B97F4A7C15ULL);
+ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples = 100'000, double pdfTolerance = 1e-5,
+                             uint64_t seed = 0x9E3779B97F4A7C15ULL);
 
 // Runs the chi-square harness on a Sampler.
 ChiSquareReport runChiSquare(const Sampler& sampler, const ChiSquareOptions& options);
