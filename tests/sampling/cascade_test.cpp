@@ -383,10 +383,9 @@ TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
   EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{4, 12}));
 }
 
-// DISABLED until the joint (whole-cell) weight bound the lead is adding to cascade.cpp lands: the
-// committed engine (b53e30a) bounds each 1D CDF only, and this fails there (e.g. checkerboard at
-// ε = 0.3, ρ = 1.5). Passes against the work tree's cascade.cpp of 23:45.
-TEST(CascadeOptions, DISABLED_WeightBoundHoldsForWholeCells) {
+// Fails on engines that bound each 1D CDF only (b53e30a: e.g. checkerboard at ε = 0.3, ρ = 1.5);
+// the whole-cell bound landed in 2f2d0d6.
+TEST(CascadeOptions, WeightBoundHoldsForWholeCells) {
   // simplify.h: a Cascade applies ρ to whole grid cells: p(cell) / q(cell) <= ρ, where p is the
   // function's cell probability and q the cascade's, up to the float CDFs' resolution (2^-22
   // absolute on a conditional probability, so tiny cells may exceed it slightly).
@@ -590,11 +589,9 @@ TEST(CascadeSliceGrouping, RejectsBadTolerances) {
     EXPECT_THROW((Cascade{v, unitAxes(k4D), grouped(bad)}), std::invalid_argument) << bad;
 }
 
-// DISABLED: fails on the engine at b53e30a (reported to the lead): groupSlices() compares a slice's
-// exact cell probabilities with the group's *compressed* distribution, so the adaptive
-// compression's own divergence (0.13 here) counts against the tolerance and identical slices are
-// not grouped unless the tolerance exceeds it. Run with --gtest_also_run_disabled_tests.
-TEST(CascadeSliceGrouping, DISABLED_IdenticalSlicesShareOneDistribution) {
+// Failed at b53e30a (the compression's own divergence counted against the tolerance); fixed in
+// 2f2d0d6.
+TEST(CascadeSliceGrouping, IdenticalSlicesShareOneDistribution) {
   // Reusing an identical slice's distribution adds no divergence at all, so any tolerance > 0
   // groups them (the adaptive compression's own divergence is not "added" by grouping).
   const std::vector<uint32_t> sampled = {k4D[2], k4D[3]};
@@ -645,10 +642,8 @@ TEST(CascadeSliceGrouping, GroupedSlicesStayWithinTheTolerance) {
   }
 }
 
-// DISABLED: fails on the engine at b53e30a (reported to the lead): an all-zero slice passes the
-// grouping test trivially (no mass, divergence 0) and takes the previous group's distribution,
-// while isUniformFallback(slice) still reports it as uniform.
-TEST(CascadeSliceGrouping, DISABLED_ZeroSlicesStayUniform) {
+// Failed at b53e30a (an all-zero slice took the previous group's distribution); fixed in 2f2d0d6.
+TEST(CascadeSliceGrouping, ZeroSlicesStayUniform) {
   // cascade.h: a slice with no mass samples uniformly and isUniformFallback(slice) reports it;
   // grouping must not hand such a slice another slice's distribution.
   const auto v = makeFixture(Fixture::ZerosWithIslands, k4D);
