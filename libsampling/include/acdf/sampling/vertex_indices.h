@@ -31,10 +31,25 @@ class VertexIndices {
   void shrink_to_fit() { narrow16_.shrink_to_fit(); wide32_.shrink_to_fit(); }
 
   // Index j in [first, last-1) of the breakpoint interval [v[j], v[j+1]) that holds `cell`,
-  // given v[first] <= cell < v[last-1].
-  std::size_t intervalOf(std::size_t first, std::size_t last, uint32_t cell) const;
+  // given v[first] <= cell < v[last-1]. Inline and branchless: it sits on every pdf() call.
+  std::size_t intervalOf(std::size_t first, std::size_t last, uint32_t cell) const {
+    return wide_ ? lastAtMost(wide32_.data(), first, last, cell) : lastAtMost(narrow16_.data(), first, last, cell);
+  }
 
  private:
+  // Largest j in [first, last-2] with v[j] <= cell: a binary search whose loop has no
+  // data-dependent branch (the compiler emits a conditional move).
+  template <class T>
+  static std::size_t lastAtMost(const T* v, std::size_t first, std::size_t last, uint32_t cell) {
+    std::size_t base = first, length = last - 1 - first;  // candidates [base, base + length)
+    while (length > 1) {
+      const std::size_t half = length / 2;
+      base = v[base + half] <= cell ? base + half : base;
+      length -= half;
+    }
+    return base;
+  }
+
   bool wide_ = false;
   std::vector<uint16_t> narrow16_;
   std::vector<uint32_t> wide32_;
