@@ -186,18 +186,7 @@ void headToHead1d(benchmark::State& st, uint32_t n) {
     h2h.round(offset);
     offset = (offset + kChunk) & kVariateMask;
   }
-  const char* what[] = {"sample", "pdf"};
-  for (int w = 0; w < 2; ++w) {
-    double uni = h2h.medianNsPerOp(3 * w + 0);
-    double ali = h2h.medianNsPerOp(3 * w + 1);
-    double ada = h2h.medianNsPerOp(3 * w + 2);
-    std::string p = what[w];
-    st.counters[p + "_ns_uniform"] = uni;
-    st.counters[p + "_ns_alias"] = ali;
-    st.counters[p + "_ns_adaptive"] = ada;
-    st.counters[p + "_alias_vs_uniform"] = ali / uni;
-    st.counters[p + "_adaptive_vs_uniform"] = ada / uni;
-  }
+  h2h.reportSamplersVsUniform(st);
   st.counters["bytes_alias_vs_uniform"] =
       static_cast<double>(s.alias.bytes()) / static_cast<double>(s.uniform.bytes());
   st.counters["bytes_adaptive_vs_uniform"] =

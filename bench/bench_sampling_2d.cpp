@@ -311,18 +311,7 @@ void headToHead2d(benchmark::State& st, uint32_t w, uint32_t h) {
     h2h.round(offset);
     offset = (offset + kChunk2D) & kVariateMask;
   }
-  const char* what[] = {"sample", "pdf"};
-  for (int k = 0; k < 2; ++k) {
-    double uni = h2h.medianNsPerOp(3 * k + 0);
-    double ali = h2h.medianNsPerOp(3 * k + 1);
-    double ada = h2h.medianNsPerOp(3 * k + 2);
-    std::string p = what[k];
-    st.counters[p + "_ns_uniform"] = uni;
-    st.counters[p + "_ns_alias"] = ali;
-    st.counters[p + "_ns_adaptive"] = ada;
-    st.counters[p + "_alias_vs_uniform"] = ali / uni;
-    st.counters[p + "_adaptive_vs_uniform"] = ada / uni;
-  }
+  h2h.reportSamplersVsUniform(st);
   double ub = static_cast<double>(uniform.bytes());
   st.counters["bytes_alias_vs_uniform"] = static_cast<double>(alias.bytes()) / ub;
   st.counters["bytes_adaptive_vs_uniform"] = static_cast<double>(adaptive.bytes()) / ub;

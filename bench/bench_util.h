@@ -6,6 +6,8 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <benchmark/benchmark.h>
+
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -110,6 +112,21 @@ class HeadToHead {
   }
 
   double medianNsPerOp(std::size_t i) const { return median(nsPerOp_[i]); }
+
+  // For contenders added as sample(uniform, alias, adaptive) then pdf(uniform, alias, adaptive):
+  // the median ns/op of each and the alias and adaptive ratios to uniform, as counters.
+  void reportSamplersVsUniform(benchmark::State& st) const {
+    const char* what[] = {"sample", "pdf"};
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double uni = medianNsPerOp(3 * k + 0), ali = medianNsPerOp(3 * k + 1), ada = medianNsPerOp(3 * k + 2);
+      const std::string p = what[k];
+      st.counters[p + "_ns_uniform"] = uni;
+      st.counters[p + "_ns_alias"] = ali;
+      st.counters[p + "_ns_adaptive"] = ada;
+      st.counters[p + "_alias_vs_uniform"] = ali / uni;
+      st.counters[p + "_adaptive_vs_uniform"] = ada / uni;
+    }
+  }
 
  private:
   std::size_t ops_;
