@@ -28,6 +28,7 @@ SampleND AliasGrid::sample(std::span<const float> u) const {
   }
   const AliasTable::Discrete cell = table_.sample(u[0]);
   SampleND result;
+  result.dims = static_cast<uint8_t>(axes_.size());
   std::size_t rest = cell.index;
   for (std::size_t d = 0; d < axes_.size(); ++d) {
     const auto index = static_cast<uint32_t>(rest / strides_[d]);

@@ -422,6 +422,7 @@ SampleND Cascade::sample(std::span<const float> condition, std::span<const float
   requireArity(u.size(), sampledDims(), "variates");
   std::size_t index = rootOf(sliceOf(condition));
   SampleND result;
+  result.dims = static_cast<uint8_t>(levels_.size());
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);

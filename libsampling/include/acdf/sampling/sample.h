@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 
 namespace acdf {
 
@@ -22,8 +23,12 @@ struct Sample1D {
 };
 
 struct SampleND {
-  std::array<float, kMaxDims> x{};  // first sampledDims() entries are used
+  std::array<float, kMaxDims> x{};  // the first `dims` entries are the sampled coordinates
   float pdf = 0;                    // density w.r.t. the product (Lebesgue) measure
+  uint8_t dims = 0;
+
+  // The sampled coordinates, ready for pdf() or invert().
+  std::span<const float> point() const { return {x.data(), dims}; }
 };
 
 // Clamps a density into the positive finite float range. Products of per-dimension densities
