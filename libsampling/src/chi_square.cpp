@@ -53,7 +53,8 @@ double chiSquareSurvival(double x, double dof) {
 
 double sidakAlpha(double alpha, uint32_t tests) {
   if (tests == 0) throw std::invalid_argument("sidak: needs at least one test");
-  return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+  // 1 − (1 − α)^(1/m), written to keep full precision when m is large.
+  return -std::expm1(std::log1p(-alpha) / tests);
 }
 
 ChiSquareResult chiSquareTest(std::span<const double> observed, std::span<const double> expected,
