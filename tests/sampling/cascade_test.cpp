@@ -3,6 +3,7 @@
 // ∫pdf = 1, cell probabilities, structure, slices, threads and build determinism.
 
 #include "acdf/sampling/cascade.h"
+#include "acdf/sampling/alias_grid.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -234,6 +235,25 @@ TEST(CascadeConditioning, FourSampledDimensionsWithoutConditioning) {
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
   EXPECT_TRUE(Passed(r));
+}
+
+TEST(CascadeConditioning, SamplePointFeedsPdfAndInvert) {
+  // SampleND::point() holds exactly the sampled coordinates, so pdf(condition, s.point()) works
+  // without slicing the fixed-size array by hand.
+  const auto v = makeFixture(Fixture::Random, k4D);
+  const Cascade c(v, unitAxes(k4D), withMethods({}, 2));
+  const float condition[] = {0.3f, 0.6f}, u[] = {0.25f, 0.75f};
+  const SampleND s = c.sample(condition, u);
+  ASSERT_EQ(s.point().size(), c.sampledDims());
+  EXPECT_EQ(c.pdf(condition, s.point()), s.pdf);
+  float back[2];
+  c.invert(condition, s.point(), back);
+  EXPECT_NEAR(back[0], u[0], 1e-5);
+  EXPECT_NEAR(back[1], u[1], 1e-5);
+  const AliasGrid alias(makeFixture(Fixture::Random, k2D), unitAxes(k2D));
+  const SampleND a = alias.sample(u);
+  ASSERT_EQ(a.point().size(), 2u);
+  EXPECT_EQ(alias.pdf(a.point()), a.pdf);
 }
 
 TEST(CascadeConditioning, SliceLookupIsTheNearestCell) {
