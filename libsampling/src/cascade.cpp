@@ -343,8 +343,7 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
     for (std::size_t s : roots) append(all, parts[s]);
     levels_.clear();
     for (std::size_t d = 0; d < sizes.size(); ++d) {
-      Level level{options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[d],
-                  std::move(all[d].cdf), {}, {}};
+      Level level{all[d].method, std::move(all[d].cdf), {}, {}};
       if (level.cdf.size() > UINT32_MAX) throw std::invalid_argument("cascade: table too large");
       if (level.method == DimensionMethod::Adaptive) {
         level.vertices = std::move(all[d].vertices);
