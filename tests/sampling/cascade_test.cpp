@@ -101,18 +101,7 @@ TEST_P(CascadeFixtures, PdfIntegratesToOne) {
 
 TEST_P(CascadeFixtures, InvertRecoversTheVariates) {
   const Sampler s = sampler();
-  const std::size_t dims = s.axes.size();
-  Pcg32 rng(17);
-  std::vector<float> u(dims), back(dims);
-  for (int i = 0; i < 50'000; ++i) {
-    for (float& x : u) x = rng.nextFloat();
-    if (i < 3) std::fill(u.begin(), u.end(), i == 0 ? 0.0f : i == 1 ? kOneMinusEpsilon : 0.5f);
-    const SampleND x = s.sample(u);
-    if (!(x.pdf > 0)) continue;
-    s.invert(std::span<const float>(x.x.data(), dims), back);
-    for (std::size_t d = 0; d < dims; ++d)
-      ASSERT_NEAR(back[d], u[d], 1e-4) << "axis " << d << " sample " << i;
-  }
+  EXPECT_LE(worstInvertError(s, 50'000, 17), 1e-4);
 }
 
 TEST_P(CascadeFixtures, CellProbabilitiesSumToOneAndMatchPdf) {
@@ -207,15 +196,7 @@ TEST_P(CascadeConditioned, InvertIntegralAndCellProbabilities) {
   EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
   const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
   for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << i;
-  Pcg32 rng(23);
-  float u[2], back[2];
-  for (int i = 0; i < 20'000; ++i) {
-    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
-    const SampleND x = s.sample(u);
-    s.invert(std::span<const float>(x.x.data(), 2), back);
-    ASSERT_NEAR(back[0], u[0], 1e-4);
-    ASSERT_NEAR(back[1], u[1], 1e-4);
-  }
+  EXPECT_LE(worstInvertError(s, 20'000, 23), 1e-4);
   const ChiSquareReport r = checkSamples(s, 20'000);
   EXPECT_TRUE(r.samplesValid()) << r.summary();
 }
@@ -507,14 +488,7 @@ TEST(CascadeDomains, ShiftedDomains3D) {
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
   EXPECT_TRUE(Passed(r));
-  std::vector<float> u(3), back(3);
-  Pcg32 rng(8);
-  for (int i = 0; i < 10'000; ++i) {
-    for (float& x : u) x = rng.nextFloat();
-    const SampleND x = s.sample(u);
-    s.invert(std::span<const float>(x.x.data(), 3), back);
-    for (int d = 0; d < 3; ++d) ASSERT_NEAR(back[d], u[d], 1e-4);
-  }
+  EXPECT_LE(worstInvertError(s, 10'000, 8), 1e-4);
 }
 
 // ---- Wide vertex indices and random configurations -------------------------------------------
@@ -530,15 +504,7 @@ TEST(CascadeWide, AxesOver65535CellsUse32BitIndices) {
   const ChiSquareReport r = runChiSquare(s, o);
   recordReport(r);
   EXPECT_TRUE(Passed(r));
-  std::vector<float> u(2), back(2);
-  Pcg32 rng(31);
-  for (int i = 0; i < 20'000; ++i) {
-    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
-    const SampleND x = s.sample(u);
-    s.invert(std::span<const float>(x.x.data(), 2), back);
-    ASSERT_NEAR(back[0], u[0], 1e-4);
-    ASSERT_NEAR(back[1], u[1], 1e-4);
-  }
+  EXPECT_LE(worstInvertError(s, 20'000, 31), 1e-4);
 }
 
 TEST(CascadeRandomConfigurations, ContractHolds) {
@@ -577,13 +543,7 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
     const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
     for (std::size_t i = 0; i < q.size(); ++i)
       ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << what << " cell " << i;
-    std::vector<float> u(s.axes.size()), back(s.axes.size());
-    for (int i = 0; i < 500; ++i) {
-      for (float& x : u) x = rng.nextFloat();
-      const SampleND x = s.sample(u);
-      s.invert(std::span<const float>(x.x.data(), u.size()), back);
-      for (std::size_t d = 0; d < u.size(); ++d) ASSERT_NEAR(back[d], u[d], 1e-4) << what << " axis " << d;
-    }
+    ASSERT_LE(worstInvertError(s, 500, rng.nextUint()), 1e-4) << what;
   }
 }
 
@@ -686,15 +646,7 @@ TEST(CascadeSliceGrouping, GroupedSliceChiSquare) {
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
   EXPECT_TRUE(Passed(r));
-  std::vector<float> u(2), back(2);
-  Pcg32 rng(12);
-  for (int i = 0; i < 10'000; ++i) {
-    u[0] = rng.nextFloat(), u[1] = rng.nextFloat();
-    const SampleND x = s.sample(u);
-    s.invert(std::span<const float>(x.x.data(), 2), back);
-    ASSERT_NEAR(back[0], u[0], 1e-4);
-    ASSERT_NEAR(back[1], u[1], 1e-4);
-  }
+  EXPECT_LE(worstInvertError(s, 10'000, 12), 1e-4);
 }
 
 // ---- Concurrency and determinism ----------------------------------------------------------

@@ -1,5 +1,7 @@
 #include "acdf/test_support/samplers.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "acdf/fixtures/fixtures.h"
@@ -133,6 +135,23 @@ std::vector<GridAxis> unitAxes(std::span<const uint32_t> dims) {
   std::vector<GridAxis> axes;
   for (uint32_t n : dims) axes.emplace_back(n, 0.0f, 1.0f);
   return axes;
+}
+
+double worstInvertError(const Sampler& sampler, uint64_t samples, uint64_t seed) {
+  if (!sampler.invert) throw std::invalid_argument(sampler.name + " has no invert()");
+  const std::size_t dims = sampler.axes.size();
+  std::vector<float> u(dims), back(dims);
+  Pcg32 rng(seed);
+  double worst = 0.0;
+  for (uint64_t i = 0; i < samples; ++i) {
+    for (float& x : u) x = rng.nextFloat();
+    if (i < 3) std::fill(u.begin(), u.end(), i == 0 ? 0.0f : i == 1 ? kOneMinusEpsilon : 0.5f);
+    const SampleND x = sampler.sample(u);
+    if (!(x.pdf > 0)) continue;
+    sampler.invert(x.point(), back);
+    for (std::size_t d = 0; d < dims; ++d) worst = std::max(worst, std::fabs(static_cast<double>(back[d]) - u[d]));
+  }
+  return worst;
 }
 
 ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples, double pdfTolerance, uint64_t seed) {

@@ -54,6 +54,11 @@ std::vector<GridAxis> unitAxes(std::span<const uint32_t> dims);
 // Per-sample checks only (no chi-square): x strictly inside the domain, pdf finite > 0, pdf(x)
 // matches the returned pdf. Runs `samples` Pcg32 variates plus every corner combination of
 // {0, 0.5, kOneMinusEpsilon} across the axes. Fills the sample fields of the report.
+// invert(sample(u)) against u: draws `samples` variate vectors from Pcg32(seed) (the first three
+// all 0, all kOneMinusEpsilon, all 0.5), skips samples of pdf 0 (no unique inverse there) and
+// returns the largest |invert(sample(u))[d] − u[d]| over all axes. The sampler must have invert.
+double worstInvertError(const Sampler& sampler, uint64_t samples, uint64_t seed);
+
 ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples = 100'000, double pdfTolerance = 1e-5,
                              uint64_t seed = 0x9E3779B97F4A7C15ULL);
 
