@@ -1,0 +1,47 @@
+#pragma once
+// Rusinkiewicz's half/difference parameterisation of a pair of directions (Rusinkiewicz, "A New
+// Change of Variables for Efficient BRDF Representation", EGWR 1998), defined exactly as MERL's
+// reference reader BRDFRead.cpp defines it, since that is how the MERL tables are indexed:
+//
+//   h = normalize(ωi + ωo)              θh = polar angle of h, φh = its azimuth
+//   d = Ry(−θh) · Rz(−φh) · ωi          θd = polar angle of d, φd = its azimuth
+//
+// i.e. ωi is rotated by −φh about z, then by −θh about y, which carries h onto the normal; d is
+// ωi seen from a frame in which the half vector is "up".
+//
+// Directions are unit vectors in the local shading frame, z up (the normal). Computation is in
+// double: near θ = 0 the angles are ill-conditioned in float, and the table lookups need the
+// cell boundaries to be stable.
+//
+// Ranges: θh, θd in [0, π]; φh, φd in (−π, π] (atan2's range, as in MERL). For two directions in
+// the upper hemisphere θh < π/2. Swapping ωi and ωo keeps θh, φh, θd and maps φd → φd + π
+// (mod 2π): this is the reciprocity MERL's tables exploit by storing φd in [0, π) only.
+
+namespace acdf {
+
+// A 3-vector of doubles: just enough for directions in the coordinate conversions.
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+
+struct HalfDiffAngles {
+  double thetaHalf = 0, phiHalf = 0, thetaDiff = 0, phiDiff = 0;
+};
+
+struct DirectionPair {
+  Vec3d wi, wo;
+};
+
+// The unit vector with polar angle theta (from +z) and azimuth phi (from +x towards +y).
+Vec3d sphericalDirection(double theta, double phi);
+
+// (ωi, ωo) → (θh, φh, θd, φd). Both must be unit vectors. When ωi = −ωo the half vector is
+// undefined; the normal is used (θh = φh = 0), so the result is still finite.
+HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo);
+
+// (θh, φh, θd, φd) → (ωi, ωo): the inverse of toHalfDiff. ωi = Rz(φh)·Ry(θh)·d and ωo is ωi
+// mirrored about h. Any angles give unit vectors; they lie in the upper hemisphere only when the
+// angles describe such a pair (e.g. θh + θd < π/2 is always enough).
+DirectionPair fromHalfDiff(const HalfDiffAngles& angles);
+
+}  // namespace acdf

@@ -1,0 +1,155 @@
+#pragma once
+// A measured isotropic BRDF in the MERL format (Matusik, Pfister, Brand & McMillan, "A
+// Data-Driven Reflectance Model", SIGGRAPH 2003), read and evaluated as MERL's reference code
+// BRDFRead.cpp does.
+//
+// The table is indexed by Rusinkiewicz angles (see coordinates.h): 90 θh × 90 θd × 180 φd cells,
+// φh dropped (isotropy) and φd stored on [0, π) only (reciprocity: φd and φd + π are the same
+// configuration with ωi and ωo swapped). θh is sampled densely near the specular peak: its cell
+// is ⌊√(θh / (π/2)) · 90⌋, so cell k spans θh in [(k/90)², ((k+1)/90)²] · π/2.
+//
+// File format (.binary): three little-endian int32 dimensions whose product is 90·90·180, then
+// three blocks of 90·90·180 little-endian float64 — red, green, blue — each in the order
+// index = θh_idx·90·180 + θd_idx·180 + φd_idx. Physical values are the stored ones times the
+// channel scales 1/1500, 1.15/1500, 1.66/1500. Like BRDFRead.cpp, only the product of the
+// dimensions is checked (each must be positive); the layout is always the one above. Real files hold −1 in cells with no measurement
+// (below the horizon); those read as 0 and are counted.
+//
+// Storage: the raw (unscaled) values as float. Float's seven digits are far finer than the
+// measurement noise, and it halves the memory (17.5 MB) and the cache traffic of eval().
+// load(save(b)) reproduces b exactly; save(load(file)) rewrites −1 as 0 and values as their
+// nearest float.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "acdf/brdf/coordinates.h"
+#include "acdf/brdf/rgb.h"
+
+namespace acdf {
+
+namespace detail {
+// An allocator whose value-initialisation (vector(n), resize(n)) leaves floats uninitialised:
+// load() overwrites every entry, and zero-filling 17.5 MB first would cost a third of the read.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+}  // namespace detail
+
+// A problem with a BRDF file (missing, malformed, unwritable). what() is "<file>: <problem>", a
+// single line, the form the acdf command-line tool prints.
+class BrdfFileError : public std::runtime_error {
+ public:
+  BrdfFileError(const std::string& file, const std::string& problem);
+  const std::string& file() const { return file_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string file_;
+  std::string problem_;
+};
+
+class MerlBrdf {
+ public:
+  static constexpr int kThetaHalfCells = 90;
+  static constexpr int kThetaDiffCells = 90;
+  static constexpr int kPhiDiffCells = 180;
+  static constexpr std::size_t kCells = std::size_t{kThetaHalfCells} * kThetaDiffCells * kPhiDiffCells;
+  // Stored value × scale = BRDF value (1/sr), per channel, as in BRDFRead.cpp.
+  static constexpr std::array<double, 3> kChannelScale = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
+
+  enum class Interpolation {
+    Nearest,    // the cell holding the angles, exactly as MERL's lookup_brdf_val
+    Trilinear,  // linear in (√θh, θd, φd) between cell centres
+  };
+
+  // From raw table values (file units, before the channel scales), kCells per channel in file
+  // order. Negative values become 0 and are counted (negativeEntries()). Throws
+  // std::invalid_argument for a wrong size or a NaN / Inf / beyond-float value, naming the
+  // channel and index.
+  MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue);
+
+  // Reads a .binary file with a single read of the whole file. Throws BrdfFileError naming the
+  // file and the problem: missing file, directory, truncated header, wrong dimensions, truncated
+  // data, extra trailing bytes, NaN or Inf (with channel and index).
+  static MerlBrdf load(const std::filesystem::path& path);
+
+  // Writes the .binary format (dimensions 90, 90, 180). The data go to a temporary file in the
+  // same directory which is then renamed over `path`, so a failure never leaves a partial file
+  // under `path` (an existing file there stays as it was). Throws BrdfFileError.
+  void save(const std::filesystem::path& path) const;
+
+  // The BRDF value for unit directions ωi, ωo in the local frame (z = normal). 0 unless both are
+  // strictly above the horizon (z > 0): the table has no data below it, and at z = 0 the
+  // cosine factor makes the value irrelevant. Symmetric in ωi, ωo.
+  Rgb eval(const Vec3d& wi, const Vec3d& wo, Interpolation mode) const;
+
+  // The same from half/difference angles (φh is irrelevant); θh, θd beyond π/2 clamp to the
+  // last cell, φd is any angle (folded by reciprocity). No horizon test: the caller has angles.
+  Rgb evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff, Interpolation mode) const;
+
+  // MERL's cell indices (theta_half_index, theta_diff_index, phi_diff_index), and the flat
+  // index into a channel. One deliberate difference: φd is folded into [0, π) (φd ≥ π → φd − π,
+  // negative → + π), so φd = π lands in cell 0 like φd = 0, where MERL clamps it into cell 179.
+  static int thetaHalfIndex(double thetaHalf);
+  static int thetaDiffIndex(double thetaDiff);
+  static int phiDiffIndex(double phiDiff);
+  static std::size_t flatIndex(int thetaHalfIdx, int thetaDiffIdx, int phiDiffIdx) {
+    return (static_cast<std::size_t>(thetaHalfIdx) * kThetaDiffCells + thetaDiffIdx) * kPhiDiffCells + phiDiffIdx;
+  }
+  // The angles at a cell's centre (the centre in √θh for θh).
+  static double thetaHalfCentre(int thetaHalfIdx);
+  static double thetaDiffCentre(int thetaDiffIdx);
+  static double phiDiffCentre(int phiDiffIdx);
+
+  // Raw stored values of channel c (0 = red, 1 = green, 2 = blue), kCells each, negatives as 0.
+  std::span<const float> channel(int c) const {
+    return std::span<const float>(values_).subspan(static_cast<std::size_t>(c) * kCells, kCells);
+  }
+  // How many stored values were negative (and are now 0), over all three channels. Negative as
+  // floats: a double in (−7e-46, 0) rounds to −0 and is just 0.
+  std::size_t negativeEntries() const { return negativeEntries_; }
+
+ private:
+  MerlBrdf() = default;
+
+  // Shared by the constructor and load(): converts kCells doubles of channel c (read from
+  // `bytes`, little-endian, possibly unaligned) into values_, counting negatives. Returns the
+  // index of the first NaN / Inf / beyond-float value, or kCells if there is none.
+  std::size_t convertChannel(int c, const unsigned char* bytes);
+
+  Rgb cell(std::size_t index) const {
+    return {static_cast<float>(values_[index] * kChannelScale[0]),
+            static_cast<float>(values_[kCells + index] * kChannelScale[1]),
+            static_cast<float>(values_[2 * kCells + index] * kChannelScale[2])};
+  }
+
+  std::vector<float, detail::DefaultInitAllocator<float>> values_;  // 3 · kCells: red block, green block, blue block
+  std::size_t negativeEntries_ = 0;
+};
+
+}  // namespace acdf

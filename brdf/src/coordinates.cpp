@@ -1,0 +1,54 @@
+#include "acdf/brdf/coordinates.h"
+
+#include <cmath>
+
+namespace acdf {
+
+namespace {
+
+// Polar angle and azimuth of a (not necessarily unit) vector. atan2 instead of MERL's acos(z):
+// the same angle, but accurate near the pole, where acos(1 − ε) loses half the digits.
+double polarAngle(const Vec3d& v) { return std::atan2(std::hypot(v.x, v.y), v.z); }
+double azimuth(const Vec3d& v) { return std::atan2(v.y, v.x); }
+
+// Rotation by `angle` about z, then about y (right-handed, counter-clockwise seen from +axis).
+// These are MERL's rotate_vector (Rodrigues' formula) with the axis fixed, written out.
+Vec3d rotateZ(const Vec3d& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+}
+Vec3d rotateY(const Vec3d& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x + s * v.z, v.y, c * v.z - s * v.x};
+}
+
+}  // namespace
+
+Vec3d sphericalDirection(double theta, double phi) {
+  const double s = std::sin(theta);
+  return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
+}
+
+HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
+  const Vec3d sum{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
+  // Normalising h is not needed for its angles (atan2 is scale-free), but the degenerate
+  // ωi = −ωo has no half vector at all; take the normal, so the result stays finite.
+  const bool degenerate = sum.x == 0 && sum.y == 0 && sum.z == 0;
+  HalfDiffAngles a;
+  a.thetaHalf = degenerate ? 0.0 : polarAngle(sum);
+  a.phiHalf = degenerate ? 0.0 : azimuth(sum);
+  const Vec3d d = rotateY(rotateZ(wi, -a.phiHalf), -a.thetaHalf);
+  a.thetaDiff = polarAngle(d);
+  a.phiDiff = azimuth(d);
+  return a;
+}
+
+DirectionPair fromHalfDiff(const HalfDiffAngles& a) {
+  const Vec3d h = sphericalDirection(a.thetaHalf, a.phiHalf);
+  const Vec3d wi = rotateZ(rotateY(sphericalDirection(a.thetaDiff, a.phiDiff), a.thetaHalf), a.phiHalf);
+  // ωo is ωi reflected about h: then normalize(ωi + ωo) = h whenever ωi·h > 0.
+  const double twoCos = 2.0 * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
+  return {wi, {twoCos * h.x - wi.x, twoCos * h.y - wi.y, twoCos * h.z - wi.z}};
+}
+
+}  // namespace acdf

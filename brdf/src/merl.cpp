@@ -1,0 +1,329 @@
+#include "acdf/brdf/merl.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <system_error>
+
+namespace acdf {
+
+// The file holds little-endian int32 and float64; both are copied as they are.
+static_assert(std::endian::native == std::endian::little, "the MERL reader copies little-endian data as is");
+// The conversion pass narrows every double before checking it, relying on IEEE 754 conversion.
+static_assert(std::numeric_limits<float>::is_iec559 && std::numeric_limits<double>::is_iec559);
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kHeaderBytes = 3 * sizeof(int32_t);
+constexpr std::size_t kChannelBytes = MerlBrdf::kCells * sizeof(double);
+constexpr std::size_t kFileBytes = kHeaderBytes + 3 * kChannelBytes;
+constexpr const char* kChannelName[3] = {"red", "green", "blue"};
+constexpr double kHalfPi = std::numbers::pi / 2;
+
+// "NaN in the green channel at index 12345 (θh cell 0, θd cell 68, φd cell 105)".
+std::string badValueProblem(int channel, std::size_t index, double value) {
+  std::string what;
+  if (std::isnan(value)) what = "NaN";
+  else if (std::isinf(value)) what = value > 0 ? "+Inf" : "-Inf";
+  else {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    what = std::string("value ") + text + " (beyond float range)";
+  }
+  const std::size_t th = index / (std::size_t{MerlBrdf::kThetaDiffCells} * MerlBrdf::kPhiDiffCells);
+  const std::size_t td = index / MerlBrdf::kPhiDiffCells % MerlBrdf::kThetaDiffCells;
+  const std::size_t pd = index % MerlBrdf::kPhiDiffCells;
+  return what + " in the " + kChannelName[channel] + " channel at index " + std::to_string(index) +
+         " (theta_h cell " + std::to_string(th) + ", theta_d cell " + std::to_string(td) +
+         ", phi_d cell " + std::to_string(pd) + ")";
+}
+
+std::string errnoText() { return std::strerror(errno); }
+
+// Continuous grid coordinates (cell k spans [k, k+1)) of the three table axes.
+double thetaHalfCoordinate(double thetaHalf) {
+  return thetaHalf > 0 ? std::sqrt(thetaHalf / kHalfPi) * MerlBrdf::kThetaHalfCells : 0.0;
+}
+double thetaDiffCoordinate(double thetaDiff) { return thetaDiff / kHalfPi * MerlBrdf::kThetaDiffCells; }
+// φd folded into [0, π) by reciprocity first (any finite angle; NaN gives NaN).
+double foldPhiDiff(double phiDiff) {
+  double phi = std::fmod(phiDiff, std::numbers::pi);  // exact, in (−π, π)
+  if (phi < 0) phi += std::numbers::pi;
+  if (phi >= std::numbers::pi) phi -= std::numbers::pi;  // −tiny + π can round up to π
+  return phi;
+}
+double phiDiffCoordinate(double phiDiff) { return foldPhiDiff(phiDiff) / std::numbers::pi * MerlBrdf::kPhiDiffCells; }
+
+// The two cells whose centres bracket grid coordinate g, and the weight of the second.
+struct Bracket {
+  int i0, i1;
+  double t;
+};
+// θ axes: constant beyond the first and last centres (nothing to interpolate towards).
+Bracket clampedBracket(double g, int cells) {
+  const double p = g - 0.5;
+  if (!(p > 0)) return {0, 0, 0.0};
+  if (p >= cells - 1) return {cells - 1, cells - 1, 0.0};
+  const int i0 = static_cast<int>(p);
+  return {i0, i0 + 1, p - i0};
+}
+// φd: periodic, the last cell's neighbour is the first (φd = π is φd = 0 by reciprocity).
+Bracket wrappedBracket(double g, int cells) {
+  const double p = g - 0.5;
+  const double floorP = std::floor(p);
+  int i0 = static_cast<int>(floorP);  // in [−1, cells − 1] for g in [0, cells]
+  const double t = p - floorP;
+  i0 = (i0 % cells + cells) % cells;
+  return {i0, (i0 + 1) % cells, t};
+}
+
+// Clamps a non-negative grid coordinate (or NaN) to a cell index without overflowing the cast.
+int clampIndex(double g, int cells) {
+  if (!(g > 0)) return 0;
+  if (g >= cells - 1) return cells - 1;
+  return static_cast<int>(g);
+}
+
+}  // namespace
+
+BrdfFileError::BrdfFileError(const std::string& file, const std::string& problem)
+    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
+
+// ---------------------------------------------------------------------------------------------
+// Construction and validation
+
+MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue) {
+  const std::span<const double> channels[3] = {red, green, blue};
+  for (int c = 0; c < 3; ++c) {
+    if (channels[c].size() != kCells) {
+      throw std::invalid_argument("MERL BRDF: the " + std::string(kChannelName[c]) + " channel has " +
+                                  std::to_string(channels[c].size()) + " values, expected " +
+                                  std::to_string(kCells) + " (90 x 90 x 180)");
+    }
+  }
+  values_.resize(3 * kCells);
+  for (int c = 0; c < 3; ++c) {
+    const std::size_t bad = convertChannel(c, reinterpret_cast<const unsigned char*>(channels[c].data()));
+    if (bad != kCells) throw std::invalid_argument("MERL BRDF: " + badValueProblem(c, bad, channels[c][bad]));
+  }
+}
+
+std::size_t MerlBrdf::convertChannel(int c, const unsigned char* bytes) {
+  // The one pass over the data: narrow, check, clamp. Written so that GCC vectorises it (the
+  // checks are on the float, the counters int): it then costs a fraction of the read. A bad file
+  // is rescanned for the first bad index. memcpy because the file's doubles start at offset 12,
+  // not 8-byte aligned; it compiles to a plain unaligned load.
+  constexpr float kFloatMax = std::numeric_limits<float>::max();
+  float* out = values_.data() + static_cast<std::size_t>(c) * kCells;
+  const auto narrowed = [bytes](std::size_t i) {
+    double v;
+    std::memcpy(&v, bytes + i * sizeof(double), sizeof(double));
+    return static_cast<float>(v);  // IEEE (is_iec559): beyond float range rounds to ±Inf
+  };
+  int negatives = 0, bad = 0;  // kCells < 2^31
+  for (std::size_t i = 0; i < kCells; ++i) {
+    const float f = narrowed(i);
+    bad |= !(std::fabs(f) <= kFloatMax);  // NaN, Inf, or a double beyond float range
+    negatives += f < 0.0f;
+    out[i] = f > 0.0f ? f : 0.0f;  // negatives (and −0) become +0
+  }
+  if (bad) {
+    for (std::size_t i = 0; i < kCells; ++i)
+      if (!(std::fabs(narrowed(i)) <= kFloatMax)) return i;
+  }
+  negativeEntries_ += static_cast<std::size_t>(negatives);
+  return kCells;
+}
+
+MerlBrdf MerlBrdf::load(const fs::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) throw BrdfFileError(name, "no such file");
+  if (ec) throw BrdfFileError(name, "cannot access file (" + ec.message() + ")");
+  if (status.type() == fs::file_type::directory) throw BrdfFileError(name, "is a directory, not a file");
+  if (status.type() != fs::file_type::regular) throw BrdfFileError(name, "not a regular file");
+
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw BrdfFileError(name, "cannot open file (" + errnoText() + ")");
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (end < 0 || !in) throw BrdfFileError(name, "cannot determine the file size");
+  const auto size = static_cast<std::size_t>(end);
+
+  if (size < kHeaderBytes) {
+    throw BrdfFileError(name, "truncated header: the file has " + std::to_string(size) +
+                                  " bytes, a MERL header is 12 (three int32 dimensions)");
+  }
+  const auto checkDimensions = [&](const unsigned char* header) {
+    int32_t dims[3];
+    std::memcpy(dims, header, kHeaderBytes);
+    const int64_t product = int64_t{dims[0]} * dims[1] * dims[2];
+    if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0 || product != static_cast<int64_t>(kCells)) {
+      throw BrdfFileError(name, "wrong dimensions " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
+                                    " x " + std::to_string(dims[2]) +
+                                    " in the header; a MERL table has 90 x 90 x 180 = 1458000 entries");
+    }
+  };
+  // A file of the wrong size is an error whatever it holds: read only its header, to say which
+  // error, rather than all of a possibly huge file.
+  if (size != kFileBytes) {
+    unsigned char header[kHeaderBytes];
+    if (!in.read(reinterpret_cast<char*>(header), kHeaderBytes)) throw BrdfFileError(name, "read error");
+    checkDimensions(header);
+    if (size < kFileBytes) {
+      throw BrdfFileError(name, "truncated data: " + std::to_string(size - kHeaderBytes) +
+                                    " bytes after the header, expected " + std::to_string(3 * kChannelBytes) +
+                                    " (3 channels of 1458000 float64)");
+    }
+    throw BrdfFileError(name, std::to_string(size - kFileBytes) + " extra trailing bytes after the data (file is " +
+                                  std::to_string(size) + " bytes, expected " + std::to_string(kFileBytes) + ")");
+  }
+
+  // The whole file in one read; for_overwrite because zero-filling 35 MB first would cost about
+  // as much as reading them.
+  const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(size);
+  in.read(reinterpret_cast<char*>(bytes.get()), static_cast<std::streamsize>(size));
+  if (static_cast<std::size_t>(in.gcount()) != size || in.peek() != std::ifstream::traits_type::eof()) {
+    throw BrdfFileError(name, "read error (file changed while reading?)");
+  }
+  checkDimensions(bytes.get());
+
+  MerlBrdf brdf;
+  brdf.values_.resize(3 * kCells);
+  for (int c = 0; c < 3; ++c) {
+    const unsigned char* channelBytes = bytes.get() + kHeaderBytes + c * kChannelBytes;
+    const std::size_t bad = brdf.convertChannel(c, channelBytes);
+    if (bad != kCells) {
+      double v;
+      std::memcpy(&v, channelBytes + bad * sizeof(double), sizeof(double));
+      throw BrdfFileError(name, badValueProblem(c, bad, v));
+    }
+  }
+  return brdf;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Saving
+
+void MerlBrdf::save(const fs::path& path) const {
+  const std::string name = path.string();
+  const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(kFileBytes);
+  const int32_t dims[3] = {kThetaHalfCells, kThetaDiffCells, kPhiDiffCells};
+  std::memcpy(bytes.get(), dims, kHeaderBytes);
+  for (std::size_t i = 0; i < values_.size(); ++i) {
+    const double v = values_[i];
+    std::memcpy(bytes.get() + kHeaderBytes + i * sizeof(double), &v, sizeof(double));
+  }
+
+  // The temporary sits next to the target so the rename stays within one file system (and is
+  // atomic). O_EXCL: never write into somebody else's file; mode 0666 lets the umask decide,
+  // as for any newly created file.
+  std::random_device random;
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(random()));
+    temp = name + suffix;
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0) throw BrdfFileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
+
+  const auto fail = [&](const std::string& problem) {
+    const std::string reason = problem + " (" + errnoText() + ")";
+    if (fd >= 0) ::close(fd);
+    ::unlink(temp.c_str());
+    throw BrdfFileError(name, reason);
+  };
+  std::size_t written = 0;
+  while (written < kFileBytes) {
+    const ssize_t n = ::write(fd, bytes.get() + written, kFileBytes - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n == 0) errno = EIO;  // write() made no progress without saying why
+    if (n <= 0) fail("cannot write the temporary file " + temp);
+    written += static_cast<std::size_t>(n);
+  }
+  const int closed = ::close(fd);
+  fd = -1;
+  if (closed != 0) fail("cannot write the temporary file " + temp);
+  if (std::rename(temp.c_str(), name.c_str()) != 0) fail("cannot rename the temporary file into place");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Indexing and evaluation
+
+int MerlBrdf::thetaHalfIndex(double thetaHalf) {
+  // MERL: ⌊√(θh/(π/2) · 90 · 90)⌋, written in its order of operations so cell boundaries agree.
+  if (!(thetaHalf > 0)) return 0;
+  const double thetaHalfDeg = thetaHalf / kHalfPi * kThetaHalfCells;
+  return clampIndex(std::sqrt(thetaHalfDeg * kThetaHalfCells), kThetaHalfCells);
+}
+
+int MerlBrdf::thetaDiffIndex(double thetaDiff) {
+  return clampIndex(thetaDiff / kHalfPi * kThetaDiffCells, kThetaDiffCells);
+}
+
+int MerlBrdf::phiDiffIndex(double phiDiff) {
+  // MERL only adds π to negative angles, which sends φd = π to index 180 (clamped to 179);
+  // folding into [0, π) sends it to 0 — the same configuration as φd = 0, which is the point.
+  return clampIndex(phiDiffCoordinate(phiDiff), kPhiDiffCells);
+}
+
+double MerlBrdf::thetaHalfCentre(int k) {
+  const double s = (k + 0.5) / kThetaHalfCells;
+  return s * s * kHalfPi;
+}
+double MerlBrdf::thetaDiffCentre(int k) { return (k + 0.5) / kThetaDiffCells * kHalfPi; }
+double MerlBrdf::phiDiffCentre(int k) { return (k + 0.5) / kPhiDiffCells * std::numbers::pi; }
+
+Rgb MerlBrdf::eval(const Vec3d& wi, const Vec3d& wo, Interpolation mode) const {
+  if (!(wi.z > 0 && wo.z > 0)) return {};
+  const HalfDiffAngles a = toHalfDiff(wi, wo);
+  return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff, mode);
+}
+
+Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff, Interpolation mode) const {
+  if (mode == Interpolation::Nearest) {
+    return cell(flatIndex(thetaHalfIndex(thetaHalf), thetaDiffIndex(thetaDiff), phiDiffIndex(phiDiff)));
+  }
+  // Trilinear on the cell-centred grid. θh is interpolated in √θh, the variable its cells are
+  // uniform in, so the interpolation is symmetric in every cell.
+  const Bracket h = clampedBracket(thetaHalfCoordinate(thetaHalf), kThetaHalfCells);
+  const Bracket d = clampedBracket(thetaDiffCoordinate(thetaDiff), kThetaDiffCells);
+  const double phiCoord = phiDiffCoordinate(phiDiff);
+  const Bracket p = wrappedBracket(phiCoord == phiCoord ? phiCoord : 0.0, kPhiDiffCells);  // NaN → 0
+  double sum[3] = {0, 0, 0};
+  for (int a = 0; a < 2; ++a) {
+    const double wa = a ? h.t : 1.0 - h.t;
+    for (int b = 0; b < 2; ++b) {
+      const double wb = wa * (b ? d.t : 1.0 - d.t);
+      for (int c = 0; c < 2; ++c) {
+        const double w = wb * (c ? p.t : 1.0 - p.t);
+        const std::size_t index = flatIndex(a ? h.i1 : h.i0, b ? d.i1 : d.i0, c ? p.i1 : p.i0);
+        sum[0] += w * values_[index];
+        sum[1] += w * values_[kCells + index];
+        sum[2] += w * values_[2 * kCells + index];
+      }
+    }
+  }
+  return {static_cast<float>(sum[0] * kChannelScale[0]), static_cast<float>(sum[1] * kChannelScale[1]),
+          static_cast<float>(sum[2] * kChannelScale[2])};
+}
+
+}  // namespace acdf
