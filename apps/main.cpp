@@ -14,6 +14,7 @@
 #include "cdf_stats.h"
 #include "command.h"
 #include "errors.h"
+#include "merl_gen.h"
 
 #ifndef ACDF_VERSION
 #define ACDF_VERSION "unknown"
@@ -37,6 +38,7 @@ int run(int argc, char** argv) {
 
   std::vector<acdf::app::Command> commands;
   commands.push_back(acdf::app::addCdfStats(app));
+  commands.push_back(acdf::app::addMerlGen(app));
 
   try {
     app.parse(argc, argv);

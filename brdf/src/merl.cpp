@@ -220,6 +220,13 @@ MerlBrdf MerlBrdf::load(const fs::path& path) {
 // ---------------------------------------------------------------------------------------------
 // Saving
 
+namespace {
+
+// Writes `size` bytes to `path` via a temporary file renamed into place.
+void writeAtomically(const std::string& name, const unsigned char* data, std::size_t size);
+
+}  // namespace
+
 void MerlBrdf::save(const fs::path& path) const {
   const std::string name = path.string();
   const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(kFileBytes);
@@ -229,7 +236,31 @@ void MerlBrdf::save(const fs::path& path) const {
     const double v = values_[i];
     std::memcpy(bytes.get() + kHeaderBytes + i * sizeof(double), &v, sizeof(double));
   }
+  writeAtomically(name, bytes.get(), kFileBytes);
+}
 
+void MerlBrdf::saveRaw(const fs::path& path, std::span<const double> values) {
+  if (values.size() != 3 * kCells) {
+    throw std::invalid_argument("MERL BRDF: saveRaw got " + std::to_string(values.size()) + " values, expected " +
+                                std::to_string(3 * kCells) + " (3 x 90 x 180 x 90)");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw std::invalid_argument("MERL BRDF: saveRaw: " +
+                                  badValueProblem(static_cast<int>(i / kCells), i % kCells, values[i]));
+    }
+  }
+  const std::string name = path.string();
+  const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(kFileBytes);
+  const int32_t dims[3] = {kThetaHalfCells, kThetaDiffCells, kPhiDiffCells};
+  std::memcpy(bytes.get(), dims, kHeaderBytes);
+  std::memcpy(bytes.get() + kHeaderBytes, values.data(), 3 * kChannelBytes);
+  writeAtomically(name, bytes.get(), kFileBytes);
+}
+
+namespace {
+
+void writeAtomically(const std::string& name, const unsigned char* data, std::size_t size) {
   // The temporary sits next to the target so the rename stays within one file system (and is
   // atomic). O_EXCL: never write into somebody else's file; mode 0666 lets the umask decide,
   // as for any newly created file.
@@ -252,8 +283,8 @@ void MerlBrdf::save(const fs::path& path) const {
     throw BrdfFileError(name, reason);
   };
   std::size_t written = 0;
-  while (written < kFileBytes) {
-    const ssize_t n = ::write(fd, bytes.get() + written, kFileBytes - written);
+  while (written < size) {
+    const ssize_t n = ::write(fd, data + written, size - written);
     if (n < 0 && errno == EINTR) continue;
     if (n == 0) errno = EIO;  // write() made no progress without saying why
     if (n <= 0) fail("cannot write the temporary file " + temp);
@@ -264,6 +295,8 @@ void MerlBrdf::save(const fs::path& path) const {
   if (closed != 0) fail("cannot write the temporary file " + temp);
   if (std::rename(temp.c_str(), name.c_str()) != 0) fail("cannot rename the temporary file into place");
 }
+
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Indexing and evaluation

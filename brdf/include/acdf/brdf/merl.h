@@ -103,6 +103,12 @@ class MerlBrdf {
   // under `path` (an existing file there stays as it was). Throws BrdfFileError.
   void save(const std::filesystem::path& path) const;
 
+  // Writes raw table values (file units, 3 · kCells in file order: red, green, blue blocks) as a
+  // .binary file exactly, in double, −1 "no data" marks included — for generated tables, which
+  // a MerlBrdf (float, negatives cleared) cannot carry. Same temporary + rename as save().
+  // Throws std::invalid_argument for a wrong size or a NaN / Inf value, BrdfFileError for the file.
+  static void saveRaw(const std::filesystem::path& path, std::span<const double> values);
+
   // The BRDF value for unit directions ωi, ωo in the local frame (z = normal). 0 unless both are
   // strictly above the horizon (z > 0): the table has no data below it, and at z = 0 the
   // cosine factor makes the value irrelevant. Symmetric in ωi, ωo.
