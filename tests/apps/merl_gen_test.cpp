@@ -190,6 +190,31 @@ TEST_F(MerlGen, UnwritableOutputLeavesNoFile) {
   EXPECT_TRUE(fs::is_empty(asDir));
 }
 
+TEST_F(MerlGen, AnalyticPresets) {
+  const fs::path dir = outDir();
+  for (const std::string name : {"gold", "rough-aluminium", "red-plastic"}) {
+    const std::string out = (dir / (name + ".binary")).string();
+    const RunResult r = run({"merl-gen", "--preset", name, "-o", out});
+    ASSERT_EQ(r.exitCode, 0) << describe(r);
+    const std::vector<double> values = readTable(out);
+    ASSERT_EQ(values.size(), 3 * kCells);
+    std::size_t invalid = 0;
+    for (double v : values) {
+      invalid += v == -1.0;
+      ASSERT_TRUE(v == -1.0 || v >= 0.0) << name << ": " << v;
+    }
+    EXPECT_EQ(invalid, 3 * 346568u) << name;  // the horizon mask of every generated table
+  }
+  const RunResult help = run({"merl-gen", "--help"});
+  for (const char* name : {"gold", "rough-aluminium", "red-plastic"})
+    EXPECT_NE(help.out.find(std::string("  ") + name + ": "), std::string::npos) << name;
+  fs::remove_all(dir);
+  expectFailure({"merl-gen", "--preset", "mithril", "-o", (outDir() / "t.binary").string()}, "merl-gen: ",
+                "no preset named 'mithril' (presets: gold");
+  expectFailure({"merl-gen", "--preset", "gold", "--nbrdf", "nickel", "-o", (outDir() / "t.binary").string()},
+                "merl-gen: ", "not both");
+}
+
 TEST_F(MerlGen, UsageErrors) {
   const std::string out = (outDir() / "t.binary").string();
   expectFailure({"merl-gen", "-o", out}, "", "--nbrdf");

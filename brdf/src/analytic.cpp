@@ -1,0 +1,119 @@
+#include "acdf/brdf/analytic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "acdf/brdf/coordinates.h"
+#include "acdf/brdf/merl.h"
+#include "acdf/brdf/nbrdf.h"
+
+namespace acdf {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct Preset {
+  const char* name;
+  const char* description;
+  AnalyticBrdf brdf;
+};
+
+// F0 of gold and aluminium: linear RGB values from Real-Time Rendering (4th ed.), table 9.2.
+const Preset kPresets[] = {
+    {"gold", "GGX conductor, alpha 0.15, Schlick F0 (1.000, 0.766, 0.336)",
+     {AnalyticBrdf::Kind::Conductor, 0.15, {1.000, 0.766, 0.336}, {}, 1.5}},
+    {"rough-aluminium", "GGX conductor, alpha 0.4, Schlick F0 (0.913, 0.922, 0.924)",
+     {AnalyticBrdf::Kind::Conductor, 0.4, {0.913, 0.922, 0.924}, {}, 1.5}},
+    {"red-plastic", "diffuse albedo (0.5, 0.05, 0.05) under a GGX coat, alpha 0.08, ior 1.5",
+     {AnalyticBrdf::Kind::CoatedDiffuse, 0.08, {}, {0.5, 0.05, 0.05}, 1.5}},
+};
+
+double schlick(double f0, double cosine) {
+  const double m = 1.0 - std::clamp(cosine, 0.0, 1.0);
+  return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
+}
+
+double ggxD(double alpha, double cosH) {
+  const double a2 = alpha * alpha, c2 = cosH * cosH;
+  const double denom = c2 * (a2 - 1.0) + 1.0;  // = cos²θh (α² + tan²θh)
+  return a2 / (kPi * denom * denom);
+}
+
+double smithG1(double alpha, double cosTheta) {
+  const double c2 = cosTheta * cosTheta;
+  const double tan2 = (1.0 - c2) / c2;
+  return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * tan2));
+}
+
+}  // namespace
+
+std::array<double, 3> AnalyticBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const {
+  const DirectionPair p = fromHalfDiff({thetaHalf, 0.0, thetaDiff, phiDiff});
+  const double cosI = p.wi.z, cosO = p.wo.z;
+  if (!(cosI > 0 && cosO > 0)) return {0.0, 0.0, 0.0};
+  const double cosD = std::cos(thetaDiff);
+  const double specular = ggxD(alpha, std::cos(thetaHalf)) * smithG1(alpha, cosI) * smithG1(alpha, cosO) /
+                          (4.0 * cosI * cosO);
+  std::array<double, 3> f{};
+  if (kind == Kind::Conductor) {
+    for (int c = 0; c < 3; ++c) f[c] = schlick(f0[c], cosD) * specular;
+  } else {
+    const double r = (ior - 1.0) / (ior + 1.0), coatF0 = r * r;
+    const double coat = schlick(coatF0, cosD) * specular;
+    const double transmitted = (1.0 - schlick(coatF0, cosI)) * (1.0 - schlick(coatF0, cosO));
+    for (int c = 0; c < 3; ++c) f[c] = coat + transmitted * albedo[c] / kPi;
+  }
+  return f;
+}
+
+std::vector<double> AnalyticBrdf::merlTable() const {
+  constexpr std::size_t kCells = MerlBrdf::kCells;
+  std::vector<double> table(3 * kCells);
+  tbb::parallel_for(tbb::blocked_range<int>(0, MerlBrdf::kThetaHalfCells), [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i != r.end(); ++i) {
+      const double s = i / 90.0;
+      const double th = s * s * (kPi / 2);
+      for (int j = 0; j < MerlBrdf::kThetaDiffCells; ++j) {
+        const double td = j / 90.0 * (kPi / 2);
+        for (int k = 0; k < MerlBrdf::kPhiDiffCells; ++k) {
+          const std::size_t index = MerlBrdf::flatIndex(i, j, k);
+          if (NeuralBrdf::merlCellBelowHorizon(i, j, k)) {
+            for (int c = 0; c < 3; ++c) table[c * kCells + index] = -1.0;
+            continue;
+          }
+          const std::array<double, 3> f = evalHalfDiff(th, td, k / 180.0 * kPi);
+          for (int c = 0; c < 3; ++c) table[c * kCells + index] = f[c] / MerlBrdf::kChannelScale[c];
+        }
+      }
+    }
+  });
+  return table;
+}
+
+std::vector<std::string> AnalyticBrdf::presetNames() {
+  std::vector<std::string> names;
+  for (const Preset& p : kPresets) names.emplace_back(p.name);
+  return names;
+}
+
+std::string AnalyticBrdf::presetDescription(const std::string& name) {
+  for (const Preset& p : kPresets)
+    if (name == p.name) return p.description;
+  throw std::invalid_argument("no preset named '" + name + "'");
+}
+
+AnalyticBrdf AnalyticBrdf::preset(const std::string& name) {
+  for (const Preset& p : kPresets)
+    if (name == p.name) return p.brdf;
+  std::string known;
+  for (const Preset& p : kPresets) known += (known.empty() ? "" : ", ") + std::string(p.name);
+  throw std::invalid_argument("no preset named '" + name + "' (presets: " + known + ")");
+}
+
+}  // namespace acdf
