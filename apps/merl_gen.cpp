@@ -97,7 +97,7 @@ Command addMerlGen(CLI::App& parent) {
       "MERL's cell coordinates theta_h = (i/90)^2 pi/2, theta_d = j/90 pi/2, phi_d = k/180 pi and written in\n"
       "MERL's layout (int32 90 90 180, then R, G, B float64 blocks divided by the channel scales 1/1500,\n"
       "1.15/1500, 1.66/1500); cells with either direction below the horizon hold -1, as in measured files.\n"
-      "Same values as /work/shared/tools/nbrdf_to_merl.py. The output is written to a temporary file\n"
+      "Same values as the fits' reference script (nbrdf_to_merl.py). The output is written to a temporary file\n"
       "and renamed into place: a failure leaves no partial file.\n"
       "\n"
       "Analytic presets (--preset NAME), tabulated the same way; GGX distribution, Smith separable\n"
