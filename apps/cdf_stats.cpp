@@ -369,7 +369,8 @@ Command addCdfStats(CLI::App& parent) {
                       "Point budget per 1D CDF (>= 2); implies --simplifier greedy")
           ->transform(nonNegativeInteger());
   app->add_option("--weight-bound", args->weightBound,
-                  "Weight bound rho: each 1D CDF keeps p_cell / p_interval <= rho (0 = off, else >= 1)")
+                  "Weight bound rho: no grid cell gets less than 1/rho of its exact probability, so sample\n"
+                  "weights stay within rho of the uniform table's (0 = off, else >= 1)")
       ->capture_default_str();
   app->add_option("--simplifier", args->simplifier,
                   "Curve simplifier: dp (Douglas-Peucker, default) or greedy (global refinement)")
