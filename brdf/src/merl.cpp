@@ -16,6 +16,8 @@
 #include <random>
 #include <system_error>
 
+#include "input_file.h"
+
 namespace acdf {
 
 // The file holds little-endian int32 and float64; both are copied as they are.
@@ -150,12 +152,7 @@ std::size_t MerlBrdf::convertChannel(int c, const unsigned char* bytes) {
 
 MerlBrdf MerlBrdf::load(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) throw BrdfFileError(name, "no such file");
-  if (ec) throw BrdfFileError(name, "cannot access file (" + ec.message() + ")");
-  if (status.type() == fs::file_type::directory) throw BrdfFileError(name, "is a directory, not a file");
-  if (status.type() != fs::file_type::regular) throw BrdfFileError(name, "not a regular file");
+  detail::requireRegularFile(path);
 
   std::ifstream in(path, std::ios::binary);
   if (!in) throw BrdfFileError(name, "cannot open file (" + errnoText() + ")");

@@ -12,6 +12,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "input_file.h"
+
 namespace acdf {
 
 namespace {
@@ -23,11 +25,7 @@ constexpr double kHalfPi = std::numbers::pi / 2;
 
 json readJson(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) throw BrdfFileError(name, "no such file");
-  if (ec) throw BrdfFileError(name, "cannot access file (" + ec.message() + ")");
-  if (status.type() == fs::file_type::directory) throw BrdfFileError(name, "is a directory, not a file");
+  detail::requireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw BrdfFileError(name, "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
