@@ -1,5 +1,7 @@
 #include "app_test_util.h"
 
+#include <gtest/gtest.h>
+
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -130,6 +132,24 @@ std::vector<float> peakedGrid(std::size_t rows, std::size_t cols) {
       v[r * cols + c] = static_cast<float>(0.01 + 100.0 * std::exp(-(x * x + y * y) / (2 * 0.03 * 0.03)));
     }
   return v;
+}
+
+std::string describe(const RunResult& r) {
+  return "exit " + std::to_string(r.exitCode) + (r.signal ? " signal " + std::to_string(r.signal) : "") +
+         "\n--- stdout ---\n" + r.out.substr(0, 2000) + "\n--- stderr ---\n" + r.err;
+}
+
+void expectOneLineFailure(const RunResult& r, const std::string& prefix, const std::string& needle) {
+  EXPECT_EQ(r.signal, 0) << describe(r);
+  EXPECT_EQ(r.exitCode, 2) << describe(r);
+  EXPECT_EQ(r.out, "") << describe(r);
+  const auto lines = r.errLines();
+  ASSERT_EQ(lines.size(), 1u) << describe(r);
+  EXPECT_EQ(r.err.back(), '\n');
+  EXPECT_EQ(lines[0].rfind(prefix, 0), 0u) << describe(r);
+  if (!needle.empty()) {
+    EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
+  }
 }
 
 }  // namespace acdf::apptest

@@ -53,6 +53,13 @@ struct RunResult {
 // Runs the acdf program (ACDF_EXE) with the arguments; stdout and stderr go to files in `scratch`.
 RunResult runAcdf(const std::vector<std::string>& args, const std::filesystem::path& scratch);
 
+// Exit status, signal, stdout (truncated) and stderr, for failure messages.
+std::string describe(const RunResult& r);
+
+// The CLI's contract for bad input: exit 2, no signal, nothing on stdout, exactly one stderr line
+// (newline-terminated) that starts with `prefix` and contains `needle` (if not empty).
+void expectOneLineFailure(const RunResult& r, const std::string& prefix, const std::string& needle);
+
 std::string acdfExe();
 std::string sourceDir();
 

@@ -21,11 +21,6 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string describe(const RunResult& r) {
-  return "exit " + std::to_string(r.exitCode) + (r.signal ? " signal " + std::to_string(r.signal) : "") +
-         "\n--- stdout ---\n" + r.out.substr(0, 2000) + "\n--- stderr ---\n" + r.err;
-}
-
 // Writes a float image with OpenImageIO (format from the extension).
 void writeImage(const std::string& file, int width, int height, int channels, const std::vector<float>& pixels) {
   auto out = OIIO::ImageOutput::create(file);
@@ -65,30 +60,13 @@ class Cli : public TempDirTest {
     args.insert(args.end(), extra.begin(), extra.end());
     for (bool asJson : {false, true}) {
       if (asJson) args.push_back("--json");
-      const RunResult r = run(args);
-      EXPECT_EQ(r.signal, 0) << describe(r);
-      EXPECT_EQ(r.exitCode, 2) << describe(r);
-      EXPECT_EQ(r.out, "") << describe(r);
-      const auto lines = r.errLines();
-      ASSERT_EQ(lines.size(), 1u) << describe(r);
-      EXPECT_EQ(r.err.back(), '\n');
-      EXPECT_EQ(lines[0].rfind("acdf: " + file + ": ", 0), 0u) << describe(r);
-      EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
+      expectOneLineFailure(run(args), "acdf: " + file + ": ", needle);
     }
   }
 
   // Expects a usage failure: exit 2, nothing on stdout, exactly one line on stderr.
   void expectUsageError(const std::vector<std::string>& args, const std::string& needle = "") {
-    const RunResult r = run(args);
-    EXPECT_EQ(r.signal, 0) << describe(r);
-    EXPECT_EQ(r.exitCode, 2) << describe(r);
-    EXPECT_EQ(r.out, "") << describe(r);
-    const auto lines = r.errLines();
-    ASSERT_EQ(lines.size(), 1u) << describe(r);
-    EXPECT_EQ(lines[0].rfind("acdf: ", 0), 0u) << describe(r);
-    if (!needle.empty()) {
-      EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
-    }
+    expectOneLineFailure(run(args), "acdf: ", needle);
   }
 
   std::string writePeaked(const std::string& name = "peaked.npy", std::size_t rows = 64, std::size_t cols = 128) {
