@@ -68,6 +68,22 @@ def table(header, rows):
     return "\n".join(out)
 
 
+def interleaved_table(runs, prefix, sizes, size_header):
+    """The head-to-head counters (bench_util.h reportSamplersVsUniform) of each size, as a table."""
+    rows = []
+    for size in sizes:
+        h = runs.get(f"{prefix}/{size}")
+        if not h:
+            continue
+        rows.append([size] + [f"{h[f'{w}_ns_{m}']:.1f}" for w in ("sample", "pdf")
+                              for m in ("uniform", "alias", "adaptive")] +
+                    [f"{h['sample_alias_vs_uniform']:.2f}", f"{h['sample_adaptive_vs_uniform']:.2f}",
+                     f"{h['pdf_alias_vs_uniform']:.2f}", f"{h['pdf_adaptive_vs_uniform']:.2f}"])
+    return table([size_header, "sample uni", "sample alias", "sample adapt", "pdf uni", "pdf alias",
+                  "pdf adapt", "sample alias÷uni", "sample adapt÷uni", "pdf alias÷uni",
+                  "pdf adapt÷uni"], rows)
+
+
 def report_1d(runs):
     sizes = sorted({int(n.split("/")[2]) for n in runs if n.startswith("build1d/")})
     if not sizes:
@@ -89,18 +105,7 @@ def report_1d(runs):
     out.append(table(["cells", "method", "build µs", "build ÷ uniform", "sample ns/op", "pdf ns/op",
                       "bytes", "bytes ÷ uniform", "adaptive: points, quality"], rows))
     out += ["", "Interleaved (h2h1d): median ns/op when the three run alternately in 4096-op chunks.", ""]
-    rows = []
-    for n in sizes:
-        h = runs.get(f"h2h1d/{n}")
-        if not h:
-            continue
-        rows.append([n] + [f"{h[f'{w}_ns_{m}']:.1f}" for w in ("sample", "pdf")
-                           for m in ("uniform", "alias", "adaptive")] +
-                    [f"{h['sample_alias_vs_uniform']:.2f}", f"{h['sample_adaptive_vs_uniform']:.2f}",
-                     f"{h['pdf_alias_vs_uniform']:.2f}", f"{h['pdf_adaptive_vs_uniform']:.2f}"])
-    out.append(table(["cells", "sample uni", "sample alias", "sample adapt", "pdf uni", "pdf alias",
-                      "pdf adapt", "sample alias÷uni", "sample adapt÷uni", "pdf alias÷uni",
-                      "pdf adapt÷uni"], rows))
+    out.append(interleaved_table(runs, "h2h1d", sizes, "cells"))
     return "\n".join(out) + "\n"
 
 
@@ -129,18 +134,7 @@ def report_2d(runs):
                       "sample ns/op", "pdf ns/op", "bytes", "bytes ÷ uniform", "χ² div",
                       "max p/q"], rows))
     out += ["", "Interleaved (h2h2d): median ns/op when the three run alternately in 8192-op chunks.", ""]
-    rows = []
-    for size in sizes:
-        h = runs.get(f"h2h2d/{size}")
-        if not h:
-            continue
-        rows.append([size] + [f"{h[f'{w}_ns_{m}']:.1f}" for w in ("sample", "pdf")
-                              for m in ("uniform", "alias", "adaptive")] +
-                    [f"{h['sample_alias_vs_uniform']:.2f}", f"{h['sample_adaptive_vs_uniform']:.2f}",
-                     f"{h['pdf_alias_vs_uniform']:.2f}", f"{h['pdf_adaptive_vs_uniform']:.2f}"])
-    out.append(table(["grid", "sample uni", "sample alias", "sample adapt", "pdf uni", "pdf alias",
-                      "pdf adapt", "sample alias÷uni", "sample adapt÷uni", "pdf alias÷uni",
-                      "pdf adapt÷uni"], rows))
+    out.append(interleaved_table(runs, "h2h2d", sizes, "grid"))
     opts = next((runs[n] for n in runs if n.startswith("simplify2d/")), None)
     params = f"ε = {opts['epsilon']:g}, weight bound ρ = {opts['weight_bound']:g}, " if opts else ""
     out += ["", f"Adaptive build per simplifier ({params}exact-mass conditionals):", ""]
