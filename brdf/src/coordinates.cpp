@@ -6,10 +6,9 @@ namespace acdf {
 
 namespace {
 
-// Polar angle and azimuth of a (not necessarily unit) vector. atan2 instead of MERL's acos(z):
-// the same angle, but accurate near the pole, where acos(1 − ε) loses half the digits.
-double polarAngle(const Vec3d& v) { return std::atan2(std::hypot(v.x, v.y), v.z); }
-double azimuth(const Vec3d& v) { return std::atan2(v.y, v.x); }
+// Azimuth in (−π, π], MERL's range. (polarAngle() is atan2-based rather than MERL's acos(z): the
+// same angle, accurate near the pole.)
+double signedAzimuth(const Vec3d& v) { return std::atan2(v.y, v.x); }
 
 // Rotation by `angle` about z, then about y (right-handed, counter-clockwise seen from +axis).
 // These are MERL's rotate_vector (Rodrigues' formula) with the axis fixed, written out.
@@ -24,11 +23,6 @@ Vec3d rotateY(const Vec3d& v, double angle) {
 
 }  // namespace
 
-Vec3d sphericalDirection(double theta, double phi) {
-  const double s = std::sin(theta);
-  return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
-}
-
 HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
   const Vec3d sum{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
   // Normalising h is not needed for its angles (atan2 is scale-free), but the degenerate
@@ -36,10 +30,10 @@ HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
   const bool degenerate = sum.x == 0 && sum.y == 0 && sum.z == 0;
   HalfDiffAngles a;
   a.thetaHalf = degenerate ? 0.0 : polarAngle(sum);
-  a.phiHalf = degenerate ? 0.0 : azimuth(sum);
+  a.phiHalf = degenerate ? 0.0 : signedAzimuth(sum);
   const Vec3d d = rotateY(rotateZ(wi, -a.phiHalf), -a.thetaHalf);
   a.thetaDiff = polarAngle(d);
-  a.phiDiff = azimuth(d);
+  a.phiDiff = signedAzimuth(d);
   return a;
 }
 

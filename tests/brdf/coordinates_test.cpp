@@ -16,10 +16,7 @@ using namespace acdf;
 
 constexpr double kPi = std::numbers::pi;
 
-double dot(const Vec3d& a, const Vec3d& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double distance(const Vec3d& a, const Vec3d& b) {
-  return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
-}
+double distance(const Vec3d& a, const Vec3d& b) { return length(a - b); }
 // |a − b| as angles, modulo 2π.
 double angleDistance(double a, double b) {
   const double d = std::remainder(a - b, 2 * kPi);

@@ -17,12 +17,9 @@
 // the upper hemisphere θh < π/2. Swapping ωi and ωo keeps θh, φh, θd and maps φd → φd + π
 // (mod 2π): this is the reciprocity MERL's tables exploit by storing φd in [0, π) only.
 
-namespace acdf {
+#include "acdf/sampling/sphere.h"
 
-// A 3-vector of doubles: just enough for directions in the coordinate conversions.
-struct Vec3d {
-  double x = 0, y = 0, z = 0;
-};
+namespace acdf {
 
 struct HalfDiffAngles {
   double thetaHalf = 0, phiHalf = 0, thetaDiff = 0, phiDiff = 0;
@@ -31,9 +28,6 @@ struct HalfDiffAngles {
 struct DirectionPair {
   Vec3d wi, wo;
 };
-
-// The unit vector with polar angle theta (from +z) and azimuth phi (from +x towards +y).
-Vec3d sphericalDirection(double theta, double phi);
 
 // (ωi, ωo) → (θh, φh, θd, φd). Both must be unit vectors. When ωi = −ωo the half vector is
 // undefined; the normal is used (θh = φh = 0), so the result is still finite.

@@ -1,0 +1,71 @@
+#pragma once
+// Directions on the unit sphere: a small double 3-vector, spherical coordinates and the two
+// standard warps every directional sampler is compared against (uniform sphere, cosine-weighted
+// hemisphere). Frame: z up; θ is the polar angle from +z, φ the azimuth from +x towards +y.
+//
+// Double precision: directions feed angle conversions (acos/atan2 near the poles) and table
+// lookups whose cell boundaries must be stable; a renderer may round the results to float.
+
+#include <cmath>
+#include <numbers>
+
+namespace acdf {
+
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+
+  Vec3d operator+(const Vec3d& o) const { return {x + o.x, y + o.y, z + o.z}; }
+  Vec3d operator-(const Vec3d& o) const { return {x - o.x, y - o.y, z - o.z}; }
+  Vec3d operator-() const { return {-x, -y, -z}; }
+  Vec3d operator*(double s) const { return {x * s, y * s, z * s}; }
+  bool operator==(const Vec3d&) const = default;
+};
+
+inline double dot(const Vec3d& a, const Vec3d& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
+// v / |v|; v must not be zero.
+inline Vec3d normalize(const Vec3d& v) { return v * (1.0 / length(v)); }
+
+// The unit vector with polar angle theta and azimuth phi.
+inline Vec3d sphericalDirection(double theta, double phi) {
+  const double s = std::sin(theta);
+  return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
+}
+// Polar angle in [0, π] of a (not necessarily unit) vector. atan2 rather than acos(z): the same
+// angle, but accurate near the poles, where acos(1 − ε) loses half the digits.
+inline double polarAngle(const Vec3d& v) { return std::atan2(std::hypot(v.x, v.y), v.z); }
+// Azimuth in [0, 2π).
+inline double azimuth(const Vec3d& v) {
+  const double phi = std::atan2(v.y, v.x);
+  return phi < 0.0 ? phi + 2.0 * std::numbers::pi : phi;
+}
+
+// ωi = 2(ωo·n)n − ωo: the mirror image of ωo about the unit vector n.
+inline Vec3d reflect(const Vec3d& wo, const Vec3d& n) { return n * (2.0 * dot(wo, n)) - wo; }
+
+// Uniform on the sphere, density 1/(4π) per steradian. u0, u1 in [0, 1).
+inline Vec3d sampleUniformSphere(double u0, double u1) {
+  const double z = 1.0 - 2.0 * u0;
+  const double r = std::sqrt(std::fmax(0.0, 1.0 - z * z));
+  const double phi = 2.0 * std::numbers::pi * u1;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline constexpr double kUniformSpherePdf = 1.0 / (4.0 * std::numbers::pi);
+
+// Cosine-weighted on the upper (z > 0) hemisphere, density cosθ/π (Malley's method: uniform on
+// the disk by the polar map, lifted to the hemisphere; u0 = 0 gives the pole). u0 → 1 approaches
+// the horizon, where the density is 0: the radius is kept below 1 so every sample has cosθ > 0
+// and a positive pdf.
+inline Vec3d sampleCosineHemisphere(double u0, double u1) {
+  const double r2 = std::fmin(u0, 1.0 - 0x1p-40);
+  const double r = std::sqrt(r2);
+  const double phi = 2.0 * std::numbers::pi * u1;
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - r2)};
+}
+// cosθ/π above the horizon, 0 at and below it.
+inline double cosineHemispherePdf(double cosTheta) { return cosTheta > 0.0 ? cosTheta * std::numbers::inv_pi : 0.0; }
+
+}  // namespace acdf
