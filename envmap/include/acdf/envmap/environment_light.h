@@ -1,0 +1,112 @@
+#pragma once
+// An environment light: an EnvironmentMap placed in the world (rotation, scale), with a sampling
+// distribution over its pixels built by libsampling.
+//
+// Distribution. The table holds, per pixel, luminance × ΔΩ (EnvironmentMap::pixelPower(), ∝
+// luminance × sin θ) on the grid (v, u) ∈ [0,1)², v = row axis (θ / π), u = column axis (φ / 2π).
+// A sample picks a pixel with probability P(pixel) from the table, then a direction uniformly in
+// solid angle inside it (LatLongMapping::directionInPixel), so the density per steradian is
+// constant on each pixel:
+//     pdf(ω) = P(pixel) / ΔΩ_row = p(v, u) / (W H ΔΩ_row) = p(v, u) / (2π² · s̄_row),
+// where p(v, u) is the table's density on the unit square and s̄_row = (cos θa − cos θb) / Δθ is
+// the mean of sin θ over the row: pbrt's p(u,v) / (2π² sin θ) with sin θ averaged over the pixel.
+// s̄ > 0 on every row (also at the poles), so nothing is ever divided by zero; and since the
+// radiance is constant per pixel too (nearest lookup), the uniform table gives L/pdf = ∫L dω for
+// every sample: zero variance (up to the float CDF's rounding).
+//
+// Strategies (only the chosen table is built, by the constructor):
+//   Uniform      Cascade of full-resolution 1D CDFs (pbrt's and Mitsuba's table);
+//   Alias        PixelAlias: O(1) pixel choice (alias tables over rows, then over the row's
+//                columns; pixel_alias.h says why not one table over all pixels);
+//   Adaptive     Cascade of simplified 1D CDFs (the paper's method; options.simplify, libsampling's
+//                defaults);
+//   Compensated  the Adaptive table of max(0, L − L̄) × ΔΩ with L̄ = ∫L dω / 4π the mean luminance
+//                (pbrt-v4's MIS compensation, Karlík et al. 2019): directions dimmer than the mean
+//                get pdf 0 and are left to BSDF sampling under MIS. A map with nothing above its
+//                mean (a constant one) falls back to the uncompensated table
+//                (compensationFellBack()).
+// pdf(ω) of Compensated may be 0 where eval(ω) is not: it is meant for MIS only.
+//
+// A black map emits nothing: no table is built, sample() returns pdf 0 (no sample, the caller
+// skips it; an MIS weight against this light is then 1 for the other technique), pdf() and
+// eval() return 0.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "acdf/envmap/environment_map.h"
+#include "acdf/envmap/pixel_alias.h"
+#include "acdf/envmap/rotation.h"
+#include "acdf/sampling/cascade.h"
+#include "acdf/sampling/simplify.h"
+#include "acdf/sampling/sphere.h"
+
+namespace acdf {
+
+enum class EnvironmentSampling { Uniform, Alias, Adaptive, Compensated };
+
+// "uniform", "alias", "adaptive", "compensated"; parse throws std::invalid_argument.
+std::string_view toString(EnvironmentSampling strategy);
+EnvironmentSampling parseEnvironmentSampling(std::string_view name);
+
+struct EnvironmentLightOptions {
+  EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
+  SimplifyOptions simplify{};  // Adaptive and Compensated
+  Rotation worldFromMap{};   // the map frame's directions in the world (default: the same)
+  float scale = 1.0f;        // radiance multiplier; finite and > 0
+};
+
+struct EnvironmentSample {
+  Vec3d direction;   // world frame, unit length
+  Rgb radiance;      // scale × the pixel's radiance
+  double pdf = 0;    // per steradian; 0 only for a light that emits nothing
+};
+
+class EnvironmentLight {
+ public:
+  // Throws std::invalid_argument for a bad scale or simplify options (or what the table's
+  // constructor throws).
+  EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options = {});
+
+  // u0, u1 in [0, 1) (clamped into it).
+  EnvironmentSample sample(float u0, float u1) const;
+  // Density per steradian of sample() at the world direction w (non-zero).
+  double pdf(const Vec3d& w) const;
+  // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
+  Rgb eval(const Vec3d& w) const;
+
+  // True for a black map (and one whose every pixel underflows in the table): nothing to sample.
+  bool emitsNothing() const { return pdfScale_.empty(); }
+  bool compensationFellBack() const { return compensationFellBack_; }
+  const EnvironmentMap& map() const { return *map_; }
+  const EnvironmentLightOptions& options() const { return options_; }
+
+  // Bytes of the sampling table (0 without one).
+  std::size_t tableBytes() const;
+  // Probability the table gives each pixel, row-major (empty without a table). Exact.
+  std::vector<double> pixelProbabilities() const;
+  // The tabulated function (per pixel, row-major), whose normalisation the table approximates.
+  const std::vector<float>& tabulated() const { return tabulated_; }
+
+ private:
+  // Density per steradian of pixel p's directions.
+  double pixelPdf(PixelIndex p) const;
+  double aliasPdf(double probability, uint32_t row) const {
+    return probability * pixels_ * pdfScale_[row];
+  }
+
+  std::shared_ptr<const EnvironmentMap> map_;
+  EnvironmentLightOptions options_;
+  std::vector<float> tabulated_;
+  bool compensationFellBack_ = false;
+  std::optional<Cascade> cascade_;  // Uniform, Adaptive, Compensated
+  std::optional<PixelAlias> alias_;  // Alias
+  std::vector<double> pdfScale_;    // per row: 1 / (W H ΔΩ_row), table density → per steradian
+  double pixels_ = 0;               // W H
+};
+
+}  // namespace acdf

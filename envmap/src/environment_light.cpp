@@ -1,0 +1,170 @@
+#include "acdf/envmap/environment_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "acdf/sampling/sample.h"
+
+namespace acdf {
+
+std::string_view toString(EnvironmentSampling strategy) {
+  switch (strategy) {
+    case EnvironmentSampling::Uniform: return "uniform";
+    case EnvironmentSampling::Alias: return "alias";
+    case EnvironmentSampling::Adaptive: return "adaptive";
+    case EnvironmentSampling::Compensated: return "compensated";
+  }
+  return "?";
+}
+
+EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
+  for (auto s : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
+                 EnvironmentSampling::Compensated})
+    if (toString(s) == name) return s;
+  throw std::invalid_argument("unknown environment sampling strategy '" + std::string(name) +
+                              "' (uniform, alias, adaptive or compensated)");
+}
+
+namespace {
+
+constexpr double kCompensationTolerance = 1e-6;
+
+// max(0, L − L̄) × ΔΩ per pixel with L̄ the mean luminance over the sphere (per steradian): the
+// uncompensated table is luminance × ΔΩ, so the compensated one subtracts L̄ × ΔΩ and clamps.
+// An excess within rounding of the mean (relative 1e-6) counts as none, so that a constant map
+// has nothing left and falls back, whatever the rounding of its sums.
+std::vector<float> compensated(const EnvironmentMap& map, const std::vector<float>& power) {
+  double integral = 0;
+  for (float p : power) integral += p;
+  const double mean = integral / (4.0 * std::numbers::pi);
+  std::vector<float> out(power.size());
+  for (uint32_t r = 0; r < map.height(); ++r) {
+    const double solidAngle = map.mapping().pixelSolidAngle(r);
+    for (uint32_t c = 0; c < map.width(); ++c) {
+      const std::size_t i = std::size_t{r} * map.width() + c;
+      const double excess = power[i] - mean * solidAngle;
+      out[i] = excess > kCompensationTolerance * mean * solidAngle ? static_cast<float>(excess) : 0.0f;
+    }
+  }
+  return out;
+}
+
+bool allZero(const std::vector<float>& values) {
+  return std::all_of(values.begin(), values.end(), [](float v) { return v == 0.0f; });
+}
+
+}  // namespace
+
+EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
+    : map_(std::move(map)), options_(std::move(options)) {
+  if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
+  if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
+    throw std::invalid_argument("EnvironmentLight: the scale must be finite and > 0");
+  validate(options_.simplify);
+  if (map_->isBlack()) return;
+
+  const uint32_t width = map_->width(), height = map_->height();
+  pixels_ = static_cast<double>(width) * height;
+  pdfScale_.resize(height);
+  for (uint32_t r = 0; r < height; ++r)
+    pdfScale_[r] = 1.0 / (static_cast<double>(width) * height * map_->mapping().pixelSolidAngle(r));
+
+  tabulated_ = map_->pixelPower();
+  if (options_.strategy == EnvironmentSampling::Compensated) {
+    std::vector<float> values = compensated(*map_, tabulated_);
+    compensationFellBack_ = allZero(values);
+    if (!compensationFellBack_) tabulated_ = std::move(values);
+  }
+  // A black map has no table; a map whose non-zero pixels all underflow in the table would get
+  // the engine's uniform fallback, which no radiance matches: treat it as emitting nothing too.
+  if (allZero(tabulated_)) {
+    tabulated_.clear();
+    pdfScale_.clear();
+    return;
+  }
+
+  // The cascades' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
+  const std::vector<GridAxis> axes{GridAxis(height), GridAxis(width)};
+  switch (options_.strategy) {
+    case EnvironmentSampling::Uniform: {
+      CascadeOptions uniform;
+      uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};
+      cascade_.emplace(tabulated_, axes, uniform);
+      break;
+    }
+    case EnvironmentSampling::Alias:
+      alias_.emplace(tabulated_, width, height);
+      break;
+    case EnvironmentSampling::Adaptive:
+    case EnvironmentSampling::Compensated: {
+      CascadeOptions adaptive;
+      adaptive.simplify = options_.simplify;
+      cascade_.emplace(tabulated_, axes, adaptive);
+      break;
+    }
+  }
+}
+
+double EnvironmentLight::pixelPdf(PixelIndex p) const {
+  if (alias_) return aliasPdf(alias_->probability(p), p.row);
+  // The cascade's density is constant on each pixel's grid cell: ask at its centre.
+  const float x[2] = {static_cast<float>((p.row + 0.5) / map_->height()),
+                      static_cast<float>((p.column + 0.5) / map_->width())};
+  return cascade_->pdf(x) * pdfScale_[p.row];
+}
+
+EnvironmentSample EnvironmentLight::sample(float u0, float u1) const {
+  if (pdfScale_.empty()) return {};
+  PixelIndex p;
+  double fractionDown, fractionRight, pdf;
+  if (alias_) {
+    const PixelAlias::Pick pick = alias_->sample(clampUnit(u0), clampUnit(u1));
+    p = pick.pixel;
+    fractionDown = pick.fractionDown;
+    fractionRight = pick.fractionRight;
+    pdf = aliasPdf(pick.probability, p.row);
+  } else {
+    const float u[2] = {clampUnit(u0), clampUnit(u1)};
+    const SampleND s = cascade_->sample(u);
+    const std::vector<GridAxis>& axes = cascade_->axes();
+    p = {axes[0].cellOf(s.x[0]), axes[1].cellOf(s.x[1])};
+    // Where the table put the sample inside its cell (uniformly): reused for the position in
+    // the pixel, uniform in solid angle.
+    fractionDown = axes[0].gridCoordinate(s.x[0]) - p.row;
+    fractionRight = axes[1].gridCoordinate(s.x[1]) - p.column;
+    pdf = s.pdf * pdfScale_[p.row];
+  }
+  const Vec3d w = options_.worldFromMap.apply(map_->mapping().directionInPixel(p, fractionDown, fractionRight));
+  const Rgb L = map_->radiance(p);
+  const float k = options_.scale;
+  return {w, {k * L.r, k * L.g, k * L.b}, pdf};
+}
+
+double EnvironmentLight::pdf(const Vec3d& w) const {
+  if (pdfScale_.empty()) return 0.0;
+  return pixelPdf(map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w)));
+}
+
+Rgb EnvironmentLight::eval(const Vec3d& w) const {
+  const Rgb L = map_->radiance(options_.worldFromMap.applyInverse(w));
+  const float k = options_.scale;
+  return {k * L.r, k * L.g, k * L.b};
+}
+
+std::size_t EnvironmentLight::tableBytes() const {
+  if (cascade_) return cascade_->bytes();
+  if (alias_) return alias_->bytes();
+  return 0;
+}
+
+std::vector<double> EnvironmentLight::pixelProbabilities() const {
+  if (cascade_) return cascade_->cellProbabilities(0);
+  if (alias_) return alias_->pixelProbabilities();
+  return {};
+}
+
+}  // namespace acdf

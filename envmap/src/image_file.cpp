@@ -1,0 +1,128 @@
+#include "acdf/envmap/image_file.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <new>
+#include <random>
+#include <system_error>
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+namespace acdf {
+
+namespace fs = std::filesystem;
+
+ImageFileError::ImageFileError(const std::string& file, const std::string& problem)
+    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
+
+namespace {
+
+// OpenImageIO keeps unretrieved error messages (per thread) and prints them at exit: always
+// collect them, also when they are not used. (Messages may span lines; the CLI folds them.)
+std::string takeGlobalError() { return OIIO::geterror(); }
+
+std::string withDetail(const std::string& what, const std::string& detail) {
+  return detail.empty() ? what : what + " (" + detail + ")";
+}
+
+void requireRegularFile(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) throw ImageFileError(path, "no such file");
+  if (ec) throw ImageFileError(path, "cannot access file (" + ec.message() + ")");
+  if (status.type() == fs::file_type::directory) throw ImageFileError(path, "is a directory, not a file");
+  if (status.type() != fs::file_type::regular) throw ImageFileError(path, "not a regular file");
+}
+
+}  // namespace
+
+Image readImage(const std::string& path, const ImageReadOptions& options) {
+  requireRegularFile(path);
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) throw ImageFileError(path, withDetail("not an image OpenImageIO can read", takeGlobalError()));
+  // Errors from here on are attached to `input`; fetch them before it is destroyed.
+  auto fail = [&](const std::string& what) {
+    std::string detail = input->geterror();
+    const std::string global = takeGlobalError();
+    if (detail.empty()) detail = global;
+    input->close();
+    throw ImageFileError(path, withDetail(what, detail));
+  };
+
+  if (!input->seek_subimage(0, 0)) fail("cannot read subimage 0, MIP level 0");
+  const OIIO::ImageSpec spec = input->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    fail(fmt::format("image has no pixels ({} x {}, {} channels)", spec.width, spec.height, spec.nchannels));
+  if (spec.depth > 1) fail(fmt::format("volume images (depth {}) are not supported", spec.depth));
+
+  Image image;
+  image.width = static_cast<uint32_t>(spec.width);
+  image.height = static_cast<uint32_t>(spec.height);
+  image.fileChannels = static_cast<uint32_t>(spec.nchannels);
+  image.channels = spec.nchannels >= 3 ? 3 : 1;
+  image.format = input->format_name();
+  const std::size_t values = std::size_t{image.width} * image.height * image.channels;
+  try {
+    image.pixels.resize(values);
+  } catch (const std::bad_alloc&) {
+    fail(fmt::format("image of {} x {} pixels is too large to load", spec.width, spec.height));
+  }
+  if (!input->read_image(0, 0, 0, static_cast<int>(image.channels), OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    fail("cannot read the pixels");
+  input->close();
+  (void)input->geterror();
+  (void)takeGlobalError();
+
+  for (std::size_t i = 0; i < values; ++i) {
+    float& v = image.pixels[i];
+    if (std::isfinite(v)) continue;
+    if (!options.replaceNonFinite) {
+      static const char* const kRgb[3] = {"R", "G", "B"};
+      const std::size_t pixel = i / image.channels;
+      const std::string channel = image.channels == 3 ? kRgb[i % 3] : "0";
+      throw ImageFileError(path, fmt::format("pixel (x {}, y {}) has channel {} = {}; NaN and Inf are not allowed",
+                                             pixel % image.width, pixel / image.width, channel, v));
+    }
+    v = 0.0f;
+    ++image.nonFiniteReplaced;
+  }
+  return image;
+}
+
+void writeExr(const std::string& path, const Image& image) {
+  if (image.channels != 1 && image.channels != 3)
+    throw ImageFileError(path, fmt::format("cannot write {} channels (1 or 3 expected)", image.channels));
+  if (image.pixels.size() != std::size_t{image.width} * image.height * image.channels || image.pixels.empty())
+    throw ImageFileError(path, "pixel count does not match the image size");
+
+  // Next to the target, so the rename stays within one file system (and is atomic).
+  std::random_device random;
+  const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
+  auto output = OIIO::ImageOutput::create("openexr");
+  if (!output) throw ImageFileError(path, withDetail("OpenImageIO cannot write OpenEXR", takeGlobalError()));
+  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height),
+                       static_cast<int>(image.channels), OIIO::TypeDesc::FLOAT);
+  if (image.channels == 1) spec.channelnames = {"Y"};
+  spec.attribute("compression", "zip");
+  auto fail = [&](const std::string& what) {
+    const std::string detail = output->geterror();
+    (void)takeGlobalError();
+    output->close();
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw ImageFileError(path, withDetail(what, detail));
+  };
+  if (!output->open(temp, spec)) fail("cannot create the temporary file " + temp);
+  if (!output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail("cannot write the temporary file " + temp);
+  if (!output->close()) fail("cannot write the temporary file " + temp);
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw ImageFileError(path, "cannot rename the temporary file into place");
+  }
+}
+
+}  // namespace acdf

@@ -1,0 +1,105 @@
+// Chi-square goodness of fit of every sampling strategy against its own pdf, on generated maps
+// (one lit pixel, constant, 3 × 2, sun and sky at 4096 × 2048) and the real maps of the shared
+// test data. Each test also checks every sample (unit direction, finite positive pdf equal to
+// pdf(ω), the extreme variates included) and that the pdf integrates to 1 over the sphere.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/light_chi_square.h"
+#include "acdf/envmap/sun_sky.h"
+#include "acdf/sampling/chi_square.h"
+#include "envmap_test_util.h"
+
+namespace {
+
+using namespace acdf;
+using namespace acdf::envmaptest;
+
+constexpr EnvironmentSampling kAllStrategies[] = {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
+                                                  EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated};
+const char* const kGeneratedMaps[] = {"one_lit_pixel_100x10", "constant_100x100", "tiny_3x2", "sun_and_sky_4096x2048"};
+
+// Every (map, strategy) pair below runs one test: the Šidák correction covers them all.
+constexpr uint32_t kChiSquareTestsInSuite = (std::size(kGeneratedMaps) + std::size(kSharedEnvmaps)) * 4;
+
+std::shared_ptr<const EnvironmentMap> generatedMap(const std::string& name) {
+  static std::map<std::string, std::shared_ptr<const EnvironmentMap>> cache;
+  auto& map = cache[name];
+  if (map) return map;
+  if (name == "one_lit_pixel_100x10") map = onePixelMap(100, 10, 3, 71, 5.0f);
+  if (name == "constant_100x100") map = constantMap(100, 100);
+  if (name == "tiny_3x2") map = makeMap(3, 2, [](uint32_t r, uint32_t c) { return Rgb{1.0f + r + 2 * c, 1, 0.5f}; });
+  if (name == "sun_and_sky_4096x2048")
+    map = std::make_shared<const EnvironmentMap>(4096, 2048, sunSkyImage(4096, 2048, sunSkyPreset("noon")).pixels);
+  return map;
+}
+
+void expectPasses(const EnvironmentLight& light, const std::string& what) {
+  LightChiSquareOptions options;
+  options.alpha = sidakAlpha(0.01, kChiSquareTestsInSuite);
+  const SphereChiSquareReport report = lightChiSquareTest(light, options);
+  std::cout << what << ": " << report.summary() << "\n";
+  EXPECT_TRUE(report.passed()) << what << ": " << report.summary();
+  EXPECT_NEAR(report.pdfIntegral, 1.0, 1e-4) << what;
+}
+
+class Generated : public ::testing::TestWithParam<std::tuple<const char*, EnvironmentSampling>> {};
+
+TEST_P(Generated, SamplerMatchesItsPdf) {
+  const auto [name, strategy] = GetParam();
+  const EnvironmentLight light(generatedMap(name), {.strategy = strategy});
+  expectPasses(light, std::string(name) + " " + std::string(toString(strategy)));
+}
+
+INSTANTIATE_TEST_SUITE_P(Maps, Generated,
+                         ::testing::Combine(::testing::ValuesIn(kGeneratedMaps), ::testing::ValuesIn(kAllStrategies)),
+                         [](const auto& info) {
+                           return std::string(std::get<0>(info.param)) + "_" +
+                                  std::string(toString(std::get<1>(info.param)));
+                         });
+
+class Shared : public ::testing::TestWithParam<std::tuple<const char*, EnvironmentSampling>> {};
+
+TEST_P(Shared, SamplerMatchesItsPdf) {
+  ACDF_SKIP_WITHOUT_SHARED_ENVMAPS();
+  const auto [name, strategy] = GetParam();
+  const auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(sharedEnvmap(name)));
+  const EnvironmentLight light(map, {.strategy = strategy});
+  expectPasses(light, std::string(name) + " " + std::string(toString(strategy)));
+}
+
+INSTANTIATE_TEST_SUITE_P(RealMaps, Shared,
+                         ::testing::Combine(::testing::ValuesIn(kSharedEnvmaps), ::testing::ValuesIn(kAllStrategies)),
+                         [](const auto& info) {
+                           std::string name = std::get<0>(info.param);
+                           name = name.substr(0, name.find('_'));
+                           return name + "_" + std::string(toString(std::get<1>(info.param)));
+                         });
+
+// The test can fail: a light whose sample() and pdf() disagree (its pdf is another map's) is
+// rejected.
+TEST(ChiSquareHarness, RejectsASamplerThatDoesNotMatchItsPdf) {
+  const auto skewed = makeMap(64, 32, [](uint32_t r, uint32_t c) { return Rgb{1.0f + r + c, 1, 1}; });
+  const EnvironmentLight sampled(skewed, {.strategy = EnvironmentSampling::Uniform});
+  const EnvironmentLight other(constantMap(64, 32), {.strategy = EnvironmentSampling::Uniform});
+  SphereChiSquareOptions o;
+  o.samples = 200'000;
+  o.thetaBins = 32;
+  o.phiBins = 64;
+  o.subPoints = 1;
+  const SphereChiSquareReport report = sphereChiSquareTest(
+      [&](float u0, float u1) {
+        const EnvironmentSample s = sampled.sample(u0, u1);
+        return DirectionSample{LatLongMapping::toZUp(s.direction), other.pdf(s.direction)};
+      },
+      [&](const Vec3d& z) { return other.pdf(LatLongMapping::fromZUp(z)); }, o);
+  EXPECT_FALSE(report.chiSquarePassed()) << report.summary();
+}
+
+}  // namespace

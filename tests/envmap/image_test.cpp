@@ -1,0 +1,261 @@
+// Reading environment maps: every layout and pixel type OpenEXR offers, dirty pixels (negative,
+// NaN, Inf), black and tiny maps, broken files; writing with temporary file + rename.
+
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/environment_map.h"
+#include "acdf/envmap/image_file.h"
+#include "app_test_util.h"
+#include "envmap_test_util.h"
+
+namespace {
+
+using namespace acdf;
+using acdf::apptest::TempDirTest;
+namespace fs = std::filesystem;
+
+struct Layout {
+  std::string name;
+  int channels;
+  OIIO::TypeDesc type;
+  std::string compression;
+  bool tiled;
+  bool mipmapped;
+  double tolerance;  // relative, of what is read back
+};
+
+void PrintTo(const Layout& l, std::ostream* os) { *os << l.name; }
+
+// Pixel values with structure in every channel (so a channel or row mix-up shows).
+float pattern(int x, int y, int c) { return 0.25f + 0.5f * x + 0.125f * y * y + 2.0f * c; }
+
+// Writes an image with OpenImageIO as described; with `mipmapped`, a second level of constant 99
+// (which must never be read).
+void writeTestImage(const std::string& path, const Layout& l, int width, int height) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  OIIO::ImageSpec spec(width, height, l.channels, l.type);
+  spec.attribute("compression", l.compression);
+  if (l.tiled) spec.tile_width = spec.tile_height = 16;
+  // OpenImageIO writes MIP levels only for a texture format, like the shared stage map has.
+  if (l.mipmapped) spec.attribute("textureformat", "LatLong Environment");
+  std::vector<float> pixels(std::size_t(width) * height * l.channels);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < l.channels; ++c) pixels[(std::size_t(y) * width + x) * l.channels + c] = pattern(x, y, c);
+  ASSERT_TRUE(out->open(path, spec, OIIO::ImageOutput::Create))
+      << out->geterror();
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) << out->geterror();
+  if (l.mipmapped) {
+    OIIO::ImageSpec level = spec;
+    level.width = level.full_width = width / 2;
+    level.height = level.full_height = height / 2;
+    ASSERT_TRUE(out->open(path, level, OIIO::ImageOutput::AppendMIPLevel)) << out->geterror();
+    std::vector<float> half(std::size_t(width / 2) * (height / 2) * l.channels, 99.0f);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, half.data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close()) << out->geterror();
+}
+
+class ReadLayout : public TempDirTest, public ::testing::WithParamInterface<Layout> {};
+
+TEST_P(ReadLayout, ReadsLevelZeroAsRgb) {
+  const Layout& l = GetParam();
+  const std::string file = path("map.exr");
+  const int width = 32, height = 16;
+  if (l.mipmapped) {
+    auto probe = OIIO::ImageOutput::create(file);
+    ASSERT_TRUE(probe && probe->supports("mipmap")) << "OpenEXR output without MIP maps";
+  }
+  writeTestImage(file, l, width, height);
+
+  const EnvironmentMap map = EnvironmentMap::load(file);
+  ASSERT_EQ(map.width(), uint32_t(width));
+  ASSERT_EQ(map.height(), uint32_t(height));
+  for (uint32_t y = 0; y < map.height(); ++y)
+    for (uint32_t x = 0; x < map.width(); ++x) {
+      const Rgb v = map.radiance(PixelIndex{y, x});
+      const float expected[3] = {pattern(x, y, 0), pattern(x, y, l.channels >= 3 ? 1 : 0),
+                                 pattern(x, y, l.channels >= 3 ? 2 : 0)};
+      const float got[3] = {v.r, v.g, v.b};
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(got[c], expected[c], l.tolerance * expected[c]) << "pixel " << x << ", " << y << " channel " << c;
+    }
+  EXPECT_EQ(map.negativePixelsClamped(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    OpenExr, ReadLayout,
+    ::testing::Values(Layout{"float_rgb_scanline_zip", 3, OIIO::TypeDesc::FLOAT, "zip", false, false, 0},
+                      Layout{"half_rgb_tiled_mipmapped_zip", 3, OIIO::TypeDesc::HALF, "zip", true, true, 1e-3},
+                      Layout{"half_rgba_scanline_piz", 4, OIIO::TypeDesc::HALF, "piz", false, false, 1e-3},
+                      Layout{"float_rgb_scanline_dwab", 3, OIIO::TypeDesc::FLOAT, "dwab", false, false, 0.05},
+                      Layout{"half_y_tiled_none", 1, OIIO::TypeDesc::HALF, "none", true, false, 1e-3},
+                      Layout{"float_rgb_b44_half", 3, OIIO::TypeDesc::HALF, "b44", false, false, 0.05}),
+    [](const auto& info) { return info.param.name; });
+
+class ReadImage : public TempDirTest {
+ protected:
+  // A float RGB scanline EXR with the given pixels (width × height × 3).
+  std::string writeRgb(const std::string& name, uint32_t width, uint32_t height, std::vector<float> rgb) {
+    Image image;
+    image.width = width;
+    image.height = height;
+    image.channels = 3;
+    image.pixels = std::move(rgb);
+    const std::string file = path(name);
+    writeExr(file, image);
+    return file;
+  }
+};
+
+TEST_F(ReadImage, NegativeChannelsAreClampedAndCounted) {
+  const std::string file = writeRgb("neg.exr", 2, 2, {1, -0.5f, 2, -1, -1, -1, 3, 3, 3, 0, 0, -1e-4f});
+  const EnvironmentMap map = EnvironmentMap::load(file);
+  EXPECT_EQ(map.negativePixelsClamped(), 3u);
+  EXPECT_EQ(map.radiance(PixelIndex{0, 0}), (Rgb{1, 0, 2}));
+  EXPECT_EQ(map.radiance(PixelIndex{0, 1}), (Rgb{0, 0, 0}));
+  EXPECT_EQ(map.radiance(PixelIndex{1, 0}), (Rgb{3, 3, 3}));
+  EXPECT_FALSE(map.isBlack());
+}
+
+TEST_F(ReadImage, NanAndInfAreErrorsNamingTheFileAndPixel) {
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    const std::string file = writeRgb("bad.exr", 3, 2, {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, bad, 1, 1, 1, 1});
+    try {
+      (void)EnvironmentMap::load(file);
+      FAIL() << "no error for " << bad;
+    } catch (const ImageFileError& e) {
+      EXPECT_EQ(e.file(), file);
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos);
+      EXPECT_NE(e.problem().find("pixel (x 1, y 1) has channel G"), std::string::npos) << e.problem();
+    }
+  }
+}
+
+TEST_F(ReadImage, ReplaceNonFiniteSetsZeroAndCounts) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::string file = writeRgb("bad.exr", 2, 1, {nan, 1, 1, 2, -inf, inf});
+  const EnvironmentMap map = EnvironmentMap::load(file, ImageReadOptions{.replaceNonFinite = true});
+  EXPECT_EQ(map.nonFiniteReplaced(), 3u);
+  EXPECT_EQ(map.radiance(PixelIndex{0, 0}), (Rgb{0, 1, 1}));
+  EXPECT_EQ(map.radiance(PixelIndex{0, 1}), (Rgb{2, 0, 0}));
+}
+
+TEST_F(ReadImage, AllBlackMapIsALightThatEmitsNothing) {
+  const std::string file = writeRgb("black.exr", 8, 4, std::vector<float>(8 * 4 * 3, 0.0f));
+  auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(file));
+  EXPECT_TRUE(map->isBlack());
+  for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
+                        EnvironmentSampling::Compensated}) {
+    const EnvironmentLight light(map, {.strategy = strategy});
+    EXPECT_TRUE(light.emitsNothing());
+    EXPECT_EQ(light.tableBytes(), 0u);
+    EXPECT_TRUE(light.pixelProbabilities().empty());
+    const EnvironmentSample s = light.sample(0.3f, 0.7f);
+    EXPECT_EQ(s.pdf, 0.0);
+    EXPECT_EQ(s.radiance, Rgb{});
+    EXPECT_EQ(light.pdf({0, 1, 0}), 0.0);
+    EXPECT_EQ(light.eval({0.3, -0.2, 0.9}), Rgb{});
+  }
+}
+
+TEST_F(ReadImage, TinyMapsLoadAndSample) {
+  for (auto [width, height] : {std::pair{1u, 1u}, std::pair{3u, 2u}}) {
+    std::vector<float> rgb(std::size_t{width} * height * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.5f + float(i);
+    auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(writeRgb("tiny.exr", width, height, rgb)));
+    ASSERT_EQ(map->width(), width);
+    ASSERT_EQ(map->height(), height);
+    for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
+                          EnvironmentSampling::Compensated}) {
+      const EnvironmentLight light(map, {.strategy = strategy});
+      for (float u0 : {0.0f, 0.5f, kOneMinusEpsilon})
+        for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
+          const EnvironmentSample s = light.sample(u0, u1);
+          ASSERT_TRUE(s.pdf > 0 && std::isfinite(s.pdf)) << width << "x" << height << " " << toString(strategy);
+          EXPECT_EQ(light.pdf(s.direction), s.pdf);
+          EXPECT_EQ(light.eval(s.direction), s.radiance);
+        }
+    }
+  }
+}
+
+TEST_F(ReadImage, BrokenFilesAreErrorsNamingTheFile) {
+  // A truncated file: the first half of a valid one.
+  const std::string whole = writeRgb("whole.exr", 64, 64, std::vector<float>(64 * 64 * 3, 1.0f));
+  const std::string bytes = acdf::apptest::readFile(whole);
+  const std::string truncated = path("truncated.exr");
+  acdf::apptest::writeFile(truncated, bytes.substr(0, bytes.size() / 2));
+  const std::string text = path("text.exr");
+  acdf::apptest::writeFile(text, "this is not an image\n");
+  const std::string empty = path("empty.exr");
+  acdf::apptest::writeFile(empty, "");
+
+  for (const auto& [file, needle] : {std::pair{truncated, std::string()}, std::pair{text, std::string()},
+                                     std::pair{empty, std::string()}, std::pair{path("missing.exr"), std::string("no such file")},
+                                     std::pair{dir_.string(), std::string("is a directory")}}) {
+    try {
+      (void)EnvironmentMap::load(file);
+      FAIL() << "no error for " << file;
+    } catch (const ImageFileError& e) {
+      EXPECT_EQ(e.file(), file);
+      EXPECT_NE(e.problem().find(needle), std::string::npos) << e.problem();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST_F(ReadImage, WriteExrRoundTripsAndLeavesNoTemporary) {
+  std::vector<float> rgb(5 * 3 * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.1f * float(i);
+  const std::string file = writeRgb("out.exr", 5, 3, rgb);
+  const Image back = readImage(file);
+  EXPECT_EQ(back.width, 5u);
+  EXPECT_EQ(back.height, 3u);
+  EXPECT_EQ(back.channels, 3u);
+  EXPECT_EQ(back.pixels, rgb);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir_)) files += entry.is_regular_file();
+  EXPECT_EQ(files, 1u);
+
+  Image image = back;
+  EXPECT_THROW(writeExr(path("no/such/dir/out.exr"), image), ImageFileError);
+  EXPECT_FALSE(fs::exists(path("no")));
+}
+
+TEST(SharedMaps, LoadWithTheirDirtOnBoard) {
+  ACDF_SKIP_WITHOUT_SHARED_ENVMAPS();
+  struct Expected {
+    const char* name;
+    uint32_t width, height;
+  };
+  for (const Expected& e : {Expected{"sunset_1024x512.exr", 1024, 512}, Expected{"forest_1024x512.exr", 1024, 512},
+                            Expected{"stage_1000x500.exr", 1000, 500}}) {
+    const std::string file = acdf::envmaptest::sharedEnvmap(e.name);
+    const Image raw = readImage(file);
+    const EnvironmentMap map = EnvironmentMap::fromImage(raw, file);
+    EXPECT_EQ(map.width(), e.width) << e.name;
+    EXPECT_EQ(map.height(), e.height) << e.name;
+    EXPECT_FALSE(map.isBlack());
+    // The negatives counted are exactly the pixels that had one.
+    std::size_t negative = 0;
+    for (std::size_t i = 0; i < raw.pixels.size(); i += 3)
+      negative += raw.pixels[i] < 0 || raw.pixels[i + 1] < 0 || raw.pixels[i + 2] < 0;
+    EXPECT_EQ(map.negativePixelsClamped(), negative) << e.name;
+    if (std::string(e.name) == "forest_1024x512.exr") {
+      EXPECT_GT(negative, 0u);
+    }
+  }
+}
+
+}  // namespace
