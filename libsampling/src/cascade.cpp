@@ -135,10 +135,11 @@ class Builder {
 
   std::size_t blockSize() const { return rowSize_[0] * sizes_[0]; }
 
-  // block: the joint masses of the remaining axes (level..), row-major. Appends the block's 1D
-  // CDFs to `out` and returns Σ block.
+  // block: the joint masses of the remaining axes (level..), row-major; share: the probability
+  // the block carries in its slice. Appends the block's 1D CDFs to `out` and returns Σ block.
   template <class T>
-  double build(std::span<const T> block, std::size_t level, Subtree& out, bool parallelChildren) const {
+  double build(std::span<const T> block, std::size_t level, Subtree& out, bool parallelChildren,
+               double share = 1.0) const {
     const uint32_t m = sizes_[level];
     const std::size_t row = rowSize_[level];
     std::vector<double> masses(m, 0.0);
@@ -156,12 +157,12 @@ class Builder {
       kept.resize(m + 1);
       for (uint32_t k = 0; k <= m; ++k) kept[k] = k;
     } else {
-      kept = simplifyCdf(cdf, options_.simplify);
+      kept = simplifyCdf(cdf, simplifyOptions(share));
     }
 
     std::vector<Child> children;
     if (level + 1 < sizes_.size()) {
-      children = buildChildren(block, masses, cdf, level, kept, parallelChildren);
+      children = buildChildren(block, masses, total, share, cdf, level, kept, parallelChildren);
       kept.clear();
       for (const Child& c : children) kept.push_back(c.a);
       kept.push_back(m);
@@ -184,6 +185,13 @@ class Builder {
     bool built = false, checked = false;
   };
 
+  SimplifyOptions simplifyOptions(double share) const {
+    SimplifyOptions o = options_.simplify;
+    if (options_.tolerance == ConditionalTolerance::MassScaled && share < 1.0)
+      o.epsilon = share > 0.0 ? std::min(0.5, o.epsilon / std::sqrt(share)) : 0.5;
+    return o;
+  }
+
   DimensionMethod method(std::size_t level) const {
     return options_.methods.empty() ? DimensionMethod::Adaptive : options_.methods[level];
   }
@@ -192,8 +200,8 @@ class Builder {
   // interval is split while a cell of its rows would get more than ρ times the probability the
   // cascade gives it: (row mass share) × (the row's conditional / the child's cell probability).
   template <class T>
-  std::vector<Child> buildChildren(std::span<const T> block, const std::vector<double>& masses,
-                                   const std::vector<float>& cdf, std::size_t level,
+  std::vector<Child> buildChildren(std::span<const T> block, const std::vector<double>& masses, double total,
+                                   double share, const std::vector<float>& cdf, std::size_t level,
                                    const std::vector<uint32_t>& kept, bool parallel) const {
     std::vector<Child> children;
     for (std::size_t i = 0; i + 1 < kept.size(); ++i) children.push_back({kept[i], kept[i + 1], emptySubtree()});
@@ -205,7 +213,7 @@ class Builder {
       }
       auto buildOne = [&](std::size_t k) {
         Child& c = children[pending[k]];
-        buildChild(block, masses, level, c);
+        buildChild(block, masses, total, share, level, c);
         c.built = true;
       };
       if (parallel && pending.size() > 1) tbb::parallel_for(std::size_t{0}, pending.size(), buildOne);
@@ -232,13 +240,17 @@ class Builder {
   }
 
   template <class T>
-  void buildChild(std::span<const T> block, const std::vector<double>& masses, std::size_t level, Child& c) const {
+  void buildChild(std::span<const T> block, const std::vector<double>& masses, double total, double share,
+                  std::size_t level, Child& c) const {
     const std::size_t row = rowSize_[level];
+    double intervalMass = 0.0;
+    for (uint32_t j = c.a; j < c.b; ++j) intervalMass += masses[j];
+    const double childShare = total > 0.0 ? share * intervalMass / total : 0.0;
     if (c.b - c.a == 1) {
-      build<T>(block.subspan(c.a * row, row), level + 1, c.tree, false);
+      build<T>(block.subspan(c.a * row, row), level + 1, c.tree, false, childShare);
     } else {
       const std::vector<double> merged = mergeRows(block, masses, c.a, c.b, row);
-      build<double>(merged, level + 1, c.tree, false);
+      build<double>(merged, level + 1, c.tree, false, childShare);
     }
   }
 

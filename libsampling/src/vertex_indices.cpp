@@ -1,11 +1,10 @@
 #include "acdf/sampling/vertex_indices.h"
 
-#include <algorithm>
-
 namespace acdf {
 
 void VertexIndices::append(const VertexIndices& other) {
-  if (wide_ == other.wide_) {
+  if (width_ == other.width_) {
+    narrow8_.insert(narrow8_.end(), other.narrow8_.begin(), other.narrow8_.end());
     narrow16_.insert(narrow16_.end(), other.narrow16_.begin(), other.narrow16_.end());
     wide32_.insert(wide32_.end(), other.wide32_.begin(), other.wide32_.end());
     return;

@@ -3,6 +3,7 @@
 // ∫pdf = 1, cell probabilities, structure, slices, threads and build determinism.
 
 #include "acdf/sampling/cascade.h"
+#include "acdf/sampling/adaptive_cdf_1d.h"
 #include "acdf/sampling/alias_grid.h"
 
 #include <gtest/gtest.h>
@@ -34,7 +35,7 @@ using DM = DimensionMethod;
 
 // runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2 + within
 // cells 1 + wide indices 1 + unconditioned 4D 1 + slice grouping 1.
-constexpr uint32_t kChiSquareTestsInSuite = 45;
+constexpr uint32_t kChiSquareTestsInSuite = 47;
 
 ChiSquareOptions chi2Options() {
   ChiSquareOptions o;
@@ -301,6 +302,10 @@ std::vector<Variant> variants() {
   o.simplify.weightBound = 0;
   o.conditional = ConditionalRule::AverageOfNormalized;
   out.push_back({"CoarseNoWeightBoundAverage_zerosWithIslands", o, Fixture::ZerosWithIslands});
+  o = {};
+  o.tolerance = ConditionalTolerance::MassScaled;
+  out.push_back({"MassScaled_peakedSun", o, Fixture::PeakedSun});
+  out.push_back({"MassScaled_random", o, Fixture::Random});
   return out;
 }
 
@@ -382,6 +387,34 @@ TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
   EXPECT_NE(a.pointsPerDimension(), b.pointsPerDimension());
   // A budget of 4 points per 1D CDF: 4 points at level 0, 3 intervals × 4 points at level 1.
   EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{4, 12}));
+}
+
+TEST(CascadeOptions, MassScaledToleranceMatchesAStandaloneConditional) {
+  // Level 0 keeps ε; the conditional below an interval of share P is the 1D CDF of that
+  // interval's (exact-mass) row sums simplified with ε/√P (at most 1/2).
+  const auto v = makeFixture(Fixture::PeakedSun, k2D);
+  CascadeOptions o;
+  o.tolerance = ConditionalTolerance::MassScaled;
+  o.simplify.weightBound = 0;
+  o.methods = {DM::Uniform, DM::Adaptive};  // one conditional per row: share = the row's mass
+  const Cascade mass(v, unitAxes(k2D), o);
+  o.tolerance = ConditionalTolerance::Constant;
+  const Cascade constant(v, unitAxes(k2D), o);
+  const uint32_t rows = k2D[0], cols = k2D[1];
+  double total = 0.0;
+  for (float x : v) total += x;
+  std::size_t expectedPoints = 0;
+  for (uint32_t r = 0; r < rows; ++r) {
+    const std::span<const float> row(v.data() + std::size_t{r} * cols, cols);
+    double rowMass = 0.0;
+    for (float x : row) rowMass += x;
+    SimplifyOptions so = o.simplify;
+    so.epsilon = rowMass > 0 ? std::min(0.5, so.epsilon / std::sqrt(rowMass / total)) : 0.5;
+    expectedPoints += AdaptiveCdf1D(row, 0.0f, 1.0f, so).points();
+  }
+  EXPECT_EQ(mass.pointsPerDimension()[1], expectedPoints);
+  EXPECT_LT(mass.pointsPerDimension()[1], constant.pointsPerDimension()[1]);
+  EXPECT_EQ(mass.pointsPerDimension()[0], constant.pointsPerDimension()[0]);
 }
 
 // Fails on engines that bound each 1D CDF only (b53e30a: e.g. checkerboard at ε = 0.3, ρ = 1.5);

@@ -292,13 +292,14 @@ TEST(AdaptiveCdf1D, GreedyBudgetIsHonoured) {
   EXPECT_EQ(AdaptiveCdf1D(v, 0.0f, 1.0f, o).points(), 37u);
 }
 
-TEST(AdaptiveCdf1D, VertexIndicesUse16BitsUpTo65535Cells) {
-  // A single bump keeps ~5 points whatever the size; 16-bit indices below 65536 cells.
-  for (uint32_t n : {65535u, 65536u}) {
+TEST(AdaptiveCdf1D, VertexIndicesUseTheNarrowestWidth) {
+  // A single bump keeps ~5 points whatever the size; 8-bit indices up to 255 cells, 16-bit up to
+  // 65535, 32-bit beyond.
+  for (uint32_t n : {255u, 256u, 65535u, 65536u}) {
     std::vector<float> v(n, 0.0f);
     v[n / 3] = 1.0f;
     const AdaptiveCdf1D a(v);
-    const std::size_t indexBytes = n <= 65535 ? 2 : 4;
+    const std::size_t indexBytes = n <= 255 ? 1 : n <= 65535 ? 2 : 4;
     EXPECT_EQ(a.bytes(), a.points() * (sizeof(float) + indexBytes)) << n;
   }
 }

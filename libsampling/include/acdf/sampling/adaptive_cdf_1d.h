@@ -2,8 +2,8 @@
 // An adaptive 1D CDF (Lawrence et al. 2005): the uniform table's CDF simplified to the grid
 // vertices that matter, so the pdf is piecewise constant on non-uniform intervals.
 //
-// Storage: one float CDF value and one grid-vertex index (16-bit when the grid has at most 65535
-// cells, else 32-bit) per kept point. Sampling inverts by binary search over the kept CDF values;
+// Storage: one float CDF value and one grid-vertex index (8-bit up to 255 cells, 16-bit up to
+// 65535, else 32-bit) per kept point. Sampling inverts by binary search over the kept CDF values;
 // pdf(x) finds x's interval by binary search over the kept vertices. Both use the same stored
 // numbers, so they agree exactly.
 

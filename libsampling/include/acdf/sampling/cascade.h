@@ -13,7 +13,7 @@
 // the normalised conditionals of the interval's cells (the paper's eq. 10).
 //
 // Storage: per sampled dimension, the 1D CDFs of that level are pooled: float CDF values, and for
-// adaptive levels 16/32-bit vertex indices plus one 32-bit offset per 1D CDF. The children of a
+// adaptive levels 8/16/32-bit vertex indices plus one 32-bit offset per 1D CDF. The children of a
 // level's CDF are contiguous in the next level, so no child pointers are stored.
 // Precision: all sums in double; stored CDFs in float; pdf = product of the per-level densities
 // computed in double and clamped into the positive float range.
@@ -34,6 +34,12 @@ namespace acdf {
 
 enum class DimensionMethod : uint8_t { Uniform, Adaptive };
 enum class ConditionalRule : uint8_t { ExactMass, AverageOfNormalized };
+// The simplification tolerance of each conditional 1D CDF. Constant: ε for every CDF (the paper).
+// MassScaled: a CDF whose block carries a share P of the slice's mass (the product of its parent
+// intervals' probabilities) gets ε/√P, at most 1/2. Its errors reach the joint distribution
+// scaled by P, and a χ²-divergence that grows as ε² then gets the same contribution ε² from every
+// conditional, so storage goes where the mass is. The first level (P = 1) keeps ε.
+enum class ConditionalTolerance : uint8_t { Constant, MassScaled };
 
 struct CascadeOptions {
   uint32_t conditioningDims = 0;
@@ -41,6 +47,7 @@ struct CascadeOptions {
   std::vector<DimensionMethod> methods;
   SimplifyOptions simplify;
   ConditionalRule conditional = ConditionalRule::ExactMass;
+  ConditionalTolerance tolerance = ConditionalTolerance::Constant;
   // Slice grouping (the paper's future work): when > 0, a conditioning slice reuses the
   // distribution of the current group (run of neighbouring slices in row-major order, represented
   // by its first slice) if that leaves none of the slice's mass unreachable and raises its
