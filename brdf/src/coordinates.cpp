@@ -10,30 +10,39 @@ namespace {
 // same angle, accurate near the pole.)
 double signedAzimuth(const Vec3d& v) { return std::atan2(v.y, v.x); }
 
-// Rotation by `angle` about z, then about y (right-handed, counter-clockwise seen from +axis).
-// These are MERL's rotate_vector (Rodrigues' formula) with the axis fixed, written out.
-Vec3d rotateZ(const Vec3d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
-}
-Vec3d rotateY(const Vec3d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x + s * v.z, v.y, c * v.z - s * v.x};
-}
+// Rotation by an angle with cosine c and sine s about z, then about y (right-handed,
+// counter-clockwise seen from +axis). These are MERL's rotate_vector (Rodrigues' formula) with
+// the axis fixed, written out.
+Vec3d rotateZ(const Vec3d& v, double c, double s) { return {c * v.x - s * v.y, s * v.x + c * v.y, v.z}; }
+Vec3d rotateY(const Vec3d& v, double c, double s) { return {c * v.x + s * v.z, v.y, c * v.z - s * v.x}; }
+Vec3d rotateZ(const Vec3d& v, double angle) { return rotateZ(v, std::cos(angle), std::sin(angle)); }
+Vec3d rotateY(const Vec3d& v, double angle) { return rotateY(v, std::cos(angle), std::sin(angle)); }
 
 }  // namespace
 
+HalfVectorFrame::HalfVectorFrame(double thetaHalf, double phiHalf)
+    : thetaHalf_(thetaHalf),
+      phiHalf_(phiHalf),
+      cosPhi_(std::cos(-phiHalf)),
+      sinPhi_(std::sin(-phiHalf)),
+      cosTheta_(std::cos(-thetaHalf)),
+      sinTheta_(std::sin(-thetaHalf)) {}
+
+void HalfVectorFrame::diffAngles(const Vec3d& wi, double& thetaDiff, double& phiDiff) const {
+  const Vec3d d = rotateY(rotateZ(wi, cosPhi_, sinPhi_), cosTheta_, sinTheta_);
+  thetaDiff = polarAngle(d);
+  phiDiff = signedAzimuth(d);
+}
+
 HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
-  const Vec3d sum{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
+  const Vec3d sum = wi + wo;
   // Normalising h is not needed for its angles (atan2 is scale-free), but the degenerate
   // ωi = −ωo has no half vector at all; take the normal, so the result stays finite.
   const bool degenerate = sum.x == 0 && sum.y == 0 && sum.z == 0;
   HalfDiffAngles a;
   a.thetaHalf = degenerate ? 0.0 : polarAngle(sum);
   a.phiHalf = degenerate ? 0.0 : signedAzimuth(sum);
-  const Vec3d d = rotateY(rotateZ(wi, -a.phiHalf), -a.thetaHalf);
-  a.thetaDiff = polarAngle(d);
-  a.phiDiff = signedAzimuth(d);
+  HalfVectorFrame(a.thetaHalf, a.phiHalf).diffAngles(wi, a.thetaDiff, a.phiDiff);
   return a;
 }
 

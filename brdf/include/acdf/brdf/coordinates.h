@@ -33,6 +33,21 @@ struct DirectionPair {
 // undefined; the normal is used (θh = φh = 0), so the result is still finite.
 HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo);
 
+// The frame in which a half vector (θh, φh) points up: maps ωi to its difference angles. Holds
+// the rotation's trigonometry, for loops converting many ωi against one half vector.
+class HalfVectorFrame {
+ public:
+  HalfVectorFrame(double thetaHalf, double phiHalf);
+  // θd in [0, π] and φd in (−π, π] of the unit vector ωi, as toHalfDiff computes them.
+  void diffAngles(const Vec3d& wi, double& thetaDiff, double& phiDiff) const;
+  double thetaHalf() const { return thetaHalf_; }
+  double phiHalf() const { return phiHalf_; }
+
+ private:
+  double thetaHalf_, phiHalf_;
+  double cosPhi_, sinPhi_, cosTheta_, sinTheta_;  // of −φh and −θh
+};
+
 // (θh, φh, θd, φd) → (ωi, ωo): the inverse of toHalfDiff. ωi = Rz(φh)·Ry(θh)·d and ωo is ωi
 // mirrored about h. Any angles give unit vectors; they lie in the upper hemisphere only when the
 // angles describe such a pair (e.g. θh + θd < π/2 is always enough).

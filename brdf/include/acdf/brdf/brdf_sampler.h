@@ -1,0 +1,74 @@
+#pragma once
+// The interface every BRDF importance sampler implements: given the outgoing direction ωo,
+// choose an incident direction ωi with a known density, and report the Monte Carlo weight
+// f(ωi, ωo)·cosθi / pdf(ωi) a renderer multiplies the incident radiance by.
+//
+// Directions are unit vectors in the local shading frame (z = the normal, sphere.h). Densities
+// are per steradian over the whole sphere: a sampler may return an ωi below the horizon (where
+// f = 0, so its weight is 0) and pdf() integrates to 1 over the sphere. That keeps pdf() exact
+// for samplers that reflect ωo about a sampled half vector, whose image is not confined to the
+// upper hemisphere. For ωo at or below the horizon the BRDF is 0; samplers then fall back to
+// cosine-weighted sampling, so sample() still returns a valid direction with a positive pdf.
+//
+// sample() and pdf() agree: sample(ωo, u).pdf == pdf(ωo, sample(ωo, u).wi) up to float rounding.
+
+#include <cstddef>
+#include <string>
+
+#include "acdf/brdf/merl.h"
+#include "acdf/brdf/rgb.h"
+#include "acdf/sampling/sphere.h"
+
+namespace acdf {
+
+struct BrdfSample {
+  Vec3d wi;       // unit vector
+  Rgb weight;     // f(ωi, ωo)·max(cosθi, 0) / pdf
+  double pdf = 0; // per steradian, finite and > 0
+};
+
+class BrdfSampler {
+ public:
+  // The sampler evaluates `brdf` (with `interpolation`) for the weights; it keeps a reference,
+  // so the BRDF must outlive it.
+  BrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation)
+      : brdf_(brdf), interpolation_(interpolation) {}
+  virtual ~BrdfSampler() = default;
+  BrdfSampler(const BrdfSampler&) = delete;
+  BrdfSampler& operator=(const BrdfSampler&) = delete;
+
+  // u0, u1 in [0, 1) (clamped into it).
+  BrdfSample sample(const Vec3d& wo, float u0, float u1) const;
+  // Density of choosing ωi given ωo, per steradian; 0 where the sampler never goes.
+  virtual double pdf(const Vec3d& wo, const Vec3d& wi) const = 0;
+
+  // Memory of the sampling tables (0 for an analytic sampler).
+  virtual std::size_t bytes() const = 0;
+  virtual std::string name() const = 0;
+
+  const MerlBrdf& brdf() const { return brdf_; }
+  MerlBrdf::Interpolation interpolation() const { return interpolation_; }
+
+ protected:
+  // The direction alone; sample() adds the weight and the pdf (from pdf(), so the two agree).
+  virtual Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const = 0;
+
+ private:
+  const MerlBrdf& brdf_;
+  MerlBrdf::Interpolation interpolation_;
+};
+
+// Cosine-weighted hemisphere sampling, pdf cosθi/π: the baseline renderers use for measured BRDFs
+// and the one the paper replaces. Ignores ωo.
+class CosineBrdfSampler final : public BrdfSampler {
+ public:
+  using BrdfSampler::BrdfSampler;
+  double pdf(const Vec3d& wo, const Vec3d& wi) const override;
+  std::size_t bytes() const override { return 0; }
+  std::string name() const override { return "cosine"; }
+
+ protected:
+  Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+};
+
+}  // namespace acdf

@@ -1,0 +1,98 @@
+#pragma once
+// Importance sampling of a measured BRDF from a tabulated CDF of the half vector (Lawrence,
+// Rusinkiewicz & Ramamoorthi 2005, §5): for each cell of outgoing directions ωo, a 2D
+// distribution over the half vector ωh ∝ f(ωi, ωo)·cosθi, sampled, then reflected: ωi = 2(ωo·ωh)ωh − ωo.
+//
+// Parameterisation. θh on MERL's square-root scale, s = √(θh / (π/2)) in [0, 1), so the cells
+// crowd near the specular peak; φh linear. Densities change variables exactly:
+//   p(ωh) = p(s, φh) / |∂ωh/∂(s, φh)| = p(s, φh) / (π s sinθh)      (dθh = π s ds)
+//   p(ωi) = p(ωh) / (4 |ωo·ωh|)                                        (the reflection)
+// and the table holds the target density in (s, φh) itself, f·cosθi · 4(ωo·ωh) · π s sinθh, so
+// that sampling it is proportional to f·cosθi per steradian of ωi.
+//
+// Layouts.
+//   Full4D     (θo, φo | s, φh): the paper's table, default 32 × 16 × 256 × 32 cells.
+//   Isotropic  (θo | s, Δφ) with Δφ = φh − φo: an isotropic BRDF depends on ωo only through θo,
+//              so one slice per θo serves every φo (the sample is rotated by φo): 1/16 of the
+//              cells. With `mirror`, f(Δφ) = f(−Δφ) (reflection across the plane of incidence)
+//              halves it again: |Δφ| in [0, π) is tabulated and its sign drawn at sample time.
+// Each slice (cell of the conditioning axes) is used for every ωo in it (nearest cell).
+//
+// Cell values are averages over `supersampling`^dims stratified points of the cell (outgoing
+// and half-vector axes alike), never a single centre point, in double, of the luminance of f.
+//
+// Defensive mixture: with probability `cosineWeight` the direction is drawn cosine-weighted
+// instead; pdf = (1 − w)·p_table + w·cosθi/π. The table is zero where its cells saw no
+// reflectance (or the simplification left too little), while f·cosθi may still be > 0 there for
+// a particular ωo of the slice; the mixture keeps pdf > 0 wherever cosθi > 0, so estimators using
+// this sampler alone stay unbiased.
+//
+// Tables are tabulated and built in parallel (oneTBB); the result does not depend on the thread
+// count.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "acdf/brdf/brdf_sampler.h"
+#include "acdf/sampling/cascade.h"
+#include "acdf/sampling/simplify.h"
+
+namespace acdf {
+
+struct TabulatedBrdfOptions {
+  enum class Layout : uint8_t { Full4D, Isotropic };
+
+  Layout layout = Layout::Full4D;
+  DimensionMethod method = DimensionMethod::Adaptive;  // for both half-vector axes
+  SimplifyOptions simplify;                            // adaptive only
+  ConditionalTolerance tolerance = ConditionalTolerance::MassScaled;  // adaptive only
+  // Cells of θo in [0, π/2), φo in [0, 2π) (Full4D only), s in [0, 1) and φh in [0, 2π). An
+  // isotropic table has phiHalfCells cells of Δφ over [0, 2π), i.e. phiHalfCells / 2 over
+  // [0, π) when mirrored (phiHalfCells must then be even).
+  uint32_t thetaOutCells = 32, phiOutCells = 16, thetaHalfCells = 256, phiHalfCells = 32;
+  bool mirror = true;  // Isotropic only
+  uint32_t supersampling = 2;  // stratified points per cell per axis, >= 1
+  double cosineWeight = 0.1;   // defensive mixture weight in [0, 1]
+
+  // The table's name, e.g. "adaptive-4d", "uniform-iso".
+  std::string name() const;
+};
+
+class TabulatedBrdfSampler final : public BrdfSampler {
+ public:
+  // Throws std::invalid_argument on inconsistent options (zero cells, an odd phiHalfCells with
+  // mirror, supersampling 0, a weight outside [0, 1], bad simplify options).
+  TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                       const TabulatedBrdfOptions& options = {});
+
+  double pdf(const Vec3d& wo, const Vec3d& wi) const override;
+  // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,
+  // without the defensive mixture.
+  double halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const;
+
+  std::size_t bytes() const override { return table_.bytes(); }
+  std::string name() const override { return options_.name(); }
+
+  const TabulatedBrdfOptions& options() const { return options_; }
+  const Cascade& table() const { return table_; }
+  // Wall-clock milliseconds spent evaluating the BRDF into the grid, and building the CDFs.
+  double tabulationMs() const { return tabulationMs_; }
+  double buildMs() const { return buildMs_; }
+
+ protected:
+  Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+
+ private:
+  // The conditioning coordinates of ωo (θo, and φo for Full4D).
+  std::array<float, 2> condition(const Vec3d& wo) const;
+
+  TabulatedBrdfOptions options_;
+  double tabulationMs_ = 0, buildMs_ = 0;
+  Cascade table_;
+};
+
+}  // namespace acdf
