@@ -28,6 +28,7 @@
 #include "acdf/sampling/simplify.h"
 #include "errors.h"
 #include "input.h"
+#include "options.h"
 
 namespace acdf::app {
 
@@ -70,29 +71,6 @@ SimplifyOptions simplifyOptions(const CdfStatsArgs& args) {
     throw UsageError(e.what());
   }
   return o;
-}
-
-// Accepts a non-negative integer, also written like 1e6; rewrites it to plain digits for CLI11's
-// conversion (which would otherwise wrap "-5" around to 2^64 - 5).
-CLI::Validator nonNegativeInteger() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-        if (digits) return {};
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !(v >= 0) || v > 0x1p53 || v != std::floor(v))
-          return "must be a non-negative integer, got '" + text + "'";
-        text = fmt::format("{}", static_cast<uint64_t>(v));
-        return {};
-      },
-      "");
-}
-
-using Clock = std::chrono::steady_clock;
-
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
 // Defeats dead-code elimination of the timed loops.

@@ -1,9 +1,14 @@
 #pragma once
-// Reader for any image OpenImageIO can read, as a 2D grid of luminance values.
+// Images for the subcommands, read through the one OpenImageIO reader of the tree
+// (acdf/envmap/image_file.h): as a 2D grid of luminance (cdf-stats) or as an environment map.
+// Reader errors become InputError("<path>: <problem>").
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "acdf/envmap/environment_map.h"
 
 namespace acdf::app {
 
@@ -22,5 +27,9 @@ struct LuminanceImage {
 // a negative luminance is clamped to 0 and counted; a NaN or Inf in a used channel is an error.
 // Throws InputError("<path>: <problem>").
 LuminanceImage readLuminanceImage(const std::string& path);
+
+// EnvironmentMap::load (negative channels clamped and counted; NaN / Inf an error, or replaced
+// with 0 and counted when replaceNonFinite). Throws InputError.
+std::shared_ptr<const EnvironmentMap> readEnvironmentMap(const std::string& path, bool replaceNonFinite);
 
 }  // namespace acdf::app

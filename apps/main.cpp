@@ -12,7 +12,10 @@
 #include <CLI/CLI.hpp>
 
 #include "cdf_stats.h"
+#include "chi2.h"
 #include "command.h"
+#include "env_gen.h"
+#include "envmap_stats.h"
 #include "errors.h"
 #include "merl_gen.h"
 
@@ -39,6 +42,9 @@ int run(int argc, char** argv) {
   std::vector<acdf::app::Command> commands;
   commands.push_back(acdf::app::addCdfStats(app));
   commands.push_back(acdf::app::addMerlGen(app));
+  commands.push_back(acdf::app::addEnvGen(app));
+  commands.push_back(acdf::app::addEnvmapStats(app));
+  commands.push_back(acdf::app::addChi2(app));
 
   try {
     app.parse(argc, argv);

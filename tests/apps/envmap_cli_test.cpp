@@ -1,0 +1,141 @@
+// End-to-end tests of the environment-map commands: `acdf env-gen` (writes a readable map, no
+// partial file on failure), `acdf envmap-stats` (the documented keys; bad maps exit 2 with one
+// line) and `acdf chi2 --envmap` (every sampler passes on a generated map; exit codes).
+
+#include <filesystem>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acdf/envmap/image_file.h"
+#include "app_test_util.h"
+
+namespace acdf::apptest {
+namespace {
+
+namespace fs = std::filesystem;
+
+class EnvmapCli : public TempDirTest {
+ protected:
+  RunResult run(const std::vector<std::string>& args) { return runAcdf(args, dir_); }
+
+  // A float RGB EXR of the given pixels (3 per pixel).
+  std::string writeMap(const std::string& name, uint32_t width, uint32_t height, std::vector<float> rgb) {
+    acdf::Image image;
+    image.width = width;
+    image.height = height;
+    image.channels = 3;
+    image.pixels = std::move(rgb);
+    const std::string file = path(name);
+    acdf::writeExr(file, image);
+    return file;
+  }
+
+  std::string generated() {
+    const std::string file = path("sky.exr");
+    const RunResult r = run({"env-gen", "--preset", "sunset", "--width", "128", "-o", file});
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    return file;
+  }
+};
+
+TEST_F(EnvmapCli, EnvGenWritesTheMapItDescribes) {
+  const std::string file = path("noon.exr");
+  const RunResult r = run({"env-gen", "-o", file, "--width", "64", "--height", "40", "--sun-elevation", "45"});
+  ASSERT_EQ(r.exitCode, 0) << describe(r);
+  EXPECT_NE(r.out.find("sun 45 deg high"), std::string::npos) << r.out;
+  const acdf::Image image = acdf::readImage(file);
+  EXPECT_EQ(image.width, 64u);
+  EXPECT_EQ(image.height, 40u);
+  EXPECT_EQ(image.channels, 3u);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir_)) files += entry.path().filename().string().find("noon") == 0;
+  EXPECT_EQ(files, 1u) << "a temporary file was left next to the output";
+}
+
+TEST_F(EnvmapCli, EnvGenBadArgumentsExitTwoWithoutOutput) {
+  expectOneLineFailure(run({"env-gen", "--preset", "midnight", "-o", path("a.exr")}), "acdf: env-gen:", "midnight");
+  expectOneLineFailure(run({"env-gen", "--sun-elevation", "100", "-o", path("a.exr")}), "acdf: env-gen:", "elevation");
+  expectOneLineFailure(run({"env-gen", "--width", "0", "-o", path("a.exr")}), "acdf: env-gen:", "width");
+  const std::string unwritable = path("missing/dir/a.exr");
+  expectOneLineFailure(run({"env-gen", "-o", unwritable}), "acdf: " + unwritable + ":", "");
+  EXPECT_FALSE(fs::exists(path("a.exr")));
+}
+
+TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
+  const RunResult r = run({"envmap-stats", generated(), "--json"});
+  ASSERT_EQ(r.exitCode, 0) << describe(r);
+  const auto j = nlohmann::json::parse(r.out);
+  std::set<std::string> keys;
+  for (const auto& [key, value] : j.items()) keys.insert(key);
+  const std::set<std::string> expected = {"width", "height", "uniform_bytes", "alias_bytes", "adaptive_bytes",
+                                          "compression", "chi2_divergence", "max_weight_ratio",
+                                          "negative_pixels_clamped", "build_ms", "uniform_sphere", "cosine",
+                                          "uniform", "alias", "adaptive"};
+  EXPECT_EQ(keys, expected);
+  EXPECT_EQ(j["width"], 128);
+  EXPECT_EQ(j["height"], 64);
+  EXPECT_GT(j["compression"].get<double>(), 1.0);
+  for (const char* method : {"uniform", "alias", "adaptive"}) EXPECT_GE(j["build_ms"][method].get<double>(), 0.0);
+  for (const char* strategy : {"uniform_sphere", "cosine", "uniform", "alias", "adaptive"}) {
+    EXPECT_GT(j[strategy]["variance"].get<double>(), 0.0) << strategy;
+    EXPECT_GT(j[strategy]["ns_per_sample"].get<double>(), 0.0) << strategy;
+    EXPECT_GT(j[strategy]["efficiency"].get<double>(), 0.0) << strategy;
+  }
+  // A sunset's power is in a tiny sun: sampling the map beats sampling the sphere by far.
+  EXPECT_LT(10 * j["adaptive"]["variance"].get<double>(), j["uniform_sphere"]["variance"].get<double>());
+}
+
+TEST_F(EnvmapCli, DirtyAndBrokenMapsExitTwoWithOneLine) {
+  const std::string black = writeMap("black.exr", 4, 2, std::vector<float>(24, 0.0f));
+  expectOneLineFailure(run({"envmap-stats", black}), "acdf: " + black + ":", "black");
+  expectOneLineFailure(run({"chi2", "--envmap", black, "--sampler", "adaptive"}), "acdf: " + black + ":", "black");
+
+  std::vector<float> rgb(24, 1.0f);
+  rgb[7] = std::numeric_limits<float>::quiet_NaN();
+  const std::string nan = writeMap("nan.exr", 4, 2, rgb);
+  expectOneLineFailure(run({"envmap-stats", nan}), "acdf: " + nan + ":", "NaN");
+  const RunResult sanitized = run({"envmap-stats", nan, "--sanitize", "--json"});
+  ASSERT_EQ(sanitized.exitCode, 0) << describe(sanitized);
+  EXPECT_EQ(nlohmann::json::parse(sanitized.out)["nonfinite_pixels_replaced"], 1);
+
+  rgb[7] = -2.0f;
+  const RunResult negative = run({"envmap-stats", writeMap("neg.exr", 4, 2, rgb), "--json"});
+  ASSERT_EQ(negative.exitCode, 0) << describe(negative);
+  EXPECT_EQ(nlohmann::json::parse(negative.out)["negative_pixels_clamped"], 1);
+
+  const std::string text = path("text.exr");
+  writeFile(text, "not an image\n");
+  expectOneLineFailure(run({"envmap-stats", text}), "acdf: " + text + ":", "");
+  const std::string whole = readFile(generated());
+  const std::string truncated = path("truncated.exr");
+  writeFile(truncated, whole.substr(0, whole.size() / 2));
+  expectOneLineFailure(run({"envmap-stats", truncated}), "acdf: " + truncated + ":", "");
+  expectOneLineFailure(run({"chi2", "--envmap", path("missing.exr"), "--sampler", "uniform"}),
+                       "acdf: " + path("missing.exr") + ":", "no such file");
+}
+
+TEST_F(EnvmapCli, Chi2PassesForEverySamplerAndRejectsBadUsage) {
+  const std::string map = generated();
+  for (const char* sampler : {"uniform", "alias", "adaptive", "compensated"}) {
+    const RunResult r = run({"chi2", "--envmap", map, "--sampler", sampler, "--samples", "2e5", "--json"});
+    ASSERT_EQ(r.exitCode, 0) << sampler << ": " << describe(r);
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.size(), 4u);
+    EXPECT_TRUE(j["passed"].get<bool>());
+    EXPECT_GE(j["pvalue"].get<double>(), 0.01);
+    EXPECT_EQ(j["samples"], 200000);
+    EXPECT_GT(j["dof"].get<int>(), 100);
+  }
+  expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "cosine"}), "acdf: chi2 --envmap:", "cosine");
+  expectOneLineFailure(run({"chi2", "--sampler", "uniform"}), "acdf: chi2:", "--envmap");
+  expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "uniform", "--samples", "0"}), "acdf: chi2:",
+                       "--samples");
+}
+
+}  // namespace
+}  // namespace acdf::apptest
