@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "brdf_stats.h"
 #include "cdf_stats.h"
 #include "chi2.h"
 #include "command.h"
@@ -42,6 +43,7 @@ int run(int argc, char** argv) {
   std::vector<acdf::app::Command> commands;
   commands.push_back(acdf::app::addCdfStats(app));
   commands.push_back(acdf::app::addMerlGen(app));
+  commands.push_back(acdf::app::addBrdfStats(app));
   commands.push_back(acdf::app::addEnvGen(app));
   commands.push_back(acdf::app::addEnvmapStats(app));
   commands.push_back(acdf::app::addChi2(app));

@@ -1,0 +1,48 @@
+#pragma once
+// `acdf brdf-stats FILE.binary [--table 4d|iso] [--res R] [--epsilon E] [--interpolation M]
+// [--samples N] [--json]`: the paper's Table 1 for one measured BRDF — the uniform and adaptive
+// tables' resolution, bytes and compression, and each sampler's variance, speed and efficiency.
+//
+// The BRDF table options are shared with `acdf chi2 --brdf`, so both commands test the same
+// samplers from the same flags.
+
+#include <memory>
+#include <string>
+
+#include "acdf/brdf/merl.h"
+#include "acdf/brdf/tabulated_brdf_sampler.h"
+#include "command.h"
+
+namespace CLI {
+class App;
+}
+
+namespace acdf::app {
+
+Command addBrdfStats(CLI::App& parent);
+
+// The flags that choose a tabulated BRDF sampler's table; empty strings mean "the defaults of
+// TabulatedBrdfOptions".
+struct BrdfTableArgs {
+  std::string table = "4d";  // 4d | iso
+  std::string resolution;    // e.g. 32x16x256x32 (4d) or 32x256x32 (iso)
+  double epsilon = TabulatedBrdfOptions{}.simplify.epsilon;
+  std::string interpolation = "nearest";  // nearest | trilinear
+};
+
+// Adds --table, --res, --epsilon and --interpolation to `app`, bound to `args`.
+void addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args);
+
+// The table options the flags describe, with `method`. Throws UsageError for a malformed --res
+// or an --epsilon < 0.
+TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method);
+MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args);
+
+// A tabulated sampler of `brdf`; options the sampler rejects (an odd φ count for a mirrored
+// isotropic table, say) become UsageError.
+std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(const MerlBrdf& brdf, const BrdfTableArgs& args, DimensionMethod method);
+
+// MerlBrdf::load with its errors as InputError ("<file>: <problem>", exit 2).
+MerlBrdf loadMerlBrdf(const std::string& path);
+
+}  // namespace acdf::app

@@ -1,0 +1,169 @@
+// End-to-end tests of the BRDF commands: `acdf brdf-stats` (the keys and their consistency, the
+// library's default table, the table form) and `acdf chi2 --brdf` (every sampler passes on a
+// generated GGX table), and their bad input (exit 2, one line on stderr, nothing on stdout, no
+// file written). Sample counts and resolutions are small: the suite also runs under ASan.
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acdf/brdf/tabulated_brdf_sampler.h"
+#include "app_test_util.h"
+
+namespace acdf::apptest {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// A small isotropic table (16 θo × 64 θh × 16 Δφ cells, 8 of them stored when mirrored): quick to
+// tabulate, still enough cells for the simplifier to compress.
+const std::vector<std::string> kSmallIso = {"--table", "iso", "--res", "16x64x16", "--samples", "256"};
+
+class BrdfCli : public TempDirTest {
+ protected:
+  // One generated material for the whole suite (merl-gen takes a second, more under ASan).
+  static void SetUpTestSuite() {
+    suiteDir_ = fs::temp_directory_path() / ("acdf_brdf_cli_" + std::to_string(::getpid()));
+    fs::create_directories(suiteDir_);
+    const RunResult r = runAcdf({"merl-gen", "--preset", "gold", "-o", gold()}, suiteDir_);
+    ASSERT_EQ(r.exitCode, 0) << describe(r);
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(suiteDir_, ec);
+  }
+  static std::string gold() { return (suiteDir_ / "gold.binary").string(); }
+
+  RunResult run(const std::vector<std::string>& args) { return runAcdf(args, dir_); }
+
+  std::vector<std::string> stats(const std::string& file, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"brdf-stats", file};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+
+  json runJson(const std::vector<std::string>& args) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    EXPECT_TRUE(r.err.empty()) << describe(r);
+    try {
+      return json::parse(r.out);
+    } catch (const json::exception& e) {
+      ADD_FAILURE() << "not JSON (" << e.what() << "): " << describe(r);
+      return json::object();
+    }
+  }
+
+  // Bad input: exit 2 with one line, and no file left in the test's directory (runAcdf puts its
+  // stdout/stderr captures there, so those are all it may hold).
+  void expectFailure(const std::vector<std::string>& args, const std::string& prefix, const std::string& needle) {
+    const RunResult r = run(args);
+    expectOneLineFailure(r, "acdf: " + prefix, needle);
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name == "stdout.txt" || name == "stderr.txt" || name.ends_with(".binary"))
+          << "file left behind: " << name;
+    }
+  }
+
+  static fs::path suiteDir_;
+};
+
+fs::path BrdfCli::suiteDir_;
+
+TEST_F(BrdfCli, StatsJsonKeysAreConsistent) {
+  std::vector<std::string> args = stats(gold(), kSmallIso);
+  args.push_back("--json");
+  const json j = runJson(args);
+  ASSERT_TRUE(j.is_object()) << j;
+  for (const char* key : {"uniform_res", "adaptive_avg_res", "uniform_bytes", "adaptive_bytes", "compression",
+                          "build_ms", "tabulation_ms", "cosine", "uniform", "adaptive"})
+    ASSERT_TRUE(j.contains(key)) << key << " missing in " << j.dump(2);
+
+  // The mirrored isotropic table stores half of the 16 Δφ cells.
+  EXPECT_EQ(j["uniform_res"], json({16, 64, 8})) << j.dump(2);
+  const auto adaptiveRes = j["adaptive_avg_res"].get<std::vector<double>>();
+  ASSERT_EQ(adaptiveRes.size(), 3u);
+  EXPECT_EQ(adaptiveRes[0], 16);  // the conditioning axis is not simplified
+  EXPECT_LT(adaptiveRes[1], 64);
+  EXPECT_LE(adaptiveRes[2], 8);
+
+  const auto uniformBytes = j["uniform_bytes"].get<double>(), adaptiveBytes = j["adaptive_bytes"].get<double>();
+  EXPECT_LT(adaptiveBytes, uniformBytes);
+  EXPECT_NEAR(j["compression"].get<double>(), uniformBytes / adaptiveBytes, 1e-9 * uniformBytes / adaptiveBytes);
+  EXPECT_EQ(j["uniform"]["bytes"], j["uniform_bytes"]);
+  EXPECT_EQ(j["adaptive"]["bytes"], j["adaptive_bytes"]);
+  EXPECT_EQ(j["adaptive"]["build_ms"], j["build_ms"]);
+  EXPECT_EQ(j["adaptive"]["tabulation_ms"], j["tabulation_ms"]);
+  EXPECT_EQ(j["estimator"]["samples_per_direction"], 256);
+
+  for (const char* sampler : {"cosine", "uniform", "adaptive"}) {
+    const json& s = j[sampler];
+    SCOPED_TRACE(sampler);
+    // A gold conductor reflects most of the light: an albedo in (0, 1], positive variance.
+    EXPECT_GT(s["mean"].get<double>(), 0.1) << s;
+    EXPECT_LT(s["mean"].get<double>(), 1.05) << s;
+    EXPECT_GT(s["variance"].get<double>(), 0) << s;
+    EXPECT_GT(s["ns_per_sample"].get<double>(), 0) << s;
+    const double efficiency = s["efficiency"].get<double>();
+    EXPECT_NEAR(efficiency, 1e9 / (s["variance"].get<double>() * s["ns_per_sample"].get<double>()),
+                1e-6 * efficiency)
+        << s;
+  }
+  EXPECT_FALSE(j["cosine"].contains("bytes"));
+  // Importance sampling by the table must beat cosine sampling on a glossy lobe (α = 0.15).
+  EXPECT_LT(j["uniform"]["variance"].get<double>(), j["cosine"]["variance"].get<double>()) << j.dump(2);
+  EXPECT_LT(j["adaptive"]["variance"].get<double>(), j["cosine"]["variance"].get<double>()) << j.dump(2);
+}
+
+TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
+  // No --res: TabulatedBrdfOptions' resolution, whatever the library's defaults are today. The
+  // isotropic table, because the 4D one takes seconds to tabulate (minutes under ASan).
+  const json j = runJson({"brdf-stats", gold(), "--table", "iso", "--samples", "1", "--json"});
+  const TabulatedBrdfOptions defaults;
+  ASSERT_TRUE(defaults.mirror);
+  EXPECT_EQ(j["table"], "iso");
+  EXPECT_EQ(j["uniform_res"], json({defaults.thetaOutCells, defaults.thetaHalfCells, defaults.phiHalfCells / 2}));
+  EXPECT_EQ(j["epsilon"], defaults.simplify.epsilon);
+  EXPECT_EQ(j["interpolation"], "nearest");
+  EXPECT_EQ(j["estimator"]["samples_per_direction"], 1);
+  EXPECT_LT(j["adaptive_bytes"].get<double>(), j["uniform_bytes"].get<double>()) << j.dump(2);
+}
+
+TEST_F(BrdfCli, StatsPrintsATable) {
+  std::vector<std::string> args = stats(gold(), kSmallIso);
+  args.insert(args.end(), {"--interpolation", "trilinear", "--epsilon", "0.01"});
+  const RunResult r = run(args);
+  ASSERT_EQ(r.exitCode, 0) << describe(r);
+  for (const char* text : {"isotropic table", "trilinear interpolation", "epsilon 0.01", "16 x 64 x 8",
+                           "compression", "cosine", "uniform", "adaptive", "efficiency"})
+    EXPECT_NE(r.out.find(text), std::string::npos) << text << " not in:\n" << r.out;
+}
+
+TEST_F(BrdfCli, StatsBadInput) {
+  expectFailure({"brdf-stats", path("missing.binary")}, path("missing.binary") + ": ", "no such file");
+  const std::string truncated = path("truncated.binary");
+  writeFile(truncated, readFile(gold()).substr(0, 1000));
+  expectFailure(stats(truncated, kSmallIso), truncated + ": ", "truncated");
+
+  for (const char* res : {"32x16x256", "32x16x256x32x2", "0x16x256x32", "32x16xx32", "axbxcxd", "32x-16x256x32",
+                          "32x16x256x32x"})
+    expectFailure({"brdf-stats", gold(), "--res", res}, "", "--res");
+  expectFailure({"brdf-stats", gold(), "--table", "iso", "--res", "32x16x256x32"}, "", "--res for a iso table");
+  expectFailure({"brdf-stats", gold(), "--res", "4096x4096x4096x4096"}, "", "at most");
+  // A mirrored isotropic table needs an even Δφ count: the library's check, reported as usage.
+  expectFailure({"brdf-stats", gold(), "--table", "iso", "--res", "8x16x7"}, "", "even");
+  expectFailure({"brdf-stats", gold(), "--epsilon", "-1"}, "", "--epsilon");
+  expectFailure({"brdf-stats", gold(), "--table", "6d"}, "", "--table");
+  expectFailure({"brdf-stats", gold(), "--interpolation", "cubic"}, "", "--interpolation");
+  expectFailure({"brdf-stats", gold(), "--samples", "0"}, "", "--samples");
+  expectFailure({"brdf-stats"}, "", "input");
+}
+
+}  // namespace
+}  // namespace acdf::apptest
