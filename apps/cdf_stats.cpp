@@ -61,7 +61,8 @@ SimplifyOptions simplifyOptions(const CdfStatsArgs& args) {
   if (!(args.weightBound == 0 || args.weightBound >= 1))
     throw UsageError("--weight-bound must be 0 (no bound) or >= 1");
   o.method = (budget || args.simplifier == "greedy") ? Simplifier::GreedyRefinement : Simplifier::DouglasPeucker;
-  o.metric = args.metric == "perpendicular" ? ErrorMetric::Perpendicular : ErrorMetric::Vertical;
+  for (ErrorMetric m : {ErrorMetric::Vertical, ErrorMetric::Perpendicular, ErrorMetric::ChiSquare})
+    if (args.metric == toString(m)) o.metric = m;
   o.epsilon = args.epsilon;
   o.maxPoints = budget ? args.maxPoints : 0;
   o.weightBound = args.weightBound;
@@ -174,7 +175,7 @@ nlohmann::ordered_json toJson(const Report& r) {
                       {"max_points", r.options.maxPoints},
                       {"weight_bound", r.options.weightBound},
                       {"simplifier", r.options.method == Simplifier::GreedyRefinement ? "greedy" : "dp"},
-                      {"metric", r.options.metric == ErrorMetric::Perpendicular ? "perpendicular" : "vertical"},
+                      {"metric", std::string(toString(r.options.metric))},
                       {"samples", r.args->samples},
                       {"seed", r.args->seed}};
   j["negative_values_clamped"] = r.grid->negativeClamped;
@@ -198,7 +199,7 @@ void printTable(const Report& r) {
   if (r.uniformFallback) line("uniform fallback   yes: the input is all zero, every distribution is uniform");
   line(fmt::format("options            epsilon {:g}, simplifier {}, metric {}, weight bound {:g}, max points {}",
                    r.options.epsilon, r.options.method == Simplifier::GreedyRefinement ? "greedy" : "dp",
-                   r.options.metric == ErrorMetric::Perpendicular ? "perpendicular" : "vertical",
+                   toString(r.options.metric),
                    r.options.weightBound, r.options.maxPoints == 0 ? std::string("none")
                                                                   : std::to_string(r.options.maxPoints)));
   line("");
@@ -353,8 +354,10 @@ Command addCdfStats(CLI::App& parent) {
   app->add_option("--simplifier", args->simplifier,
                   "Curve simplifier: dp (Douglas-Peucker, default) or greedy (global refinement)")
       ->check(CLI::IsMember({"dp", "greedy"}));
-  app->add_option("--metric", args->metric, "Simplification error metric: vertical or perpendicular")
-      ->check(CLI::IsMember({"vertical", "perpendicular"}))
+  app->add_option("--metric", args->metric,
+                  "Simplification error metric: vertical, perpendicular or chi-square (each interval's\n"
+                  "contribution to the chi2 divergence; its epsilon is in divergence, e.g. 1e-4)")
+      ->check(CLI::IsMember({"vertical", "perpendicular", "chi-square"}))
       ->capture_default_str();
   app->add_option("--samples", args->samples,
                   "Samples for the chi-square test of the adaptive sampler (0 skips the test)")

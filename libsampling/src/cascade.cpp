@@ -157,7 +157,7 @@ class Builder {
       kept.resize(m + 1);
       for (uint32_t k = 0; k <= m; ++k) kept[k] = k;
     } else {
-      kept = simplifyCdf(cdf, simplifyOptions(share));
+      kept = simplifyCdf(cdf, simplifyOptions(share, m));
     }
 
     std::vector<Child> children;
@@ -185,10 +185,17 @@ class Builder {
     bool built = false, checked = false;
   };
 
-  SimplifyOptions simplifyOptions(double share) const {
+  // cells: of the axis this 1D CDF samples. See ConditionalTolerance for the scaling.
+  SimplifyOptions simplifyOptions(double share, uint32_t cells) const {
     SimplifyOptions o = options_.simplify;
-    if (options_.tolerance == ConditionalTolerance::MassScaled && share < 1.0)
-      o.epsilon = share > 0.0 ? std::min(0.5, o.epsilon / std::sqrt(share)) : 0.5;
+    if (options_.tolerance != ConditionalTolerance::MassScaled || share >= 1.0) return o;
+    // A χ² contribution C of the conditional adds share·C to the joint divergence, a CDF error e
+    // about share·e². The cap keeps ε finite for tiny shares: a 1D χ² contribution is at most
+    // cells − 1, so that tolerance keeps only the end points.
+    const bool chiSquare = o.metric == ErrorMetric::ChiSquare;
+    const double scale = chiSquare ? share : std::sqrt(share);
+    const double loosest = chiSquare ? cells - 1.0 : 0.5;
+    o.epsilon = scale > 0.0 ? std::min(loosest, o.epsilon / scale) : loosest;
     return o;
   }
 

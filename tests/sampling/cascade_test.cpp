@@ -33,9 +33,9 @@ using namespace acdf;
 using namespace acdf::test_support;
 using DM = DimensionMethod;
 
-// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 9 + domains 2 + within
+// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 11 + domains 2 + within
 // cells 1 + wide indices 1 + unconditioned 4D 1 + slice grouping 1.
-constexpr uint32_t kChiSquareTestsInSuite = 47;
+constexpr uint32_t kChiSquareTestsInSuite = 49;
 
 ChiSquareOptions chi2Options() {
   ChiSquareOptions o;
@@ -306,6 +306,15 @@ std::vector<Variant> variants() {
   o.tolerance = ConditionalTolerance::MassScaled;
   out.push_back({"MassScaled_peakedSun", o, Fixture::PeakedSun});
   out.push_back({"MassScaled_random", o, Fixture::Random});
+  o.simplify.metric = ErrorMetric::ChiSquare;
+  o.simplify.epsilon = 1e-4;
+  out.push_back({"ChiSquareMassScaled_peakedSun", o, Fixture::PeakedSun});
+  o = {};
+  o.simplify.method = Simplifier::GreedyRefinement;
+  o.simplify.metric = ErrorMetric::ChiSquare;
+  o.simplify.epsilon = 1e-3;
+  o.simplify.weightBound = 0;
+  out.push_back({"GreedyChiSquareNoWeightBound_zerosWithIslands", o, Fixture::ZerosWithIslands});
   return out;
 }
 
@@ -391,30 +400,39 @@ TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
 
 TEST(CascadeOptions, MassScaledToleranceMatchesAStandaloneConditional) {
   // Level 0 keeps ε; the conditional below an interval of share P is the 1D CDF of that
-  // interval's (exact-mass) row sums simplified with ε/√P (at most 1/2).
+  // interval's (exact-mass) row sums simplified with ε/√P (at most 1/2) for the CDF distances,
+  // ε/P (at most cells − 1) for the χ² metric, whose contributions reach the joint divergence
+  // scaled by P rather than P².
   const auto v = makeFixture(Fixture::PeakedSun, k2D);
-  CascadeOptions o;
-  o.tolerance = ConditionalTolerance::MassScaled;
-  o.simplify.weightBound = 0;
-  o.methods = {DM::Uniform, DM::Adaptive};  // one conditional per row: share = the row's mass
-  const Cascade mass(v, unitAxes(k2D), o);
-  o.tolerance = ConditionalTolerance::Constant;
-  const Cascade constant(v, unitAxes(k2D), o);
   const uint32_t rows = k2D[0], cols = k2D[1];
   double total = 0.0;
   for (float x : v) total += x;
-  std::size_t expectedPoints = 0;
-  for (uint32_t r = 0; r < rows; ++r) {
-    const std::span<const float> row(v.data() + std::size_t{r} * cols, cols);
-    double rowMass = 0.0;
-    for (float x : row) rowMass += x;
-    SimplifyOptions so = o.simplify;
-    so.epsilon = rowMass > 0 ? std::min(0.5, so.epsilon / std::sqrt(rowMass / total)) : 0.5;
-    expectedPoints += AdaptiveCdf1D(row, 0.0f, 1.0f, so).points();
+  for (ErrorMetric metric : {ErrorMetric::Vertical, ErrorMetric::ChiSquare}) {
+    const bool chiSquare = metric == ErrorMetric::ChiSquare;
+    CascadeOptions o;
+    o.tolerance = ConditionalTolerance::MassScaled;
+    o.simplify.metric = metric;
+    o.simplify.epsilon = chiSquare ? 1e-5 : 2e-3;
+    o.simplify.weightBound = 0;
+    o.methods = {DM::Uniform, DM::Adaptive};  // one conditional per row: share = the row's mass
+    const Cascade mass(v, unitAxes(k2D), o);
+    o.tolerance = ConditionalTolerance::Constant;
+    const Cascade constant(v, unitAxes(k2D), o);
+    const double loosest = chiSquare ? cols - 1.0 : 0.5;
+    std::size_t expectedPoints = 0;
+    for (uint32_t r = 0; r < rows; ++r) {
+      const std::span<const float> row(v.data() + std::size_t{r} * cols, cols);
+      double rowMass = 0.0;
+      for (float x : row) rowMass += x;
+      const double share = rowMass / total;
+      SimplifyOptions so = o.simplify;
+      so.epsilon = rowMass > 0 ? std::min(loosest, so.epsilon / (chiSquare ? share : std::sqrt(share))) : loosest;
+      expectedPoints += AdaptiveCdf1D(row, 0.0f, 1.0f, so).points();
+    }
+    EXPECT_EQ(mass.pointsPerDimension()[1], expectedPoints) << toString(metric);
+    EXPECT_LT(mass.pointsPerDimension()[1], constant.pointsPerDimension()[1]) << toString(metric);
+    EXPECT_EQ(mass.pointsPerDimension()[0], constant.pointsPerDimension()[0]) << toString(metric);
   }
-  EXPECT_EQ(mass.pointsPerDimension()[1], expectedPoints);
-  EXPECT_LT(mass.pointsPerDimension()[1], constant.pointsPerDimension()[1]);
-  EXPECT_EQ(mass.pointsPerDimension()[0], constant.pointsPerDimension()[0]);
 }
 
 // Fails on engines that bound each 1D CDF only (b53e30a: e.g. checkerboard at ε = 0.3, ρ = 1.5);

@@ -36,9 +36,11 @@ enum class DimensionMethod : uint8_t { Uniform, Adaptive };
 enum class ConditionalRule : uint8_t { ExactMass, AverageOfNormalized };
 // The simplification tolerance of each conditional 1D CDF. Constant: ε for every CDF (the paper).
 // MassScaled: a CDF whose block carries a share P of the slice's mass (the product of its parent
-// intervals' probabilities) gets ε/√P, at most 1/2. Its errors reach the joint distribution
-// scaled by P, and a χ²-divergence that grows as ε² then gets the same contribution ε² from every
-// conditional, so storage goes where the mass is. The first level (P = 1) keeps ε.
+// intervals' probabilities) gets a tolerance scaled so that every conditional adds the same to
+// the joint χ²-divergence, so storage goes where the mass is. The conditional's divergence
+// reaches the joint one scaled by P. With the CDF-distance metrics it grows as ε², so they get
+// ε/√P (at most 1/2); ErrorMetric::ChiSquare measures divergence itself and gets ε/P (at most
+// cells − 1, which keeps only the end points). The first level (P = 1) keeps ε.
 enum class ConditionalTolerance : uint8_t { Constant, MassScaled };
 
 struct CascadeOptions {

@@ -24,6 +24,13 @@ enum class Simplifier : uint8_t {
 enum class ErrorMetric : uint8_t {
   Vertical,       // |F(k) - line(k)|: the CDF-value (L∞) error, in probability.
   Perpendicular,  // distance to the line in the unit square (x = k/n, y = F).
+  // The interval's contribution to the χ²-divergence Σ p²/q − 1 of the simplified distribution
+  // from the uniform table, the relative variance the simplification adds to an importance
+  // sampling estimator: for [a, b) of mass P = F[b] − F[a] spread evenly over its cells,
+  // (b − a) · Σ p_k² / P − P, with p_k = F[k+1] − F[k] (sums in double). ε bounds each
+  // interval, so a simplified 1D CDF's divergence is at most (its intervals) × ε. Intervals are
+  // split where the vertical metric splits them (see simplify.cpp for why).
+  ChiSquare,
 };
 
 struct SimplifyOptions {
@@ -47,8 +54,9 @@ void validate(const SimplifyOptions& options);
 // cdf: n+1 values as described above (n >= 1). Returns the kept vertices, sorted, with 0 and n.
 std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOptions& options);
 
-// The interior vertex of [a, b] (b - a >= 2) farthest from the chord of the CDF; the middle
-// vertex when the CDF is linear there. Used to split an interval that breaks the weight bound.
+// The interior vertex of [a, b] (b - a >= 2) farthest from the chord of the CDF (the split of
+// every metric); the middle vertex when the CDF is linear there. Used to split an interval that
+// breaks the weight bound.
 uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMetric metric);
 
 std::string_view toString(Simplifier s);
