@@ -62,7 +62,7 @@ TEST(LatLong, DirectionsInAPixelMapBackToIt) {
     EXPECT_NEAR(solidAngle, 4 * kPi, 1e-12);
     const uint32_t rowStep = std::max(1u, height / 64), columnStep = std::max(1u, width / 64);
     for (uint32_t r = 0; r < height; ++r) {
-      if (r % rowStep != 0 && r + 1 != height) continue;  // every row near the poles included
+      if (r % rowStep != 0 && r + 1 != height) continue;  // the first and last rows (the poles) included
       for (uint32_t c = 0; c < width; c += columnStep)
         for (double s : {0.0, 0.5, 1.0})
           for (double t : {0.0, 0.5, 1.0}) {
