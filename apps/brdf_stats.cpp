@@ -167,18 +167,20 @@ int runBrdfStats(const BrdfStatsArgs& args) {
 
 }  // namespace
 
-void addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args) {
-  app.add_option("--table", args.table, "Table layout: 4d (theta_o, phi_o, theta_h, phi_h) or iso (isotropic)")
-      ->check(CLI::IsMember({"4d", "iso"}))
-      ->capture_default_str();
-  app.add_option("--res", args.resolution,
-                 "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, iso theta_o x theta_h x phi "
-                 "(default: the library's)");
-  app.add_option("--epsilon", args.epsilon, "Largest CDF error the adaptive simplifier leaves (>= 0)")
-      ->capture_default_str();
-  app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
-      ->check(CLI::IsMember({"nearest", "trilinear"}))
-      ->capture_default_str();
+std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args) {
+  return {
+      app.add_option("--table", args.table, "Table layout: 4d (theta_o, phi_o, theta_h, phi_h) or iso (isotropic)")
+          ->check(CLI::IsMember({"4d", "iso"}))
+          ->capture_default_str(),
+      app.add_option("--res", args.resolution,
+                     "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, iso theta_o x theta_h x "
+                     "phi (default: the library's)"),
+      app.add_option("--epsilon", args.epsilon, "Largest CDF error the adaptive simplifier leaves (>= 0)")
+          ->capture_default_str(),
+      app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
+          ->check(CLI::IsMember({"nearest", "trilinear"}))
+          ->capture_default_str(),
+  };
 }
 
 TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method) {

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
@@ -15,6 +16,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace acdf::app {
@@ -30,8 +32,9 @@ struct BrdfTableArgs {
   std::string interpolation = "nearest";  // nearest | trilinear
 };
 
-// Adds --table, --res, --epsilon and --interpolation to `app`, bound to `args`.
-void addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args);
+// Adds --table, --res, --epsilon and --interpolation to `app`, bound to `args`; returns them (so
+// a command can make them depend on its BRDF option).
+std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args);
 
 // The table options the flags describe, with `method`. Throws UsageError for a malformed --res
 // or an --epsilon < 0.

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -10,8 +11,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/light_chi_square.h"
+#include "acdf/sampling/sphere_chi_square.h"
+#include "brdf_stats.h"
 #include "errors.h"
 #include "image.h"
 #include "options.h"
@@ -25,7 +29,10 @@ constexpr double kAlpha = 0.01;
 struct Chi2Args {
   // The mode: exactly one kind of sampler is tested (mutually exclusive options).
   std::string envmap;
+  std::string brdf;
   std::string sampler;
+  double thetaOutDegrees = 0;  // --brdf: the outgoing direction's θo (φo = 0)
+  BrdfTableArgs table;         // --brdf: the tabulated samplers' table
   uint64_t samples = 1'000'000;
   uint64_t seed = 1;
   bool sanitize = false;
@@ -46,10 +53,48 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
   return lightChiSquareTest(light, {.samples = args.samples, .seed = args.seed, .alpha = kAlpha});
 }
 
-int runChi2(const Chi2Args& args) {
-  if (args.envmap.empty()) throw UsageError("chi2: give the sampler to test with --envmap FILE");
+// --brdf FILE --theta-o DEG: the BRDF sampler --sampler (cosine, or the table brdf-stats builds
+// from the same flags) for ωo = (θo, φo = 0).
+SphereChiSquareReport testBrdf(const Chi2Args& args) {
+  if (args.sampler != "cosine" && args.sampler != "uniform" && args.sampler != "adaptive")
+    throw UsageError("chi2 --brdf: --sampler must be cosine, uniform or adaptive, got '" + args.sampler + "'");
+  if (!(args.thetaOutDegrees >= 0 && args.thetaOutDegrees < 90))
+    throw UsageError(fmt::format("chi2 --brdf: --theta-o must be in [0, 90) degrees, got {}", args.thetaOutDegrees));
+  // Flag errors before the slow part (reading the file, tabulating).
+  brdfTableOptions(args.table, DimensionMethod::Uniform);
+  const MerlBrdf brdf = loadMerlBrdf(args.brdf);
+  const MerlBrdf::Interpolation interpolation = brdfInterpolation(args.table);
+  std::unique_ptr<BrdfSampler> sampler;
+  if (args.sampler == "cosine")
+    sampler = std::make_unique<CosineBrdfSampler>(brdf, interpolation);
+  else
+    sampler = makeTabulatedSampler(brdf, args.table,
+                                   args.sampler == "uniform" ? DimensionMethod::Uniform : DimensionMethod::Adaptive);
+  const Vec3d wo = sphericalDirection(args.thetaOutDegrees * std::numbers::pi / 180.0, 0.0);
+  // BRDF pdfs are not constant on (θ, φ) bins, so each bin's expected count integrates the pdf
+  // on 24 × 24 sub-cells: the same rule as tests/brdf, which keeps ∫pdf within 1e-3 of 1.
+  SphereChiSquareOptions options;
+  options.samples = args.samples;
+  options.seed = args.seed;
+  options.thetaBins = 32;
+  options.phiBins = 64;
+  options.subPoints = 24;
+  options.alpha = kAlpha;
+  return sphereChiSquareTest(
+      [&](float u0, float u1) {
+        const BrdfSample s = sampler->sample(wo, u0, u1);
+        return DirectionSample{s.wi, s.pdf};
+      },
+      [&](const Vec3d& wi) { return sampler->pdf(wo, wi); }, options);
+}
+
+int runChi2(const Chi2Args& args, const CLI::Option& thetaOut) {
+  if (args.envmap.empty() && args.brdf.empty())
+    throw UsageError("chi2: give the sampler to test with --envmap FILE or --brdf FILE");
+  if (!args.brdf.empty() && thetaOut.count() == 0)
+    throw UsageError("chi2 --brdf: give the outgoing direction with --theta-o DEG");
   if (args.samples == 0) throw UsageError("chi2: --samples must be >= 1");
-  const SphereChiSquareReport report = testEnvmap(args);
+  const SphereChiSquareReport report = args.brdf.empty() ? testEnvmap(args) : testBrdf(args);
   const bool passed = report.passed();
   if (args.json) {
     nlohmann::ordered_json j;
@@ -81,17 +126,28 @@ Command addChi2(CLI::App& parent) {
       "bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
       "direction, finite positive pdf equal to pdf(direction)); passed needs both.\n"
       "\n"
+      "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive: a MERL .binary BRDF's sampler of incident\n"
+      "directions for the outgoing direction (theta_o = DEG, phi_o = 0): cosine-weighted, or the uniform or\n"
+      "adaptive tabulated CDF that brdf-stats builds from the same --table, --res, --epsilon and\n"
+      "--interpolation. 32 x 64 (theta, phi) bins over the sphere; each bin's expected count integrates the\n"
+      "pdf on 24 x 24 sub-cells (BRDF pdfs are not constant on bins).\n"
+      "\n"
       "Exit status: 0 the test passes, 1 it fails (or an internal error), 2 bad input file or command line.",
       kAlpha));
-  app->add_option("--envmap", args->envmap, "Environment map to test");
+  CLI::Option* envmap = app->add_option("--envmap", args->envmap, "Environment map to test");
+  CLI::Option* brdf = app->add_option("--brdf", args->brdf, "MERL .binary BRDF to test")->excludes(envmap);
+  CLI::Option* thetaOut =
+      app->add_option("--theta-o", args->thetaOutDegrees, "--brdf: outgoing theta in degrees, in [0, 90)")->needs(brdf);
+  for (CLI::Option* option : addBrdfTableOptions(*app, args->table)) option->needs(brdf);
   app->add_option("--sampler", args->sampler, "Sampling strategy (see below)")->required();
   app->add_option("--samples", args->samples, "Number of samples (>= 1)")
       ->transform(nonNegativeInteger())
       ->capture_default_str();
   app->add_option("--seed", args->seed, "Seed of the variates")->transform(nonNegativeInteger())->capture_default_str();
-  app->add_flag("--sanitize", args->sanitize, "Replace NaN/Inf channel values with 0 instead of failing");
+  app->add_flag("--sanitize", args->sanitize, "Replace NaN/Inf channel values with 0 instead of failing")
+      ->excludes(brdf);
   app->add_flag("--json", args->json, "Print one JSON object (pvalue, passed, samples, dof)");
-  return Command{app, [args] { return runChi2(*args); }};
+  return Command{app, [args, thetaOut] { return runChi2(*args, *thetaOut); }};
 }
 
 }  // namespace acdf::app

@@ -165,5 +165,49 @@ TEST_F(BrdfCli, StatsBadInput) {
   expectFailure({"brdf-stats"}, "", "input");
 }
 
+TEST_F(BrdfCli, Chi2PassesForEverySampler) {
+  for (const char* sampler : {"cosine", "uniform", "adaptive"})
+    for (const char* theta : {"0", "60", "85"}) {
+      SCOPED_TRACE(std::string(sampler) + " at theta_o " + theta);
+      const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", theta, "--sampler", sampler, "--table", "iso",
+                               "--res", "16x64x16", "--samples", "20000", "--json"});
+      ASSERT_EQ(r.exitCode, 0) << describe(r);
+      const json j = json::parse(r.out);
+      EXPECT_TRUE(j["passed"].get<bool>()) << j;
+      EXPECT_GE(j["pvalue"].get<double>(), 0.01) << j;
+      EXPECT_EQ(j["samples"], 20000);
+      EXPECT_GT(j["dof"].get<int>(), 100) << j;
+    }
+  // The table form of the same verdict.
+  const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "adaptive", "--table", "iso",
+                           "--res", "16x64x16", "--samples", "20000"});
+  ASSERT_EQ(r.exitCode, 0) << describe(r);
+  EXPECT_EQ(r.out.rfind("passed: p = ", 0), 0u) << r.out;
+}
+
+TEST_F(BrdfCli, Chi2BadInput) {
+  auto args = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = {"chi2", "--brdf", gold(), "--sampler", "cosine"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  for (const char* theta : {"90", "-1", "120", "nan"})
+    expectFailure(args({"--theta-o", theta}), "chi2 --brdf: ", "--theta-o must be in [0, 90)");
+  expectFailure(args({"--theta-o", "abc"}), "", "--theta-o");
+  expectFailure(args({}), "chi2 --brdf: ", "--theta-o");
+  expectFailure({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "alias"}, "chi2 --brdf: ",
+                "cosine, uniform or adaptive");
+  expectFailure({"chi2", "--brdf", path("missing.binary"), "--theta-o", "30", "--sampler", "uniform"},
+                path("missing.binary") + ": ", "no such file");
+  const std::string truncated = path("truncated.binary");
+  writeFile(truncated, readFile(gold()).substr(0, 5000));
+  expectFailure({"chi2", "--brdf", truncated, "--theta-o", "30", "--sampler", "adaptive"}, truncated + ": ",
+                "truncated");
+  expectFailure(args({"--theta-o", "30", "--res", "8x8"}), "", "--res");
+  expectFailure(args({"--theta-o", "30", "--envmap", gold()}), "", "--envmap");
+  expectFailure({"chi2", "--envmap", gold(), "--sampler", "uniform", "--table", "iso"}, "", "--brdf");
+  expectFailure({"chi2", "--sampler", "uniform", "--theta-o", "30"}, "", "--brdf");
+}
+
 }  // namespace
 }  // namespace acdf::apptest
