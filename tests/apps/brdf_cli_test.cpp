@@ -168,6 +168,8 @@ TEST_F(BrdfCli, StatsBadInput) {
 TEST_F(BrdfCli, Chi2PassesForEverySampler) {
   for (const char* sampler : {"cosine", "uniform", "adaptive"})
     for (const char* theta : {"0", "60", "85"}) {
+      // Cosine sampling ignores ωo: one angle tests it.
+      if (std::string(sampler) == "cosine" && std::string(theta) != "60") continue;
       SCOPED_TRACE(std::string(sampler) + " at theta_o " + theta);
       const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", theta, "--sampler", sampler, "--table", "iso",
                                "--res", "16x64x16", "--samples", "20000", "--json"});
