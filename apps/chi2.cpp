@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/brdf_chi_square.h"
 #include "acdf/brdf/brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/light_chi_square.h"
@@ -71,21 +72,16 @@ SphereChiSquareReport testBrdf(const Chi2Args& args) {
     sampler = makeTabulatedSampler(brdf, args.table,
                                    args.sampler == "uniform" ? DimensionMethod::Uniform : DimensionMethod::Adaptive);
   const Vec3d wo = sphericalDirection(args.thetaOutDegrees * std::numbers::pi / 180.0, 0.0);
-  // BRDF pdfs are not constant on (θ, φ) bins, so each bin's expected count integrates the pdf
-  // on 24 × 24 sub-cells: the same rule as tests/brdf, which keeps ∫pdf within 1e-3 of 1.
+  // Expected counts integrated in the sampler's own half-vector cells (brdf_chi_square.h), with
+  // the tests' resolution: 32 × 64 equal-area bins, 32² sub-cells per table cell.
   SphereChiSquareOptions options;
   options.samples = args.samples;
   options.seed = args.seed;
   options.thetaBins = 32;
   options.phiBins = 64;
-  options.subPoints = 24;
+  options.subPoints = 32;
   options.alpha = kAlpha;
-  return sphereChiSquareTest(
-      [&](float u0, float u1) {
-        const BrdfSample s = sampler->sample(wo, u0, u1);
-        return DirectionSample{s.wi, s.pdf};
-      },
-      [&](const Vec3d& wi) { return sampler->pdf(wo, wi); }, options);
+  return brdfChiSquareTest(*sampler, wo, options);
 }
 
 int runChi2(const Chi2Args& args, const CLI::Option& thetaOut) {
@@ -129,8 +125,9 @@ Command addChi2(CLI::App& parent) {
       "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive: a MERL .binary BRDF's sampler of incident\n"
       "directions for the outgoing direction (theta_o = DEG, phi_o = 0): cosine-weighted, or the uniform or\n"
       "adaptive tabulated CDF that brdf-stats builds from the same --table, --res, --epsilon and\n"
-      "--interpolation. 32 x 64 (theta, phi) bins over the sphere; each bin's expected count integrates the\n"
-      "pdf on 24 x 24 sub-cells (BRDF pdfs are not constant on bins).\n"
+      "--interpolation. 32 x 64 equal-area bins over the sphere; each bin's expected count integrates the\n"
+      "sampler's half-vector density over its own table cells (32 x 32 jittered sub-cells each, reflected\n"
+      "to the incident direction) and the cosine part in closed form.\n"
       "\n"
       "Exit status: 0 the test passes, 1 it fails (or an internal error), 2 bad input file or command line.",
       kAlpha));

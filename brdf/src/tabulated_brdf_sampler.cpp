@@ -1,5 +1,6 @@
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -59,6 +60,12 @@ float onAxis(const GridAxis& axis, double x) {
   const float f = static_cast<float>(x);
   if (f >= axis.hi()) return std::nextafter(axis.hi(), axis.lo());
   return f < axis.lo() ? axis.lo() : f;
+}
+
+// 1 − cos θ without cancellation near θ = 0: the solid angle of a polar cap over 2π.
+double oneMinusCos(double theta) {
+  const double h = std::sin(0.5 * theta);
+  return 2.0 * h * h;
 }
 
 // Stratified positions: the centres of `per` equal sub-cells of each of `cells` cells of [0, range).
@@ -158,7 +165,13 @@ TabulatedBrdfSampler::TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Inter
                                            const TabulatedBrdfOptions& options)
     : BrdfSampler(brdf, interpolation),
       options_(validated(options)),
-      table_(buildTable(brdf, interpolation, options_, tabulationMs_, buildMs_)) {}
+      table_(buildTable(brdf, interpolation, options_, tabulationMs_, buildMs_)),
+      capAreas_(options_.thetaHalfCells + 1) {
+  for (uint32_t k = 0; k <= options_.thetaHalfCells; ++k) {
+    const double s = static_cast<double>(k) / options_.thetaHalfCells;
+    capAreas_[k] = oneMinusCos(s * s * kHalfPi);
+  }
+}
 
 std::array<float, 2> TabulatedBrdfSampler::condition(const Vec3d& wo) const {
   const auto& axes = table_.axes();
@@ -173,36 +186,44 @@ Vec3d TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1)
   if (u0 < w) return sampleCosineHemisphere(u0 / w, u1);
   // The rest of u0's range, stretched back to [0, 1), drives the table; for a mirrored table
   // u1's halves choose the sign of Δφ (exact in float: 2·u1 and 2·u1 − 1).
+  const bool negative = mirrored(options_) && u1 >= 0.5f;
   const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))),
-                               mirrored(options_) && u1 >= 0.5f ? 2.0f * u1 - 1.0f
-                               : mirrored(options_)             ? 2.0f * u1
-                                                                : u1};
+                               negative ? 2.0f * u1 - 1.0f : mirrored(options_) ? 2.0f * u1 : u1};
   const std::array<float, 2> c = condition(wo);
-  const SampleND x = table_.sample(std::span<const float>(c.data(), table_.conditioningDims()), u);
-  const double s = x.x[0];
+  const std::size_t k = table_.conditioningDims();
+  const SampleND x = table_.sample(std::span<const float>(c.data(), k), u);
+  // x[0] is uniform in s within its cell; move it to the same fraction of the cell's solid angle.
+  const GridAxis& sAxis = table_.axes()[k];
+  const uint32_t cell = sAxis.cellOf(x.x[0]);
+  const double t = std::clamp(sAxis.gridCoordinate(x.x[0]) - cell, 0.0, 1.0);
+  const double cap = capAreas_[cell] + t * (capAreas_[cell + 1] - capAreas_[cell]);  // 1 − cosθh
+  const double sinTheta = std::sqrt(cap * (2.0 - cap));
   double phi = x.x[1];
-  if (options_.layout == Layout::Isotropic) phi = azimuth(wo) + (mirrored(options_) && u1 >= 0.5f ? -phi : phi);
-  return reflect(wo, sphericalDirection(s * s * kHalfPi, phi));
+  if (options_.layout == Layout::Isotropic) phi = azimuth(wo) + (negative ? -phi : phi);
+  const Vec3d wh{sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0 - cap};
+  return reflect(wo, wh);
 }
 
 double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const {
   if (!(wh.z > 0.0)) return 0.0;
-  const double thetaHalf = polarAngle(wh);
-  const double s = std::sqrt(thetaHalf / kHalfPi);
-  const double jacobian = kPi * s * std::sin(thetaHalf);
-  if (!(jacobian > 0.0)) return 0.0;
+  const std::size_t k = table_.conditioningDims();
+  const GridAxis& sAxis = table_.axes()[k];
+  const double s = std::sqrt(polarAngle(wh) / kHalfPi);
+  const auto cell = static_cast<uint32_t>(std::min<double>(s * sAxis.cells(), sAxis.cells() - 1));
   double phi = azimuth(wh);
   if (options_.layout == Layout::Isotropic) {
     phi -= azimuth(wo);
     if (phi < 0.0) phi += kTwoPi;
     if (mirrored(options_) && phi > kPi) phi = kTwoPi - phi;
   }
-  const auto& axes = table_.axes();
-  const std::size_t k = table_.conditioningDims();
-  const std::array<float, 2> x{onAxis(axes[k], s), onAxis(axes[k + 1], phi)};
+  // The cascade's density is constant in s over the cell: ask at its centre, so a θh that
+  // rounds across a cell boundary in float still reads the cell the solid-angle mapping used.
+  const std::array<float, 2> x{sAxis.place(cell, cell + 1, 0.5), onAxis(table_.axes()[k + 1], phi)};
   const std::array<float, 2> c = condition(wo);
   const double density = table_.pdf(std::span<const float>(c.data(), k), x);
-  return (mirrored(options_) ? 0.5 * density : density) / jacobian;
+  // P(cell) / Ω(cell) per unit φ: density · Δs / Δ(1 − cosθh).
+  const double perSteradian = density * sAxis.cellWidth() / (capAreas_[cell + 1] - capAreas_[cell]);
+  return mirrored(options_) ? 0.5 * perSteradian : perSteradian;
 }
 
 double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -18,18 +19,6 @@ namespace acdf {
 namespace {
 
 constexpr uint64_t kChunkSamples = 1u << 16;
-
-struct Binning {
-  uint32_t thetaBins, phiBins;
-
-  std::size_t binOf(const Vec3d& w) const {
-    const auto cell = [](double x, double period, uint32_t n) {
-      return std::min(static_cast<uint32_t>(std::max(0.0, x / period * n)), n - 1);
-    };
-    return std::size_t{cell(polarAngle(w), std::numbers::pi, thetaBins)} * phiBins +
-           cell(azimuth(w), 2.0 * std::numbers::pi, phiBins);
-  }
-};
 
 // The per-sample checks; returns false if the sample cannot be binned.
 struct SampleChecker {
@@ -83,24 +72,34 @@ std::string SphereChiSquareReport::summary() const {
   return out.str();
 }
 
+std::size_t sphereBinOf(const Vec3d& w, const SphereChiSquareOptions& o) {
+  const auto cell = [](double fraction, uint32_t n) {
+    return std::min(static_cast<uint32_t>(std::max(0.0, fraction * n)), n - 1);
+  };
+  // Row fraction from the north pole: θ/π, or (1 − cos θ)/2 for equal-area rows.
+  const double row = o.equalAreaRows ? 0.5 * (1.0 - w.z / length(w)) : polarAngle(w) / std::numbers::pi;
+  return std::size_t{cell(row, o.thetaBins)} * o.phiBins + cell(azimuth(w) / (2.0 * std::numbers::pi), o.phiBins);
+}
+
 SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const DirectionPdf& pdf,
                                           const SphereChiSquareOptions& options) {
-  if (options.samples == 0 || options.thetaBins == 0 || options.phiBins == 0 || options.subPoints == 0)
-    throw std::invalid_argument("sphere chi-square: samples, bins and subPoints must be > 0");
-  const Binning binning{options.thetaBins, options.phiBins};
+  if (options.thetaBins == 0 || options.phiBins == 0 || options.subPoints == 0)
+    throw std::invalid_argument("sphere chi-square: bins and subPoints must be > 0");
   const std::size_t bins = std::size_t{options.thetaBins} * options.phiBins;
-  const SampleChecker checker{pdf, options.pdfTolerance};
 
   // Expected probabilities: per θ row in parallel, each row's sums in double and in a fixed order.
   std::vector<double> probability(bins, 0.0);
   const uint32_t sub = options.subPoints;
-  const double dTheta = std::numbers::pi / (static_cast<double>(options.thetaBins) * sub);
+  const double dRow = 1.0 / (static_cast<double>(options.thetaBins) * sub);
   const double dPhi = 2.0 * std::numbers::pi / (static_cast<double>(options.phiBins) * sub);
   tbb::parallel_for(uint32_t{0}, options.thetaBins, [&](uint32_t row) {
     for (uint32_t i = 0; i < sub; ++i) {
-      const double thetaA = (static_cast<double>(row) * sub + i) * dTheta, thetaB = thetaA + dTheta;
-      const double theta = 0.5 * (thetaA + thetaB);
-      const double weight = (std::cos(thetaA) - std::cos(thetaB)) * dPhi;  // solid angle of a sub-cell
+      // Sub-row edges at fractions fa < fb of the rows' variable (θ/π or (1 − cos θ)/2).
+      const double fa = (static_cast<double>(row) * sub + i) * dRow, fb = fa + dRow;
+      const double cosA = options.equalAreaRows ? 1.0 - 2.0 * fa : std::cos(fa * std::numbers::pi);
+      const double cosB = options.equalAreaRows ? 1.0 - 2.0 * fb : std::cos(fb * std::numbers::pi);
+      const double theta = options.equalAreaRows ? std::acos(0.5 * (cosA + cosB)) : 0.5 * (fa + fb) * std::numbers::pi;
+      const double weight = (cosA - cosB) * dPhi;  // solid angle of a sub-cell
       for (uint32_t col = 0; col < options.phiBins; ++col) {
         double sum = 0.0;
         for (uint32_t j = 0; j < sub; ++j)
@@ -109,6 +108,18 @@ SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const 
       }
     }
   });
+  return sphereChiSquareTest(sample, pdf, probability, options);
+}
+
+SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const DirectionPdf& pdf,
+                                          std::span<const double> probability, const SphereChiSquareOptions& options) {
+  if (options.samples == 0 || options.thetaBins == 0 || options.phiBins == 0)
+    throw std::invalid_argument("sphere chi-square: samples and bins must be > 0");
+  const std::size_t bins = std::size_t{options.thetaBins} * options.phiBins;
+  if (probability.size() != bins)
+    throw std::invalid_argument("sphere chi-square: " + std::to_string(probability.size()) +
+                                " bin probabilities for " + std::to_string(bins) + " bins");
+  const SampleChecker checker{pdf, options.pdfTolerance};
 
   // Samples: fixed chunks with their own streams, so the histogram is thread-count independent.
   const uint64_t chunks = (options.samples + kChunkSamples - 1) / kChunkSamples;
@@ -122,7 +133,7 @@ SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const 
     for (uint64_t k = 0; k < n; ++k) {
       const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
       const DirectionSample s = sample(u0, u1);
-      if (checker.check(u0, u1, s, chunkChecks[c])) ++counts[binning.binOf(s.direction)];
+      if (checker.check(u0, u1, s, chunkChecks[c])) ++counts[sphereBinOf(s.direction, options)];
     }
   });
 

@@ -3,7 +3,7 @@
 // the histogram of sampled directions match the sampler's own pdf (per steradian)?
 //
 // Bins: thetaBins × phiBins over the whole sphere in the z-up frame of sphere.h (θ in [0, π], φ
-// in [0, 2π)). A bin's expected count is N × ∫ pdf over the bin, by a subPoints × subPoints
+// in [0, 2π)); rows equal in θ, or in cos θ with equalAreaRows. A bin's expected count is N × ∫ pdf over the bin, by a subPoints × subPoints
 // midpoint rule in (θ, φ) with exact solid-angle weights (cos θa − cos θb)·Δφ per sub-cell. The
 // rule is exact when the pdf is constant on those sub-cells (an environment map whose pixels
 // align with them); otherwise its error shrinks with subPoints, which should then be large
@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 
 #include "acdf/sampling/chi_square.h"
@@ -36,6 +37,9 @@ struct SphereChiSquareOptions {
   uint32_t thetaBins = 64;
   uint32_t phiBins = 128;
   uint32_t subPoints = 8;  // per bin per axis
+  // Rows equal in θ (pixel-aligned for lat-long maps), or equal in cos θ: every bin then has the
+  // same solid angle, none tiny at the poles (for pdfs not aligned with any (θ, φ) grid).
+  bool equalAreaRows = false;
   double alpha = 0.01;     // level of this one test (apply sidakAlpha() for a family first)
   double pdfTolerance = 1e-4;
 };
@@ -63,5 +67,16 @@ using DirectionPdf = std::function<double(const Vec3d& direction)>;
 // samples, bins or subPoints.
 SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const DirectionPdf& pdf,
                                           const SphereChiSquareOptions& options = {});
+
+// The same test with each bin's probability given by the caller (thetaBins × phiBins, row-major
+// in θ; see sphereBinOf), for samplers whose pdf the (θ, φ) midpoint rule cannot integrate
+// accurately but whose own parameter space can (a half-vector table: exactly constant on its
+// cells there). pdf() is still used for the per-sample checks; pdfIntegral is Σ probabilities.
+SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const DirectionPdf& pdf,
+                                          std::span<const double> binProbabilities,
+                                          const SphereChiSquareOptions& options = {});
+
+// The histogram bin of a direction under the options' binning: row × phiBins + φ column.
+std::size_t sphereBinOf(const Vec3d& direction, const SphereChiSquareOptions& options);
 
 }  // namespace acdf
