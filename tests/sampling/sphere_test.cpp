@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "acdf/sampling/sample.h"
 
@@ -16,7 +17,7 @@ namespace {
 using namespace acdf;
 
 // Upper bound on the sphereChiSquareTest calls in this program (for the Šidák correction).
-constexpr uint32_t kChiSquareTestsInSuite = 8;
+constexpr uint32_t kChiSquareTestsInSuite = 10;
 
 SphereChiSquareOptions options() {
   SphereChiSquareOptions o;
@@ -143,6 +144,27 @@ TEST(SphereChiSquare, CountsInconsistentPdfsAndInvalidSamples) {
   const auto zeroPdf = sphereChiSquareTest(
       [](float u0, float u1) { return DirectionSample{sampleUniformSphere(u0, u1), 0.0}; }, uniformSpherePdf, o);
   EXPECT_EQ(zeroPdf.invalidSamples, o.samples + 4);
+}
+
+TEST(SphereChiSquare, EqualAreaRowsAndCallerProbabilities) {
+  SphereChiSquareOptions o = options();
+  o.equalAreaRows = true;
+  o.thetaBins = 16;
+  o.phiBins = 32;
+  // Equal-area bins: the uniform sphere gives every bin the same probability, exactly.
+  const std::vector<double> equal(std::size_t{16} * 32, 1.0 / (16 * 32));
+  const auto r = sphereChiSquareTest(uniformSphere, uniformSpherePdf, equal, o);
+  EXPECT_TRUE(r.passed()) << r.summary();
+  EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-12);
+  EXPECT_EQ(sphereBinOf({0, 0, 1}, o), 0u);
+  EXPECT_EQ(sphereBinOf({0, 0, -1}, o), std::size_t{15} * 32);
+  EXPECT_EQ(sphereBinOf(sphericalDirection(std::acos(1.0 - 2.0 * 1.5 / 16), 0.1), o), std::size_t{1} * 32);
+  // The same samples against probabilities tilted towards the north pole are rejected.
+  std::vector<double> tilted(equal);
+  for (std::size_t b = 0; b < tilted.size(); ++b) tilted[b] *= b < tilted.size() / 2 ? 1.02 : 0.98;
+  EXPECT_FALSE(sphereChiSquareTest(uniformSphere, uniformSpherePdf, tilted, o).chiSquarePassed());
+  EXPECT_THROW(sphereChiSquareTest(uniformSphere, uniformSpherePdf, std::vector<double>(3, 0.1), o),
+               std::invalid_argument);
 }
 
 }  // namespace
