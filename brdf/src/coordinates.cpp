@@ -22,7 +22,6 @@ Vec3d rotateY(const Vec3d& v, double angle) { return rotateY(v, std::cos(angle),
 
 HalfVectorFrame::HalfVectorFrame(double thetaHalf, double phiHalf)
     : thetaHalf_(thetaHalf),
-      phiHalf_(phiHalf),
       cosPhi_(std::cos(-phiHalf)),
       sinPhi_(std::sin(-phiHalf)),
       cosTheta_(std::cos(-thetaHalf)),

@@ -38,7 +38,7 @@ ReflectanceEstimate estimateReflectance(const BrdfSampler& sampler, const Reflec
       varianceSum += std::max(0.0, sumSquares / n - mean * mean);
     }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double directions = double{o.thetaCount} * o.phiCount;
+  const double directions = static_cast<double>(o.thetaCount) * o.phiCount;
   result.mean = meanSum / directions;
   result.variance = varianceSum / directions;
   result.samples = uint64_t{o.thetaCount} * o.phiCount * o.samplesPerDirection;

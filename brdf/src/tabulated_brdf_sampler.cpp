@@ -5,7 +5,6 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
-#include <utility>
 
 #include <tbb/parallel_for.h>
 

@@ -41,10 +41,9 @@ class HalfVectorFrame {
   // θd in [0, π] and φd in (−π, π] of the unit vector ωi, as toHalfDiff computes them.
   void diffAngles(const Vec3d& wi, double& thetaDiff, double& phiDiff) const;
   double thetaHalf() const { return thetaHalf_; }
-  double phiHalf() const { return phiHalf_; }
 
  private:
-  double thetaHalf_, phiHalf_;
+  double thetaHalf_;
   double cosPhi_, sinPhi_, cosTheta_, sinTheta_;  // of −φh and −θh
 };
 
