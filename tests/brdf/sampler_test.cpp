@@ -42,7 +42,7 @@ constexpr double kLambertAlbedo = 0.6;
 // (and a coarser, matching integration) to stay within CI's time.
 #ifdef ACDF_SANITIZED_BUILD
 constexpr uint64_t kSamples = 100'000;
-constexpr uint32_t kSubCells = 12;
+constexpr uint32_t kSubCells = 24;
 #else
 constexpr uint64_t kSamples = 1'000'000;
 constexpr uint32_t kSubCells = 32;
@@ -111,6 +111,8 @@ SphereChiSquareOptions chiSquareOptions() {
   o.alpha = sidakAlpha(0.01, kChiSquareTestsInSuite);
   o.samples = kSamples;
   o.subPoints = kSubCells;
+  o.thetaBins = 32;  // equal-area bins of 6 msr, as `acdf chi2 --brdf` uses
+  o.phiBins = 64;
   o.pdfTolerance = 1e-6;
   return o;
 }
