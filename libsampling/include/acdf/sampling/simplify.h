@@ -45,6 +45,8 @@ struct SimplifyOptions {
   // can add, so it cannot create fireflies. A Cascade applies it to whole cells of the grid, not
   // only to each 1D CDF (see cascade.h). 0 disables the bound; otherwise must be >= 1.
   double weightBound = 4.0;
+
+  bool operator==(const SimplifyOptions&) const = default;
 };
 
 // Throws std::invalid_argument on inconsistent options (negative ε, ρ in (0,1), a budget below 2,
