@@ -137,20 +137,43 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
   return values;
 }
 
-Cascade buildTable(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation, const TabulatedBrdfOptions& o,
-                   double& tabulationMs, double& buildMs) {
-  Clock::time_point start = Clock::now();
-  const std::vector<float> values = tabulate(brdf, interpolation, o);
-  tabulationMs = millisecondsSince(start);
+// Bump when tabulate() changes its values: cached tables of the old ones must not be used.
+constexpr int kTabulationVersion = 1;
+
+CascadeOptions cascadeOptions(const TabulatedBrdfOptions& o) {
   CascadeOptions cascade;
   cascade.conditioningDims = o.layout == Layout::Full4D ? 2 : 1;
   cascade.methods = {o.method, o.method};
   cascade.simplify = o.simplify;
   cascade.tolerance = o.tolerance;
+  return cascade;
+}
+
+Cascade buildTable(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation, const TabulatedBrdfOptions& o,
+                   double& tabulationMs, double& buildMs) {
+  Clock::time_point start = Clock::now();
+  const std::vector<float> values = tabulate(brdf, interpolation, o);
+  tabulationMs = millisecondsSince(start);
   start = Clock::now();
-  Cascade table(values, tableAxes(o), cascade);
+  Cascade table(values, tableAxes(o), cascadeOptions(o));
   buildMs = millisecondsSince(start);
   return table;
+}
+
+// A cached table, checked to have the grid and options a build with `o` would have.
+Cascade checkedTable(Cascade table, const TabulatedBrdfOptions& o) {
+  if (table.axes() != tableAxes(o) || !(table.options() == cascadeOptions(o)))
+    throw SerializationError("BRDF table: the saved table has another grid or other options than " + o.name());
+  return table;
+}
+
+std::vector<double> capAreasOf(const TabulatedBrdfOptions& o) {
+  std::vector<double> areas(o.thetaHalfCells + 1);
+  for (uint32_t k = 0; k <= o.thetaHalfCells; ++k) {
+    const double s = static_cast<double>(k) / o.thetaHalfCells;
+    areas[k] = oneMinusCos(s * s * kHalfPi);
+  }
+  return areas;
 }
 
 }  // namespace
@@ -165,11 +188,34 @@ TabulatedBrdfSampler::TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Inter
     : BrdfSampler(brdf, interpolation),
       options_(validated(options)),
       table_(buildTable(brdf, interpolation, options_, tabulationMs_, buildMs_)),
-      capAreas_(options_.thetaHalfCells + 1) {
-  for (uint32_t k = 0; k <= options_.thetaHalfCells; ++k) {
-    const double s = static_cast<double>(k) / options_.thetaHalfCells;
-    capAreas_[k] = oneMinusCos(s * s * kHalfPi);
-  }
+      capAreas_(capAreasOf(options_)) {}
+
+TabulatedBrdfSampler::TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                                           const TabulatedBrdfOptions& options, Cascade table)
+    : BrdfSampler(brdf, interpolation),
+      options_(validated(options)),
+      table_(checkedTable(std::move(table), options_)),
+      capAreas_(capAreasOf(options_)) {}
+
+Cascade TabulatedBrdfSampler::buildCascade(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                                           const TabulatedBrdfOptions& options) {
+  double tabulationMs, buildMs;
+  return buildTable(brdf, interpolation, validated(options), tabulationMs, buildMs);
+}
+
+CacheKey TabulatedBrdfSampler::tableKey(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                                        const TabulatedBrdfOptions& o) {
+  ContentHash content;
+  for (int c = 0; c < 3; ++c) content.values(brdf.channel(c));
+  const std::string parameters =
+      "brdf-half-vector-table tabulation=" + std::to_string(kTabulationVersion) +
+      " interpolation=" + (interpolation == MerlBrdf::Interpolation::Nearest ? "nearest" : "trilinear") +
+      " layout=" + (o.layout == Layout::Full4D ? "full-4d" : "isotropic") +
+      " cells=" + std::to_string(o.thetaOutCells) + "x" + std::to_string(o.phiOutCells) + "x" +
+      std::to_string(o.thetaHalfCells) + "x" + std::to_string(o.phiHalfCells) +
+      " mirror=" + std::to_string(o.mirror) + " supersampling=" + std::to_string(o.supersampling) + " " +
+      describe(cascadeOptions(o));
+  return cacheKey(content, parameters);
 }
 
 std::array<float, 2> TabulatedBrdfSampler::condition(const Vec3d& wo) const {

@@ -53,6 +53,21 @@ std::vector<float> compensated(const EnvironmentMap& map, const std::vector<floa
   return out;
 }
 
+// The cascade of `values`: built, or read from `saved` and checked to have the grid and options
+// a build would use.
+Cascade cascadeOf(const std::vector<float>& values, const std::vector<GridAxis>& axes, const CascadeOptions& options,
+                  const std::span<const std::byte>* saved) {
+  if (!saved) return Cascade(values, axes, options);
+  Cascade table = Cascade::deserialize(*saved);
+  if (table.axes() != axes || !(table.options() == options))
+    throw SerializationError("environment light: the saved table is for another map size or other options");
+  return table;
+}
+
+// Bump when the tabulated function changes (EnvironmentMap::pixelPower, the compensation): the
+// saved tables of the old one must not be used.
+constexpr int kTabulationVersion = 1;
+
 bool allZero(const std::vector<float>& values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return v == 0.0f; });
 }
@@ -60,6 +75,17 @@ bool allZero(const std::vector<float>& values) {
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
+    : EnvironmentLight(std::move(map), std::move(options), nullptr) {}
+
+EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
+                                   std::span<const std::byte> savedTable)
+    : EnvironmentLight(std::move(map), std::move(options), &savedTable) {
+  if (!cascade_ && !savedTable.empty())
+    throw SerializationError("environment light: a saved table for a strategy or map that has none");
+}
+
+EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
+                                   const std::span<const std::byte>* savedTable)
     : map_(std::move(map)), options_(std::move(options)) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
   if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
@@ -93,7 +119,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     case EnvironmentSampling::Uniform: {
       CascadeOptions uniform;
       uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};
-      cascade_.emplace(tabulated_, axes, uniform);
+      cascade_.emplace(cascadeOf(tabulated_, axes, uniform, savedTable));
       break;
     }
     case EnvironmentSampling::Alias:
@@ -103,7 +129,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     case EnvironmentSampling::Compensated: {
       CascadeOptions adaptive;
       adaptive.simplify = options_.simplify;
-      cascade_.emplace(tabulated_, axes, adaptive);
+      cascade_.emplace(cascadeOf(tabulated_, axes, adaptive, savedTable));
       break;
     }
   }
@@ -165,6 +191,30 @@ std::vector<double> EnvironmentLight::pixelProbabilities() const {
   if (cascade_) return cascade_->cellProbabilities(0);
   if (alias_) return alias_->pixelProbabilities();
   return {};
+}
+
+std::vector<std::byte> EnvironmentLight::serializeTable() const {
+  return cascade_ ? cascade_->serialize() : std::vector<std::byte>{};
+}
+
+CacheKey EnvironmentLight::tableKey(const EnvironmentMap& map, const EnvironmentLightOptions& options) {
+  ContentHash content;
+  content.number(map.width()).number(map.height()).values(std::span<const float>(map.rgb()));
+  return cacheKey(content, "environment-light tabulation=" + std::to_string(kTabulationVersion) +
+                               " strategy=" + std::string(toString(options.strategy)) + " " +
+                               describe(options.simplify) + " cascade-format=" + std::to_string(Cascade::kSerialVersion));
+}
+
+Cached<EnvironmentLight> EnvironmentLight::cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
+                                                  EnvironmentLightOptions options, std::string_view what) {
+  const bool cascade = options.strategy == EnvironmentSampling::Uniform ||
+                       options.strategy == EnvironmentSampling::Adaptive ||
+                       options.strategy == EnvironmentSampling::Compensated;
+  if (!cascade || map->isBlack()) return {EnvironmentLight(std::move(map), std::move(options)), false};
+  return cache.getOrBuild(
+      tableKey(*map, options), what, [&] { return EnvironmentLight(map, options); },
+      [](const EnvironmentLight& light) { return light.serializeTable(); },
+      [&](std::span<const std::byte> table) { return EnvironmentLight(map, options, table); });
 }
 
 }  // namespace acdf

@@ -42,6 +42,7 @@
 #include "acdf/brdf/brdf_sampler.h"
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/simplify.h"
+#include "acdf/sampling/table_cache.h"
 
 namespace acdf {
 
@@ -77,6 +78,23 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   // mirror, supersampling 0, a weight outside [0, 1], bad simplify options).
   TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
                        const TabulatedBrdfOptions& options = {});
+
+  // Table caching (docs/table-cache.md): the constructor above is buildCascade() plus the one
+  // below, so a renderer can keep the expensive part in a TableCache:
+  //   Cached<Cascade> t = cache.getOrBuild(tableKey(brdf, mode, o), "BRDF table nickel",
+  //                                        [&] { return buildCascade(brdf, mode, o); });
+  //   TabulatedBrdfSampler sampler(brdf, mode, o, std::move(t.value));
+  // `table` must come from buildCascade() with the same BRDF, interpolation and options; a grid or
+  // cascade options that differ from those `options` give throw SerializationError (a corrupt or
+  // colliding cache entry), bad options std::invalid_argument. tabulationMs() and buildMs() are 0.
+  TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation, const TabulatedBrdfOptions& options,
+                       Cascade table);
+  static Cascade buildCascade(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                              const TabulatedBrdfOptions& options);
+  // The table's key: every MERL value, the interpolation, every option that shapes the table
+  // (not cosineWeight, which only mixes at sample time) and the tabulation and format versions.
+  static CacheKey tableKey(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
+                           const TabulatedBrdfOptions& options);
 
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
   // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,

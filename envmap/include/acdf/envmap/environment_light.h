@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -44,6 +45,7 @@
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/simplify.h"
 #include "acdf/sampling/sphere.h"
+#include "acdf/sampling/table_cache.h"
 
 namespace acdf {
 
@@ -72,6 +74,25 @@ class EnvironmentLight {
   // constructor throws).
   EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options = {});
 
+  // Table caching (docs/table-cache.md). Only the cascades (Uniform, Adaptive, Compensated) are
+  // worth saving; the other tables and everything else the constructor computes (the tabulated
+  // function, per-row pdf scales) take O(pixels) and are rebuilt.
+  //
+  // The light from a table that serializeTable() saved for the same map and options: the same
+  // samples and pdfs bit for bit. Throws SerializationError if `savedTable` is not a valid table
+  // of this map's size and these options (the cache key guards the rest: same pixels, strategy).
+  EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
+                   std::span<const std::byte> savedTable);
+  // The cascade, serialized; empty for the other strategies and for a light that emits nothing.
+  std::vector<std::byte> serializeTable() const;
+  // The table's key: the map's size and pixels, the strategy, the simplify options and the
+  // format versions. Rotation and scale do not change the table and are not part of it.
+  static CacheKey tableKey(const EnvironmentMap& map, const EnvironmentLightOptions& options);
+  // The light with its table from `cache` if it holds a valid one, else built (and stored if
+  // the strategy's table is worth caching). `what` names the light in warnings.
+  static Cached<EnvironmentLight> cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
+                                         EnvironmentLightOptions options, std::string_view what);
+
   // u0, u1 in [0, 1) (clamped into it).
   EnvironmentSample sample(float u0, float u1) const;
   // Density per steradian of sample() at the world direction w (non-zero).
@@ -93,6 +114,9 @@ class EnvironmentLight {
   const std::vector<float>& tabulated() const { return tabulated_; }
 
  private:
+  // The constructors' shared work; savedTable: null to build the cascade, else to read it.
+  EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
+                   const std::span<const std::byte>* savedTable);
   // Density per steradian of pixel p's directions.
   double pixelPdf(PixelIndex p) const;
   double aliasPdf(double probability, uint32_t row) const {
