@@ -17,16 +17,17 @@ std::string_view toString(EnvironmentSampling strategy) {
     case EnvironmentSampling::Alias: return "alias";
     case EnvironmentSampling::Adaptive: return "adaptive";
     case EnvironmentSampling::Compensated: return "compensated";
+    case EnvironmentSampling::Hierarchical: return "hierarchical";
   }
   return "?";
 }
 
 EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
   for (auto s : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                 EnvironmentSampling::Compensated})
+                 EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical})
     if (toString(s) == name) return s;
   throw std::invalid_argument("unknown environment sampling strategy '" + std::string(name) +
-                              "' (uniform, alias, adaptive or compensated)");
+                              "' (uniform, alias, adaptive, compensated or hierarchical)");
 }
 
 namespace {
@@ -125,6 +126,9 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     case EnvironmentSampling::Alias:
       alias_.emplace(tabulated_, width, height);
       break;
+    case EnvironmentSampling::Hierarchical:
+      warp_.emplace(tabulated_, axes);
+      break;
     case EnvironmentSampling::Adaptive:
     case EnvironmentSampling::Compensated: {
       CascadeOptions adaptive;
@@ -136,7 +140,8 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
 }
 
 double EnvironmentLight::pixelPdf(PixelIndex p) const {
-  if (alias_) return aliasPdf(alias_->probability(p), p.row);
+  if (alias_) return probabilityPdf(alias_->probability(p), p.row);
+  if (warp_) return probabilityPdf(warp_->probability(p.row, p.column), p.row);
   // The cascade's density is constant on each pixel's grid cell: ask at its centre.
   const float x[2] = {static_cast<float>((p.row + 0.5) / map_->height()),
                       static_cast<float>((p.column + 0.5) / map_->width())};
@@ -152,7 +157,14 @@ EnvironmentSample EnvironmentLight::sample(float u0, float u1) const {
     p = pick.pixel;
     fractionDown = pick.fractionDown;
     fractionRight = pick.fractionRight;
-    pdf = aliasPdf(pick.probability, p.row);
+    pdf = probabilityPdf(pick.probability, p.row);
+  } else if (warp_) {
+    // Double fractions straight from the descent: no float coordinate in between.
+    const HierarchicalWarp2D::CellSample pick = warp_->sampleCell(clampUnit(u0), clampUnit(u1));
+    p = {pick.row, pick.column};
+    fractionDown = pick.fractionDown;
+    fractionRight = pick.fractionRight;
+    pdf = probabilityPdf(pick.probability, p.row);
   } else {
     const float u[2] = {clampUnit(u0), clampUnit(u1)};
     const SampleND s = cascade_->sample(u);
@@ -184,12 +196,14 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
 std::size_t EnvironmentLight::tableBytes() const {
   if (cascade_) return cascade_->bytes();
   if (alias_) return alias_->bytes();
+  if (warp_) return warp_->bytes();
   return 0;
 }
 
 std::vector<double> EnvironmentLight::pixelProbabilities() const {
   if (cascade_) return cascade_->cellProbabilities(0);
   if (alias_) return alias_->pixelProbabilities();
+  if (warp_) return warp_->cellProbabilities();
   return {};
 }
 

@@ -22,11 +22,13 @@ using namespace acdf;
 using namespace acdf::envmaptest;
 
 constexpr EnvironmentSampling kAllStrategies[] = {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
-                                                  EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated};
+                                                  EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated,
+                                                  EnvironmentSampling::Hierarchical};
 const char* const kGeneratedMaps[] = {"one_lit_pixel_100x10", "constant_100x100", "tiny_3x2", "sun_and_sky_4096x2048"};
 
 // Every (map, strategy) pair below runs one test: the Šidák correction covers them all.
-constexpr uint32_t kChiSquareTestsInSuite = (std::size(kGeneratedMaps) + std::size(kSharedEnvmaps)) * 4;
+constexpr uint32_t kChiSquareTestsInSuite =
+    (std::size(kGeneratedMaps) + std::size(kSharedEnvmaps)) * std::size(kAllStrategies);
 
 std::shared_ptr<const EnvironmentMap> generatedMap(const std::string& name) {
   static std::map<std::string, std::shared_ptr<const EnvironmentMap>> cache;

@@ -20,6 +20,8 @@
 //                columns; pixel_alias.h says why not one table over all pixels);
 //   Adaptive     Cascade of simplified 1D CDFs (the paper's method; options.simplify, libsampling's
 //                defaults);
+//   Hierarchical HierarchicalWarp2D: sample warping down a mip-map pyramid of the table (Clarberg
+//                et al. 2005, Mitsuba 3's Hierarchical2D); keeps stratified variates stratified;
 //   Compensated  the Adaptive table of max(0, L − L̄) × ΔΩ with L̄ = ∫L dω / 4π the mean luminance
 //                (pbrt-v4's MIS compensation, Karlík et al. 2019): directions dimmer than the mean
 //                get pdf 0 and are left to BSDF sampling under MIS. A map with nothing above its
@@ -43,15 +45,16 @@
 #include "acdf/envmap/pixel_alias.h"
 #include "acdf/envmap/rotation.h"
 #include "acdf/sampling/cascade.h"
+#include "acdf/sampling/hierarchical_warp_2d.h"
 #include "acdf/sampling/simplify.h"
 #include "acdf/sampling/sphere.h"
 #include "acdf/sampling/table_cache.h"
 
 namespace acdf {
 
-enum class EnvironmentSampling { Uniform, Alias, Adaptive, Compensated };
+enum class EnvironmentSampling { Uniform, Alias, Adaptive, Compensated, Hierarchical };
 
-// "uniform", "alias", "adaptive", "compensated"; parse throws std::invalid_argument.
+// "uniform", "alias", "adaptive", "compensated", "hierarchical"; parse throws std::invalid_argument.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
 
@@ -119,7 +122,8 @@ class EnvironmentLight {
                    const std::span<const std::byte>* savedTable);
   // Density per steradian of pixel p's directions.
   double pixelPdf(PixelIndex p) const;
-  double aliasPdf(double probability, uint32_t row) const {
+  // Density per steradian of a pixel of `row` chosen with `probability` (Alias, Hierarchical).
+  double probabilityPdf(double probability, uint32_t row) const {
     return probability * pixels_ * pdfScale_[row];
   }
 
@@ -129,6 +133,7 @@ class EnvironmentLight {
   bool compensationFellBack_ = false;
   std::optional<Cascade> cascade_;  // Uniform, Adaptive, Compensated
   std::optional<PixelAlias> alias_;  // Alias
+  std::optional<HierarchicalWarp2D> warp_;  // Hierarchical
   std::vector<double> pdfScale_;    // per row: 1 / (W H ΔΩ_row), table density → per steradian
   double pixels_ = 0;               // W H
 };
