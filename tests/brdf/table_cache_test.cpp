@@ -16,6 +16,7 @@
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/table_cache.h"
+#include "acdf/test_support/option_variants.h"
 
 namespace {
 
@@ -110,19 +111,18 @@ TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
     EXPECT_TRUE(keys.insert(TabulatedBrdfSampler::tableKey(b, mode, o).hex()).second) << o.name();
   };
   add(brdf(), MerlBrdf::Interpolation::Trilinear, base);
-  std::vector<TabulatedBrdfOptions> variants(12, base);
+  std::vector<TabulatedBrdfOptions> variants(7, base);
   variants[0].layout = Layout::Isotropic;
   variants[1].method = DimensionMethod::Uniform;
-  variants[2].simplify.method = Simplifier::GreedyRefinement;
-  variants[3].simplify.metric = ErrorMetric::Vertical;
-  variants[4].simplify.epsilon = std::nextafter(base.simplify.epsilon, 1.0);
-  variants[5].simplify.maxPoints = 50;
-  variants[6].simplify.weightBound = 2.0;
-  variants[7].tolerance = ConditionalTolerance::Constant;
-  variants[8].thetaOutCells = 7;
-  variants[9].phiOutCells = 5;
-  variants[10].thetaHalfCells = 33;
-  variants[11].phiHalfCells = 10;
+  variants[2].tolerance = ConditionalTolerance::Constant;
+  variants[3].thetaOutCells = 7;
+  variants[4].phiOutCells = 5;
+  variants[5].thetaHalfCells = 33;
+  variants[6].phiHalfCells = 10;
+  for (const SimplifyOptions& s : test_support::simplifyVariants(base.simplify)) {
+    variants.push_back(base);
+    variants.back().simplify = s;
+  }
   TabulatedBrdfOptions unmirrored = base, supersampled = base;
   unmirrored.mirror = false;
   supersampled.supersampling = 2;

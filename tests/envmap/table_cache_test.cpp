@@ -13,6 +13,7 @@
 #include "acdf/envmap/environment_light.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/table_cache.h"
+#include "acdf/test_support/option_variants.h"
 #include "app_test_util.h"
 #include "envmap_test_util.h"
 
@@ -109,20 +110,10 @@ TEST(EnvironmentTable, KeyFollowsPixelsAndEveryTableOption) {
     add(*map, withStrategy(s));
   }
   EnvironmentLightOptions o = base;
-  o.simplify.method = Simplifier::GreedyRefinement;
-  add(*map, o);
-  o = base;
-  o.simplify.metric = ErrorMetric::ChiSquare;
-  add(*map, o);
-  o = base;
-  o.simplify.epsilon = std::nextafter(base.simplify.epsilon, 1.0);
-  add(*map, o);
-  o = base;
-  o.simplify.maxPoints = 100;
-  add(*map, o);
-  o = base;
-  o.simplify.weightBound = 8.0;
-  add(*map, o);
+  for (const SimplifyOptions& s : test_support::simplifyVariants(base.simplify)) {
+    o.simplify = s;
+    add(*map, o);
+  }
   // The pixels: one channel of one pixel, and the same pixels in another shape.
   std::vector<float> rgb = map->rgb();
   rgb[3 * 77 + 2] = std::nextafter(rgb[3 * 77 + 2], 10.0f);

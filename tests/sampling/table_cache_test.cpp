@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "acdf/sampling/rng.h"
+#include "acdf/test_support/option_variants.h"
 
 namespace {
 
@@ -71,8 +72,12 @@ class TableCacheTest : public ::testing::Test {
     return files;
   }
 
+  // getOrBuild of a small cascade under kKey, counting the builds.
+  Cached<Cascade> getSmallTable(TableCache& c);
+
   fs::path dir_;
   std::vector<std::string> warnings_;
+  int builds_ = 0;
 };
 
 const CacheKey kKey = cacheKey(ContentHash().text("input"), "kind=test");
@@ -124,19 +129,18 @@ TEST(CacheKeyTest, DependsOnContentAndParametersAndPrintsAsHex) {
 TEST(CacheKeyTest, DescribeNamesEveryCascadeOption) {
   // Every field change shows in the text, so it changes any key built from it.
   const CascadeOptions base;
-  std::vector<CascadeOptions> variants(9, base);
+  std::vector<CascadeOptions> variants(4, base);
   variants[0].conditioningDims = 1;
   variants[1].methods = {DimensionMethod::Uniform};
-  variants[2].simplify.method = Simplifier::GreedyRefinement;
-  variants[3].simplify.metric = ErrorMetric::ChiSquare;
-  variants[4].simplify.epsilon = std::nextafter(base.simplify.epsilon, 1.0);
-  variants[5].simplify.maxPoints = 9;
-  variants[6].simplify.weightBound = 0.0;
-  variants[7].conditional = ConditionalRule::AverageOfNormalized;
-  variants[8].tolerance = ConditionalTolerance::MassScaled;
+  variants[2].conditional = ConditionalRule::AverageOfNormalized;
+  variants[3].tolerance = ConditionalTolerance::MassScaled;
   CascadeOptions grouped = base;
   grouped.sliceGroupingTolerance = 1e-3;
   variants.push_back(grouped);
+  for (const SimplifyOptions& s : test_support::simplifyVariants(base.simplify)) {
+    variants.push_back(base);
+    variants.back().simplify = s;
+  }
   std::set<std::string> texts{describe(base)};
   for (const CascadeOptions& v : variants) texts.insert(describe(v));
   EXPECT_EQ(texts.size(), variants.size() + 1);
@@ -292,18 +296,20 @@ Cascade smallTable() {
   return Cascade(v, {GridAxis(24), GridAxis(16)});
 }
 
+Cached<Cascade> TableCacheTest::getSmallTable(TableCache& c) {
+  return c.getOrBuild(kKey, "test table", [this] {
+    ++builds_;
+    return smallTable();
+  });
+}
+
 TEST_F(TableCacheTest, GetOrBuildBuildsOnceThenLoadsAnIdenticalTable) {
   TableCache c = cache();
-  int builds = 0;
-  auto build = [&] {
-    ++builds;
-    return smallTable();
-  };
-  const Cached<Cascade> first = c.getOrBuild(kKey, "test table", build);
-  const Cached<Cascade> second = c.getOrBuild(kKey, "test table", build);
+  const Cached<Cascade> first = getSmallTable(c);
+  const Cached<Cascade> second = getSmallTable(c);
   EXPECT_FALSE(first.fromCache);
   EXPECT_TRUE(second.fromCache);
-  EXPECT_EQ(builds, 1);
+  EXPECT_EQ(builds_, 1);
   EXPECT_EQ(first.value.serialize(), second.value.serialize());
   const float u[2] = {0.25f, 0.75f};
   EXPECT_EQ(first.value.sample(u).pdf, second.value.sample(u).pdf);
@@ -312,29 +318,24 @@ TEST_F(TableCacheTest, GetOrBuildBuildsOnceThenLoadsAnIdenticalTable) {
 
 TEST_F(TableCacheTest, GetOrBuildRebuildsCorruptFilesWithAWarning) {
   TableCache c = cache();
-  int builds = 0;
-  auto build = [&] {
-    ++builds;
-    return smallTable();
-  };
-  c.getOrBuild(kKey, "test table", build);
+  getSmallTable(c);
   // A corrupt file: rejected by the cache's checks, rebuilt and overwritten.
   std::vector<std::byte> bytes = readFile(c.fileOf(kKey));
   bytes.back() ^= std::byte{1};
   writeFile(c.fileOf(kKey), bytes);
-  EXPECT_FALSE(c.getOrBuild(kKey, "test table", build).fromCache);
+  EXPECT_FALSE(getSmallTable(c).fromCache);
   ASSERT_EQ(warnings_.size(), 1u);
   EXPECT_EQ(warnings_[0].rfind("test table: " + c.fileOf(kKey).string() + ": payload checksum mismatch", 0), 0u)
       << warnings_[0];
   EXPECT_NE(warnings_[0].find("rebuilding"), std::string::npos);
-  EXPECT_TRUE(c.getOrBuild(kKey, "test table", build).fromCache);
+  EXPECT_TRUE(getSmallTable(c).fromCache);
   // A file whose checks pass but whose payload is no cascade (a bug, or a key collision).
   ASSERT_TRUE(c.store(kKey, bytesOf("not a cascade")));
-  EXPECT_FALSE(c.getOrBuild(kKey, "test table", build).fromCache);
+  EXPECT_FALSE(getSmallTable(c).fromCache);
   ASSERT_EQ(warnings_.size(), 2u);
   EXPECT_NE(warnings_[1].find("cascade: "), std::string::npos) << warnings_[1];
-  EXPECT_TRUE(c.getOrBuild(kKey, "test table", build).fromCache);
-  EXPECT_EQ(builds, 3);
+  EXPECT_TRUE(getSmallTable(c).fromCache);
+  EXPECT_EQ(builds_, 3);
 }
 
 TEST(TableCacheLocation, FollowsXdgCacheHomeThenHome) {
