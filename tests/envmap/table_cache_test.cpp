@@ -67,9 +67,11 @@ TEST(EnvironmentTable, RoundTripsAreBitIdentical) {
 
 TEST(EnvironmentTable, StrategiesWithoutACascadeSaveNothing) {
   const auto map = smoothMap(16, 8);
-  const EnvironmentLight alias(map, withStrategy(EnvironmentSampling::Alias));
-  EXPECT_TRUE(alias.serializeTable().empty());
-  expectSameLight(alias, EnvironmentLight(map, withStrategy(EnvironmentSampling::Alias), std::span<const std::byte>{}));
+  for (EnvironmentSampling s : {EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical}) {
+    const EnvironmentLight light(map, withStrategy(s));
+    EXPECT_TRUE(light.serializeTable().empty());
+    expectSameLight(light, EnvironmentLight(map, withStrategy(s), std::span<const std::byte>{}));
+  }
   const EnvironmentLight black(constantMap(16, 8, 0.0f), withStrategy(EnvironmentSampling::Adaptive));
   EXPECT_TRUE(black.serializeTable().empty());
 }
@@ -105,8 +107,8 @@ TEST(EnvironmentTable, KeyFollowsPixelsAndEveryTableOption) {
   auto add = [&](const EnvironmentMap& m, const EnvironmentLightOptions& o) {
     EXPECT_TRUE(keys.insert(EnvironmentLight::tableKey(m, o).hex()).second);
   };
-  for (EnvironmentSampling s :
-       {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Compensated}) {
+  for (EnvironmentSampling s : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
+                                EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
     add(*map, withStrategy(s));
   }
   EnvironmentLightOptions o = base;
@@ -140,7 +142,8 @@ TEST_F(EnvironmentTableCache, CachedBuildsOnceThenLoads) {
   expectSameLight(first.value, second.value);
   // Strategies whose table is not worth saving are built, and leave nothing in the cache.
   const std::size_t files = std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {});
-  EXPECT_FALSE(EnvironmentLight::cached(cache, map, withStrategy(EnvironmentSampling::Alias), "sky").fromCache);
+  for (EnvironmentSampling s : {EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical})
+    EXPECT_FALSE(EnvironmentLight::cached(cache, map, withStrategy(s), "sky").fromCache);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {}), files);
   EXPECT_TRUE(warnings.empty());
 }
