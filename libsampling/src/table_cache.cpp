@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <random>
 #include <system_error>
 #include <thread>
@@ -170,10 +169,15 @@ CacheRead TableCache::load(const CacheKey& key) const {
   if (!std::filesystem::exists(path, ec)) return {CacheStatus::Miss, {}, {}};
   auto reject = [&](const std::string& problem) { return CacheRead{CacheStatus::Rejected, {}, path.string() + ": " + problem}; };
 
-  std::ifstream file(path, std::ios::binary);
+  // One read of the whole file. A concurrent store renames a new file over the name; the open
+  // stream keeps reading the old one, so the size stays right.
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file) return reject("cannot be opened");
-  std::vector<char> raw((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) return reject("read error");
+  const std::streamoff fileSize = file.tellg();
+  if (fileSize < 0) return reject("cannot be read");
+  std::vector<char> raw(static_cast<std::size_t>(fileSize));
+  file.seekg(0);
+  if (!file.read(raw.data(), fileSize)) return reject("read error");
   const std::span<const std::byte> bytes = std::as_bytes(std::span<const char>(raw));
   if (bytes.size() < kHeaderBytes) {
     return reject("truncated (" + std::to_string(bytes.size()) + " bytes, the header alone has " +

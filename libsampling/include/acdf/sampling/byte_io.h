@@ -66,12 +66,8 @@ class ByteReader {
   template <class T>
     requires std::is_arithmetic_v<T>
   T get() {
-    using Bits = detail::BitsOf<T>;
     need(sizeof(T), "a value");
-    Bits bits = 0;
-    for (std::size_t i = 0; i < sizeof(T); ++i) bits |= static_cast<Bits>(std::to_integer<Bits>(bytes_[pos_ + i]) << (8 * i));
-    pos_ += sizeof(T);
-    return std::bit_cast<T>(bits);
+    return decode<T>();
   }
   // Reads what putArray wrote; `name` is for the message if the count exceeds the bytes left.
   template <class T>
@@ -82,7 +78,7 @@ class ByteReader {
            std::to_string(sizeof(T)) + " bytes, " + std::to_string(remaining()) + " bytes left)");
     }
     std::vector<T> values(static_cast<std::size_t>(count));
-    for (T& v : values) v = get<T>();
+    for (T& v : values) v = decode<T>();  // in bounds: checked above
     return values;
   }
   std::span<const std::byte> getBytes(std::size_t count) {
@@ -101,6 +97,14 @@ class ByteReader {
   [[noreturn]] void fail(const std::string& problem) const { throw SerializationError(what_ + ": " + problem); }
 
  private:
+  template <class T>
+  T decode() {
+    using Bits = detail::BitsOf<T>;
+    Bits bits = 0;
+    for (std::size_t i = 0; i < sizeof(T); ++i) bits |= static_cast<Bits>(std::to_integer<Bits>(bytes_[pos_ + i]) << (8 * i));
+    pos_ += sizeof(T);
+    return std::bit_cast<T>(bits);
+  }
   void need(std::size_t count, const char* what) const {
     if (count > remaining()) fail(std::string("truncated (") + what + " needs " + std::to_string(count) +
                                   " bytes, " + std::to_string(remaining()) + " left)");
