@@ -116,10 +116,10 @@ Command addChi2(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "chi2", "Chi-square goodness-of-fit test of a sampler against its own pdf (exit 0 pass, 1 fail).");
   app->footer(fmt::format(
-      "--envmap FILE --sampler uniform|alias|adaptive|compensated: the environment light of FILE (a lat-long\n"
-      "map OpenImageIO reads) sampled with that strategy. Directions are histogrammed on (theta, phi) bins\n"
-      "aligned to blocks of pixels (at most 10000 bins); expected counts integrate the light's pdf over each\n"
-      "bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
+      "--envmap FILE --sampler uniform|alias|adaptive|compensated|hierarchical: the environment light of FILE\n"
+      "(a lat-long map OpenImageIO reads) sampled with that strategy. Directions are histogrammed on (theta,\n"
+      "phi) bins aligned to blocks of pixels (at most 10000 bins); expected counts integrate the light's pdf\n"
+      "over each bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
       "direction, finite positive pdf equal to pdf(direction)); passed needs both.\n"
       "\n"
       "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive: a MERL .binary BRDF's sampler of incident\n"

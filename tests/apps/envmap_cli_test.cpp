@@ -73,19 +73,26 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
   std::set<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.insert(key);
   const std::set<std::string> expected = {"width", "height", "uniform_bytes", "alias_bytes", "adaptive_bytes",
-                                          "compression", "chi2_divergence", "max_weight_ratio",
+                                          "hierarchical_bytes", "compression", "chi2_divergence", "max_weight_ratio",
                                           "negative_pixels_clamped", "build_ms", "uniform_sphere", "cosine",
-                                          "uniform", "alias", "adaptive"};
+                                          "uniform", "alias", "adaptive", "hierarchical"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(j["width"], 128);
   EXPECT_EQ(j["height"], 64);
   EXPECT_GT(j["compression"].get<double>(), 1.0);
-  for (const char* method : {"uniform", "alias", "adaptive"}) EXPECT_GE(j["build_ms"][method].get<double>(), 0.0);
-  for (const char* strategy : {"uniform_sphere", "cosine", "uniform", "alias", "adaptive"}) {
+  for (const char* method : {"uniform", "alias", "adaptive", "hierarchical"})
+    EXPECT_GE(j["build_ms"][method].get<double>(), 0.0);
+  for (const char* strategy : {"uniform_sphere", "cosine", "uniform", "alias", "adaptive", "hierarchical"}) {
     EXPECT_GT(j[strategy]["variance"].get<double>(), 0.0) << strategy;
     EXPECT_GT(j[strategy]["ns_per_sample"].get<double>(), 0.0) << strategy;
     EXPECT_GT(j[strategy]["efficiency"].get<double>(), 0.0) << strategy;
   }
+  // Stratified variates: every map sampler gains, and the warps (the cascades' inversion, the
+  // hierarchical descent) far more than the alias tables, which scatter neighbouring variates.
+  for (const char* strategy : {"uniform", "alias", "adaptive", "hierarchical"})
+    EXPECT_LT(j[strategy]["stratified_variance"].get<double>(), j[strategy]["variance"].get<double>()) << strategy;
+  EXPECT_LT(2 * j["hierarchical"]["stratified_variance"].get<double>(), j["alias"]["stratified_variance"].get<double>());
+  EXPECT_FALSE(j["cosine"].contains("stratified_variance"));
   // A sunset's power is in a tiny sun: sampling the map beats sampling the sphere by far.
   EXPECT_LT(10 * j["adaptive"]["variance"].get<double>(), j["uniform_sphere"]["variance"].get<double>());
 }
@@ -121,7 +128,7 @@ TEST_F(EnvmapCli, DirtyAndBrokenMapsExitTwoWithOneLine) {
 
 TEST_F(EnvmapCli, Chi2PassesForEverySamplerAndRejectsBadUsage) {
   const std::string map = generated();
-  for (const char* sampler : {"uniform", "alias", "adaptive", "compensated"}) {
+  for (const char* sampler : {"uniform", "alias", "adaptive", "compensated", "hierarchical"}) {
     const RunResult r = run({"chi2", "--envmap", map, "--sampler", sampler, "--samples", "2e5", "--json"});
     ASSERT_EQ(r.exitCode, 0) << sampler << ": " << describe(r);
     const auto j = nlohmann::json::parse(r.out);
