@@ -10,6 +10,10 @@ namespace acdf {
 namespace {
 std::span<const float> checked(std::span<const float> values, std::span<const GridAxis> axes) {
   checkGridShape(values.size(), axes);
+  if (values.size() > (std::size_t{1} << 24)) {
+    throw std::invalid_argument("alias grid: " + std::to_string(values.size()) +
+                                " cells; a float variate reaches at most 2^24 table slots");
+  }
   checkNonNegativeFinite(values, axes);
   return values;
 }
@@ -26,14 +30,17 @@ SampleND AliasGrid::sample(std::span<const float> u) const {
     throw std::invalid_argument("alias grid: " + std::to_string(u.size()) + " variates for " +
                                 std::to_string(axes_.size()) + " axes");
   }
-  const AliasTable::Discrete cell = table_.sample(u[0]);
+  const bool twoVariates = axes_.size() >= 2;
+  const AliasTable::Discrete cell = twoVariates ? table_.sample(u[0], u[1]) : table_.sample(u[0]);
   SampleND result;
   result.dims = static_cast<uint8_t>(axes_.size());
   std::size_t rest = cell.index;
   for (std::size_t d = 0; d < axes_.size(); ++d) {
     const auto index = static_cast<uint32_t>(rest / strides_[d]);
     rest %= strides_[d];
-    const float t = d == 0 ? cell.remapped : clampUnit(u[d]);
+    float t = clampUnit(u[d]);
+    if (d == 0) t = twoVariates ? table_.cellFraction(u[0]) : cell.remapped;
+    if (d == 1) t = cell.remapped;
     result.x[d] = axes_[d].place(index, index + 1, t);
   }
   result.pdf = clampDensity(cell.probability / cellVolume_);

@@ -50,17 +50,40 @@ AliasTable::AliasTable(std::span<const float> weights) {
   }
 }
 
-AliasTable::Discrete AliasTable::sample(float u) const {
+std::size_t AliasTable::slotOf(float u, double& fraction) const {
   const double scaled = static_cast<double>(clampUnit(u)) * static_cast<double>(cells_.size());
   const auto i = std::min(static_cast<std::size_t>(scaled), cells_.size() - 1);
-  const double fraction = scaled - static_cast<double>(i);
-  const Cell& c = cells_[i];
+  fraction = scaled - static_cast<double>(i);
+  return i;
+}
+
+// Keeps the slot's own cell if the fraction is below its acceptance probability, else takes its
+// alias; remapped is the fraction rescaled to [0,1) within the branch taken.
+AliasTable::Discrete AliasTable::accept(std::size_t slot, double fraction) const {
+  const Cell& c = cells_[slot];
   if (fraction < c.accept) {
-    return {static_cast<uint32_t>(i), c.probability,
+    return {static_cast<uint32_t>(slot), c.probability,
             std::min(static_cast<float>(fraction / c.accept), kOneMinusEpsilon)};
   }
   const float remapped = static_cast<float>((fraction - c.accept) / (1.0 - c.accept));
   return {c.alias, cells_[c.alias].probability, std::min(remapped, kOneMinusEpsilon)};
+}
+
+AliasTable::Discrete AliasTable::sample(float u) const {
+  double fraction;
+  const std::size_t slot = slotOf(u, fraction);
+  return accept(slot, fraction);
+}
+
+AliasTable::Discrete AliasTable::sample(float uCell, float uAccept) const {
+  double unused;
+  return accept(slotOf(uCell, unused), clampUnit(uAccept));
+}
+
+float AliasTable::cellFraction(float uCell) const {
+  double fraction;
+  slotOf(uCell, fraction);
+  return std::min(static_cast<float>(fraction), kOneMinusEpsilon);
 }
 
 AliasTable1D::AliasTable1D(std::span<const float> function, float lo, float hi)

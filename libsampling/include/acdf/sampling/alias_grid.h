@@ -2,8 +2,12 @@
 // The alias-method baseline on an N-D grid: one alias table over all cells (row-major), O(1)
 // cell choice, uniform position inside the cell. No conditioning dimensions.
 //
-// u[0] chooses the cell; the position along axis 0 reuses u[0]'s unused fraction (see
-// AliasTable1D), the position along axis d > 0 uses u[d].
+// With two or more axes, u[0] picks the alias table's slot and u[1] runs its acceptance test
+// (AliasTable::sample(uCell, uAccept)), so cell probabilities are exact up to 2^24 cells; the
+// position along axis 0 reuses u[0]'s fraction within its slot (24 − log2(cells) bits of
+// resolution), along axis 1 u[1]'s fraction after the test, along axis d > 1 u[d]. A
+// one-axis grid has one variate for all three (AliasTable1D's precision limit applies).
+// Throws std::invalid_argument for more than 2^24 cells: a float variate cannot reach every slot.
 
 #include <cstddef>
 #include <span>
