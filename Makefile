@@ -3,6 +3,9 @@
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
 #   make bench      run every build/bin/bench_* program, JSON into bench/results/
+#   make fuzz       libFuzzer targets (clang, build-fuzz/), each for FUZZ_SECONDS
+#   make stress     numerical stress program (1e8 samples per distribution; STRESS_ARGS)
+#   make test-tsan  ThreadSanitizer build (build-tsan/) + the multithreaded tests
 # Each of these first runs `make deps` (scripts/install-deps, a no-op when all is installed).
 
 JOBS ?= 2
@@ -12,6 +15,11 @@ RESULTS_DIR ?= bench/results
 # Extra flags for every benchmark program, e.g. BENCH_ARGS=--benchmark_min_time=0.1
 BENCH_ARGS ?=
 DEMO_INPUT ?= data/envmaps/sunset_1024x512.exr
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := engine merl image npy
+TSAN_DIR ?= build-tsan
+STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 
 # Ninja when available; the generator is only chosen when a build directory is first configured
 # (CMake refuses to switch generators in an existing one).
@@ -21,7 +29,8 @@ generator_for = $(if $(wildcard $(1)/CMakeCache.txt),,$(GENERATOR))
 SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 \
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build test configure-asan build-asan test-asan demo bench clean
+.PHONY: all deps configure build test configure-asan build-asan test-asan demo bench clean \
+        configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan
 
 all: build
 
@@ -65,5 +74,52 @@ bench: deps
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
 
+# Each target runs FUZZ_SECONDS on a working corpus in $(FUZZ_DIR)/corpus/<target>, seeded from
+# fuzz/corpus/<target> (read only); a crash is saved under $(FUZZ_DIR)/artifacts/<target>/ and
+# fails the run. fuzz/lsan.supp documents the one third-party leak suppressed.
+FUZZ_ENV := ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:quarantine_size_mb=64 \
+            UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+            LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp
+
+configure-fuzz:
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) $(call generator_for,$(FUZZ_DIR)) \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACDF_FUZZ=ON -DBUILD_TESTING=OFF
+
+build-fuzz: configure-fuzz
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+
+fuzz: deps
+	$(MAKE) build-fuzz
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/artifacts/$$t; \
+	  log=$(FUZZ_DIR)/artifacts/$$t/last-run.log; \
+	  echo "== fuzz_$$t for $(FUZZ_SECONDS) s"; \
+	  if ! $(FUZZ_ENV) $(FUZZ_DIR)/bin/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
+	      -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/artifacts/$$t/ \
+	      $(FUZZ_DIR)/corpus/$$t fuzz/corpus/$$t >$$log 2>&1; then \
+	    tail -n 60 $$log; echo "fuzz_$$t FAILED (log: $$log)" >&2; exit 1; \
+	  fi; \
+	  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $$log; \
+	done
+
+stress: deps
+	$(MAKE) configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target acdf_stress
+	@mkdir -p $(RESULTS_DIR)
+	$(BUILD_DIR)/bin/acdf_stress $(STRESS_ARGS)
+
+# Only the multithreaded tests (ctest label "concurrency") are built and run under TSan.
+configure-tsan:
+	cmake -S . -B $(TSAN_DIR) $(call generator_for,$(TSAN_DIR)) \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACDF_SANITIZE=thread
+
+build-tsan: configure-tsan
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target test_concurrency
+
+test-tsan: deps
+	$(MAKE) build-tsan
+	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+	  ctest --test-dir $(TSAN_DIR) -L concurrency --output-on-failure -j $(JOBS)
+
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR)
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(FUZZ_DIR) $(TSAN_DIR)

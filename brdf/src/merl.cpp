@@ -16,6 +16,7 @@
 #include <random>
 #include <system_error>
 
+#include "acdf/sampling/temporary_files.h"
 #include "input_file.h"
 
 namespace acdf {
@@ -169,8 +170,10 @@ MerlBrdf MerlBrdf::load(const fs::path& path) {
   const auto checkDimensions = [&](const unsigned char* header) {
     int32_t dims[3];
     std::memcpy(dims, header, kHeaderBytes);
-    const int64_t product = int64_t{dims[0]} * dims[1] * dims[2];
-    if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0 || product != static_cast<int64_t>(kCells)) {
+    // In double: three int32 can multiply to 2^93, beyond int64 (found by fuzz/merl_fuzz.cpp).
+    // Exact wherever it matters: any product near kCells is far below 2^53.
+    const double product = static_cast<double>(dims[0]) * dims[1] * dims[2];
+    if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0 || product != static_cast<double>(kCells)) {
       throw BrdfFileError(name, "wrong dimensions " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
                                     " x " + std::to_string(dims[2]) +
                                     " in the header; a MERL table has 90 x 90 x 180 = 1458000 entries");
@@ -272,6 +275,7 @@ void writeAtomically(const std::string& name, const unsigned char* data, std::si
     if (fd < 0 && errno != EEXIST) break;
   }
   if (fd < 0) throw BrdfFileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
+  const TemporaryFileGuard guard(temp);  // removed if a signal kills us mid-write
 
   const auto fail = [&](const std::string& problem) {
     const std::string reason = problem + " (" + errnoText() + ")";

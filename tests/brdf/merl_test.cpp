@@ -3,6 +3,9 @@
 // full-size file (reported, not asserted).
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -193,6 +196,29 @@ TEST_F(MerlFiles, FailedSaveLeavesNoOutput) {
   EXPECT_EQ(entries(), 1u) << "a temporary file was left behind";
 }
 
+// A signal that kills the program mid-write (here SIGXFSZ past a 1 MB file-size limit, as Ctrl-C
+// would) must not leave the partial temporary behind (acdf/sampling/temporary_files.h); the child
+// still dies of the signal.
+TEST_F(MerlFiles, SignalDuringSaveLeavesNoTemporaryFile) {
+  const MerlBrdf a = randomTable(6).brdf();
+  const fs::path path = file("killed.binary");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlimit limit{1 << 20, 1 << 20};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      a.save(path);
+    } catch (...) {
+    }
+    _exit(0);  // not reached: the write past the limit raises SIGXFSZ
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGXFSZ) << "status " << status;
+  EXPECT_EQ(entries(), 0u) << "a temporary file was left behind";
+}
+
 TEST_F(MerlFiles, MissingFile) { expectLoadError(file("absent.binary"), "no such file"); }
 
 TEST_F(MerlFiles, Directory) {
@@ -217,6 +243,9 @@ TEST_F(MerlFiles, WrongDimensions) {
   // A product that overflows int32 is not mistaken for the right one.
   writeFile(file("huge.binary"), fileBytes(t, 1 << 20, 1 << 20, 1 << 20));
   expectLoadError(file("huge.binary"), "wrong dimensions 1048576 x 1048576 x 1048576");
+  // Nor one beyond int64 (signed overflow, found by fuzz/merl_fuzz.cpp; UBSan flags it).
+  writeFile(file("huger.binary"), fileBytes(t, 2147483647, 2147483647, 2147483647));
+  expectLoadError(file("huger.binary"), "wrong dimensions 2147483647 x 2147483647 x 2147483647");
 }
 
 TEST_F(MerlFiles, TruncatedData) {
