@@ -19,6 +19,7 @@
 #include "envmap_stats.h"
 #include "errors.h"
 #include "merl_gen.h"
+#include "render.h"
 
 #ifndef ACDF_VERSION
 #define ACDF_VERSION "unknown"
@@ -47,6 +48,7 @@ int run(int argc, char** argv) {
   commands.push_back(acdf::app::addEnvGen(app));
   commands.push_back(acdf::app::addEnvmapStats(app));
   commands.push_back(acdf::app::addChi2(app));
+  commands.push_back(acdf::app::addRender(app));
 
   try {
     app.parse(argc, argv);

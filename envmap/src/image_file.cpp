@@ -1,5 +1,6 @@
 #include "acdf/envmap/image_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -91,21 +92,28 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
   return image;
 }
 
-void writeExr(const std::string& path, const Image& image) {
+namespace {
+
+void checkWritable(const std::string& path, const Image& image) {
   if (image.channels != 1 && image.channels != 3)
     throw ImageFileError(path, fmt::format("cannot write {} channels (1 or 3 expected)", image.channels));
   if (image.pixels.size() != std::size_t{image.width} * image.height * image.channels || image.pixels.empty())
     throw ImageFileError(path, "pixel count does not match the image size");
+}
 
+// Writes `pixels` (of `type`, image's size and channels) in OpenImageIO's `format` to a temporary
+// file next to `path`, then renames it over `path`: a failure leaves no partial file.
+void writeAtomically(const std::string& path, const char* format, const Image& image, OIIO::TypeDesc type,
+                     const void* pixels, const char* compression) {
   // Next to the target, so the rename stays within one file system (and is atomic).
   std::random_device random;
   const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
-  auto output = OIIO::ImageOutput::create("openexr");
-  if (!output) throw ImageFileError(path, withDetail("OpenImageIO cannot write OpenEXR", takeGlobalError()));
+  auto output = OIIO::ImageOutput::create(format);
+  if (!output) throw ImageFileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
   OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height),
-                       static_cast<int>(image.channels), OIIO::TypeDesc::FLOAT);
+                       static_cast<int>(image.channels), type);
   if (image.channels == 1) spec.channelnames = {"Y"};
-  spec.attribute("compression", "zip");
+  if (compression) spec.attribute("compression", compression);
   auto fail = [&](const std::string& what) {
     const std::string detail = output->geterror();
     (void)takeGlobalError();
@@ -115,7 +123,7 @@ void writeExr(const std::string& path, const Image& image) {
     throw ImageFileError(path, withDetail(what, detail));
   };
   if (!output->open(temp, spec)) fail("cannot create the temporary file " + temp);
-  if (!output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail("cannot write the temporary file " + temp);
+  if (!output->write_image(type, pixels)) fail("cannot write the temporary file " + temp);
   if (!output->close()) fail("cannot write the temporary file " + temp);
   std::error_code ec;
   fs::rename(temp, path, ec);
@@ -123,6 +131,25 @@ void writeExr(const std::string& path, const Image& image) {
     fs::remove(temp, ec);
     throw ImageFileError(path, "cannot rename the temporary file into place");
   }
+}
+
+}  // namespace
+
+void writeExr(const std::string& path, const Image& image) {
+  checkWritable(path, image);
+  writeAtomically(path, "openexr", image, OIIO::TypeDesc::FLOAT, image.pixels.data(), "zip");
+}
+
+void writeSrgbPng(const std::string& path, const Image& image) {
+  checkWritable(path, image);
+  std::vector<unsigned char> bytes(image.pixels.size());
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    const float v = std::clamp(std::isfinite(image.pixels[i]) ? image.pixels[i] : 0.0f, 0.0f, 1.0f);
+    // The sRGB transfer function (IEC 61966-2-1).
+    const float encoded = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+    bytes[i] = static_cast<unsigned char>(std::lround(encoded * 255.0f));
+  }
+  writeAtomically(path, "png", image, OIIO::TypeDesc::UINT8, bytes.data(), nullptr);
 }
 
 }  // namespace acdf

@@ -53,4 +53,8 @@ Image readImage(const std::string& path, const ImageReadOptions& options = {});
 // leaves no partial file (an existing file stays as it was). Throws ImageFileError.
 void writeExr(const std::string& path, const Image& image);
 
+// Writes an 8-bit PNG of `image`'s linear values, sRGB-encoded after clamping to [0, 1] (a
+// preview: no tone mapping), with the same temporary file and rename. Throws ImageFileError.
+void writeSrgbPng(const std::string& path, const Image& image);
+
 }  // namespace acdf

@@ -1,0 +1,196 @@
+#include "render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "acdf/integrator/renderer.h"
+#include "acdf/integrator/scene.h"
+#include "errors.h"
+#include "options.h"
+
+namespace acdf::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RenderArgs {
+  std::string scene;
+  std::string output;
+  std::string png;  // default: the output with .png
+  bool noPng = false;
+  std::optional<uint32_t> spp;
+  std::optional<double> seconds;
+  std::optional<uint64_t> seed;
+  std::string mis, bsdfSampling, envSampling;
+  std::vector<uint32_t> crop;
+  uint32_t threads = 0;
+  bool json = false;
+};
+
+// Fails before rendering, not after, when an output cannot be written there.
+void checkOutputPath(const std::string& path) {
+  const fs::path p(path);
+  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(path, "the output directory does not exist");
+  if (fs::is_directory(p, ec)) throw InputError(path, "is a directory");
+  if (access(dir.c_str(), W_OK) != 0) throw InputError(path, "the output directory is not writable");
+}
+
+// A progress bar with an estimate of the time left, redrawn at most ten times a second.
+class ProgressBar {
+ public:
+  void update(double fraction) {
+    const auto now = Clock::now();
+    if (fraction < 1.0 && now - lastDraw_ < std::chrono::milliseconds(100)) return;
+    lastDraw_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * kWidth);
+    const std::string eta = fraction > 0 ? fmt::format("ETA {:.0f} s", elapsed * (1.0 - fraction) / fraction) : "";
+    std::fprintf(stderr, "\r[%s%s] %3.0f%% %-12s", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), 100.0 * fraction, eta.c_str());
+    std::fflush(stderr);
+  }
+  ~ProgressBar() { std::fputs("\n", stderr); }
+
+ private:
+  static constexpr int kWidth = 40;
+  Clock::time_point start_ = Clock::now(), lastDraw_{};
+};
+
+template <class Parse>
+auto parseOption(const std::string& option, const std::string& value, Parse parse) {
+  try {
+    return parse(value);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("render: {}: {}", option, e.what()));
+  }
+}
+
+int runRender(const RenderArgs& args) {
+  SceneOverrides overrides;
+  if (!args.mis.empty()) overrides.mis = parseOption("--mis", args.mis, parseMisMode);
+  if (!args.bsdfSampling.empty()) overrides.bsdfSampling = parseOption("--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
+  if (!args.envSampling.empty())
+    overrides.envSampling = parseOption("--env-sampling", args.envSampling, parseEnvironmentStrategy);
+  overrides.spp = args.spp;
+  overrides.seed = args.seed;
+  if (!args.crop.empty()) {
+    if (args.crop.size() != 4) throw UsageError("render: --crop takes x0,y0,x1,y1");
+    overrides.crop = CropWindow{args.crop[0], args.crop[1], args.crop[2], args.crop[3]};
+  }
+  if (args.seconds && !(*args.seconds > 0)) throw UsageError("render: --time must be positive");
+
+  const std::string png = args.noPng ? "" : !args.png.empty() ? args.png : fs::path(args.output).replace_extension(".png").string();
+  checkOutputPath(args.output);
+  if (!png.empty()) checkOutputPath(png);
+
+  std::optional<tbb::global_control> threads;
+  if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+
+  const auto setupStart = Clock::now();
+  TableProvider tables;
+  Scene scene;
+  try {
+    scene = loadScene(args.scene, overrides, tables);
+  } catch (const SceneError& e) {
+    throw InputError(e.file(), e.problem());
+  }
+  const double setupMs = millisecondsSince(setupStart);
+
+  Film film = makeFilm(scene);
+  RenderOptions options;
+  options.seconds = args.seconds;
+  std::optional<ProgressBar> bar;
+  if (isatty(fileno(stderr))) {
+    bar.emplace();
+    options.progress = [&bar](double fraction) { bar->update(fraction); };
+  }
+  const RenderStats stats = render(scene, film, options);
+  bar.reset();
+
+  try {
+    film.write(args.output, png);
+  } catch (const ImageFileError& e) {
+    throw InputError(e.file(), e.problem());
+  }
+
+  const double samplesPerSecond = stats.seconds > 0 ? stats.paths / stats.seconds : 0.0;
+  const double raysPerSecond = stats.seconds > 0 ? stats.rays / stats.seconds : 0.0;
+  if (args.json) {
+    nlohmann::ordered_json j;
+    j["scene"] = args.scene;
+    j["width"] = film.width();
+    j["height"] = film.height();
+    j["spp"] = stats.spp;
+    j["seconds"] = stats.seconds;
+    j["setup_ms"] = setupMs;
+    j["samples_per_second"] = samplesPerSecond;
+    j["rays_per_second"] = raysPerSecond;
+    j["rays"] = stats.rays;
+    j["mis"] = toString(scene.settings.mis);
+    j["env_sampling"] = toString(scene.environment->strategy());
+    j["tables_built"] = tables.tablesBuilt();
+    j["tables_from_cache"] = nlohmann::json::array();
+    j["exr"] = args.output;
+    j["png"] = png.empty() ? nlohmann::json() : nlohmann::json(png);
+    std::puts(j.dump(2).c_str());
+  } else {
+    std::string out;
+    out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
+                       film.height(), stats.spp, stats.seconds, setupMs);
+    out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
+    out += fmt::format("tables    {} built\n", tables.tablesBuilt().size());
+    for (const std::string& t : tables.tablesBuilt()) out += fmt::format("          {}\n", t);
+    out += fmt::format("wrote     {}{}\n", args.output, png.empty() ? "" : " and " + png);
+    std::fputs(out.c_str(), stdout);
+  }
+  return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command addRender(CLI::App& parent) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* app = parent.add_subcommand("render", "Render a scene with the MIS path tracer (measured BRDFs, environment light).");
+  app->footer(
+      "SCENE: a JSON scene file (docs/scene-format.md). The strategy options replace the scene's choices:\n"
+      "  --bsdf-sampling  cosine | uniform | adaptive          (every measured material)\n"
+      "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | ...\n"
+      "  --mis            power | balance | bsdf-only | light-only\n"
+      "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
+      "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
+      "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, env_sampling).\n"
+      "\n"
+      "Exit status: 0 success, 2 bad scene / data file / output path or command line, 1 internal error.");
+  app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
+  app->add_option("-o,--output", args->output, "Output image (linear float OpenEXR)")->required();
+  app->add_option("--png", args->png, "sRGB PNG preview (default: the output with .png)");
+  app->add_flag("--no-png", args->noPng, "Write no PNG preview");
+  auto* spp = app->add_option("--spp", args->spp, "Samples per pixel (replaces the scene's)")->check(CLI::Range(1u, 1u << 30));
+  app->add_option("--time", args->seconds, "Render progressive passes for this many seconds instead")->excludes(spp);
+  app->add_option("--seed", args->seed, "Random seed (replaces the scene's)");
+  app->add_option("--mis", args->mis, "power | balance | bsdf-only | light-only");
+  app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive");
+  app->add_option("--env-sampling", args->envSampling, "uniform-sphere | uniform | alias | adaptive | compensated | ...");
+  app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")->delimiter(',');
+  app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
+  app->add_flag("--json", args->json, "Print a JSON summary");
+  return Command{app, [args] { return runRender(*args); }};
+}
+
+}  // namespace acdf::app

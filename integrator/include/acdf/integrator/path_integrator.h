@@ -1,0 +1,37 @@
+#pragma once
+// Unidirectional path tracing with next-event estimation on the environment and BSDF sampling,
+// combined by multiple importance sampling (Veach 1997, ch. 9). At each surface vertex:
+//
+//   light sample  ω_l ~ p_light:  f(ω_l) cosθ_l L(ω_l) / p_light · w_light(ω_l)   if unoccluded
+//   BSDF sample   ω_b ~ p_bsdf:   continues the path; if it escapes, L(ω_b) · w_bsdf(ω_b)
+//
+// with w_light + w_bsdf = 1 for every direction both strategies can produce:
+//   power    w_x = p_x² / (p_light² + p_bsdf²)     balance  w_x = p_x / (p_light + p_bsdf)
+//   bsdf-only  w_bsdf = 1, no light samples        light-only  w_light = 1, escapes add nothing
+// (both densities per steradian). Camera rays that escape see the environment directly.
+// Russian roulette from RenderSettings::rouletteDepth on: survive with probability
+// min(0.95, max throughput channel), dividing the throughput by it.
+
+#include <cstdint>
+
+#include "acdf/integrator/color.h"
+#include "acdf/integrator/scene.h"
+#include "acdf/sampling/rng.h"
+
+namespace acdf {
+
+class PathIntegrator {
+ public:
+  explicit PathIntegrator(const Scene& scene) : scene_(scene) {}
+
+  // Radiance arriving along the camera ray; `rays` counts the rays cast (intersect + shadow).
+  Color radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays) const;
+
+ private:
+  // The MIS weight of a strategy with density `chosen` against one with density `other`.
+  double misWeight(double chosen, double other) const;
+
+  const Scene& scene_;
+};
+
+}  // namespace acdf

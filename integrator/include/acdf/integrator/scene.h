@@ -1,0 +1,82 @@
+#pragma once
+// A scene ready to render, and its loader from the JSON format of docs/scene-format.md.
+//
+// The loader validates everything before anything expensive happens: unknown keys, wrong types
+// and bad values are reported with their JSON path ("$.shapes[2].radius: expected a number,
+// got a string"); relative file paths resolve against the scene file's directory. Then it loads
+// only what the shapes use — a material no shape refers to is never read — and asks the
+// TableProvider for just the tables the chosen strategies need.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "acdf/integrator/camera.h"
+#include "acdf/integrator/environment.h"
+#include "acdf/integrator/geometry.h"
+#include "acdf/integrator/material.h"
+#include "acdf/integrator/table_provider.h"
+
+namespace acdf {
+
+// How BSDF sampling and light sampling are combined.
+enum class MisMode {
+  Power,      // both strategies, power heuristic (β = 2)
+  Balance,    // both strategies, balance heuristic
+  BsdfOnly,   // BSDF sampling alone (no next-event estimation)
+  LightOnly,  // light sampling alone for direct light (BSDF sampling only continues paths)
+};
+// "power", "balance", "bsdf-only", "light-only"; parse throws std::invalid_argument.
+std::string_view toString(MisMode mode);
+MisMode parseMisMode(std::string_view name);
+
+struct RenderSettings {
+  uint32_t spp = 16;
+  uint64_t seed = 1;
+  uint32_t maxDepth = 8;  // bounces; 1 = direct light only
+  uint32_t rouletteDepth = 3;  // Russian roulette from this bounce on
+  MisMode mis = MisMode::Power;
+};
+
+// Command-line choices that replace the scene file's.
+struct SceneOverrides {
+  std::optional<MisMode> mis;
+  std::optional<BrdfSampling> bsdfSampling;   // every measured material
+  std::optional<EnvironmentStrategy> envSampling;
+  std::optional<uint32_t> spp;
+  std::optional<uint64_t> seed;
+  std::optional<CropWindow> crop;
+};
+
+// A problem with a scene or a file it refers to: what() is "<file>: <problem>", one line.
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(const std::string& file, const std::string& problem);
+  const std::string& file() const { return file_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string file_, problem_;
+};
+
+struct Scene {
+  std::unique_ptr<Camera> camera;
+  std::unique_ptr<Geometry> geometry;
+  std::vector<std::unique_ptr<Material>> materials;  // indexed by the shapes' material ids
+  std::unique_ptr<Environment> environment;
+  RenderSettings settings;
+};
+
+// Throws SceneError for any problem with the scene or a file it names.
+Scene loadScene(const std::filesystem::path& file, const SceneOverrides& overrides, TableProvider& tables);
+// The same from the text of a scene file; `file` names it in messages and its directory resolves
+// relative paths.
+Scene loadSceneText(const std::string& text, const std::filesystem::path& file, const SceneOverrides& overrides,
+                    TableProvider& tables);
+
+}  // namespace acdf

@@ -1,0 +1,60 @@
+#pragma once
+// The one place the renderer gets its inputs and sampling tables from: MERL files, environment
+// maps, BRDF sampling tables and environment-light tables. Each is made on first request and
+// shared by later ones (two spheres of one material get one table), and each build is recorded,
+// so a render can say what it built and how long its set-up took. The scene loader asks only
+// for what its shapes and chosen strategies use.
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/merl.h"
+#include "acdf/brdf/tabulated_brdf_sampler.h"
+#include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/environment_map.h"
+
+namespace acdf {
+
+enum class BrdfSampling { Cosine, Uniform, Adaptive };
+// "cosine", "uniform", "adaptive"; parse throws std::invalid_argument.
+std::string_view toString(BrdfSampling sampling);
+BrdfSampling parseBrdfSampling(std::string_view name);
+
+class TableProvider {
+ public:
+  // Loaded once per path. Throw BrdfFileError / ImageFileError.
+  std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path);
+  std::shared_ptr<const EnvironmentMap> environmentMap(const std::filesystem::path& path);
+  // AnalyticBrdf::preset(name) tabulated in the MERL layout (no file needed). Throws
+  // std::invalid_argument for an unknown preset.
+  std::shared_ptr<const MerlBrdf> merlPreset(const std::string& name);
+
+  // A sampler of `brdf`, whose identity for sharing is `brdfKey` (its file or preset). Cosine
+  // sampling has no table; the table strategies use `table` with their method.
+  std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf, const std::string& brdfKey,
+                                                 MerlBrdf::Interpolation interpolation, BrdfSampling sampling,
+                                                 TabulatedBrdfOptions table);
+  // The sampling table of `map` (identity `mapKey`) under `options`.
+  std::shared_ptr<const EnvironmentLight> environmentLight(const std::shared_ptr<const EnvironmentMap>& map,
+                                                           const std::string& mapKey,
+                                                           const EnvironmentLightOptions& options);
+
+  // Names of the tables built so far, in order, and how long all requests took (ms).
+  const std::vector<std::string>& tablesBuilt() const { return built_; }
+  double milliseconds() const { return milliseconds_; }
+
+ private:
+  std::map<std::string, std::shared_ptr<const MerlBrdf>> merls_;
+  std::map<std::string, std::shared_ptr<const EnvironmentMap>> maps_;
+  std::map<std::string, std::shared_ptr<const BrdfSampler>> brdfSamplers_;
+  std::map<std::string, std::shared_ptr<const EnvironmentLight>> lights_;
+  std::vector<std::string> built_;
+  double milliseconds_ = 0;
+};
+
+}  // namespace acdf

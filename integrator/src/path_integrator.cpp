@@ -1,0 +1,81 @@
+#include "acdf/integrator/path_integrator.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "acdf/integrator/frame.h"
+
+namespace acdf {
+
+double PathIntegrator::misWeight(double chosen, double other) const {
+  switch (scene_.settings.mis) {
+    case MisMode::Power: return chosen * chosen / (chosen * chosen + other * other);
+    case MisMode::Balance: return chosen / (chosen + other);
+    case MisMode::BsdfOnly:
+    case MisMode::LightOnly: break;
+  }
+  return 1.0;  // single-strategy modes never combine
+}
+
+Color PathIntegrator::radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays) const {
+  const Environment& env = *scene_.environment;
+  const MisMode mis = scene_.settings.mis;
+  const bool sampleLight = mis != MisMode::BsdfOnly;
+  const bool bsdfSeesLight = mis != MisMode::LightOnly;
+
+  Color result, throughput(1.0);
+  Ray ray = cameraRay;
+  double bsdfPdf = 0;  // density of the BSDF sample that produced `ray`; 0 for the camera ray
+  for (uint32_t depth = 0;; ++depth) {
+    ++rays;
+    const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
+    if (!hit) {
+      if (depth == 0) {
+        result += throughput * env.eval(ray.direction);
+      } else if (bsdfSeesLight) {
+        const double weight = sampleLight ? misWeight(bsdfPdf, env.pdf(ray.direction)) : 1.0;
+        result += throughput * env.eval(ray.direction) * weight;
+      }
+      break;
+    }
+    if (depth >= scene_.settings.maxDepth) break;
+
+    const Material& material = *scene_.materials[hit->material];
+    const Frame frame(hit->normal, hit->tangentHint);
+    const Vec3d wo = frame.toLocal(-ray.direction);
+
+    if (sampleLight) {
+      const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+      const LightSample light = env.sample(u0, u1);
+      const Vec3d wi = frame.toLocal(light.direction);
+      if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
+        const Color f = material.eval(wo, wi);
+        if (!f.isBlack()) {
+          ++rays;
+          if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
+                                         std::numeric_limits<double>::infinity())) {
+            const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wo, wi)) : 1.0;
+            result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
+          }
+        }
+      }
+    }
+
+    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const MaterialSample s = material.sample(wo, u0, u1);
+    if (!(s.pdf > 0) || s.weight.isBlack()) break;
+    throughput *= s.weight;
+    bsdfPdf = s.pdf;
+    const Vec3d direction = normalize(frame.toWorld(s.wi));
+    ray = {Geometry::offsetOrigin(*hit, direction), direction};
+
+    if (depth + 1 >= scene_.settings.rouletteDepth) {
+      const double survive = std::min(0.95, throughput.maxComponent());
+      if (rng.nextFloat() >= survive) break;
+      throughput *= 1.0 / survive;
+    }
+  }
+  return result;
+}
+
+}  // namespace acdf

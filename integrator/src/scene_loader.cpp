@@ -1,0 +1,534 @@
+// The scene file reader (docs/scene-format.md). Two phases: every field is read and checked
+// into plain descriptions first, so a typo at the end of the file is reported before a
+// 35 MB material is loaded; then the used materials, the shapes and the light are built.
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tiny_obj_loader.h>
+
+#include "acdf/brdf/analytic.h"
+#include "acdf/envmap/image_file.h"
+#include "acdf/integrator/scene.h"
+
+namespace acdf {
+
+namespace {
+
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// A JSON value and where it sits in the file, for messages like "$.shapes[2].radius: ...".
+class Node {
+ public:
+  Node(const Json& value, std::string path, const std::string& file) : value_(value), path_(std::move(path)), file_(file) {}
+
+  [[noreturn]] void fail(const std::string& problem) const { throw SceneError(file_, path_ + ": " + problem); }
+
+  // An object whose keys are all among `allowed`.
+  const Node& object(std::initializer_list<std::string_view> allowed) const {
+    if (!value_.is_object()) fail("expected an object, got " + typeName());
+    for (const auto& item : value_.items()) {
+      bool known = false;
+      for (std::string_view k : allowed) known = known || item.key() == k;
+      if (!known) {
+        std::string list;
+        for (std::string_view k : allowed) list += (list.empty() ? "" : ", ") + std::string(k);
+        child(item.key()).fail("unknown key (expected one of: " + list + ")");
+      }
+    }
+    return *this;
+  }
+  bool has(const std::string& key) const { return value_.contains(key); }
+  bool isNumber() const { return value_.is_number(); }
+  Node operator[](const std::string& key) const {
+    if (!value_.contains(key)) fail("missing key \"" + key + "\"");
+    return child(key);
+  }
+  std::vector<Node> elements() const {
+    if (!value_.is_array()) fail("expected an array, got " + typeName());
+    std::vector<Node> out;
+    for (std::size_t i = 0; i < value_.size(); ++i) out.emplace_back(value_[i], fmt::format("{}[{}]", path_, i), file_);
+    return out;
+  }
+  std::vector<std::pair<std::string, Node>> members() const {
+    if (!value_.is_object()) fail("expected an object, got " + typeName());
+    std::vector<std::pair<std::string, Node>> out;
+    for (const auto& item : value_.items()) out.emplace_back(item.key(), child(item.key()));
+    return out;
+  }
+
+  double number() const {
+    if (!value_.is_number()) fail("expected a number, got " + typeName());
+    return value_.get<double>();
+  }
+  double positive() const {
+    const double v = number();
+    if (!(v > 0) || !std::isfinite(v)) fail("must be positive");
+    return v;
+  }
+  uint32_t count(uint32_t minimum) const {
+    if (!value_.is_number_integer() && !value_.is_number_unsigned()) fail("expected an integer, got " + typeName());
+    const auto v = value_.get<int64_t>();
+    if (v < minimum || v > int64_t{1} << 30) fail(fmt::format("must be an integer in [{}, 2^30]", minimum));
+    return static_cast<uint32_t>(v);
+  }
+  std::string string() const {
+    if (!value_.is_string()) fail("expected a string, got " + typeName());
+    return value_.get<std::string>();
+  }
+  Vec3d vec3() const {
+    if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers, got " + typeName());
+    const auto e = elements();
+    const Vec3d v{e[0].number(), e[1].number(), e[2].number()};
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) fail("must be finite");
+    return v;
+  }
+  // A number (gray) or [r, g, b]; each channel in [0, maximum].
+  Color color(double maximum) const {
+    Color c;
+    if (isNumber()) {
+      c = Color(number());
+    } else {
+      const Vec3d v = vec3();
+      c = {v.x, v.y, v.z};
+    }
+    for (double x : {c.r, c.g, c.b})
+      if (!(x >= 0 && x <= maximum)) fail(fmt::format("each channel must be in [0, {}]", maximum));
+    return c;
+  }
+  // A file path, relative ones against the scene's directory.
+  fs::path file(const fs::path& baseDir) const {
+    const fs::path p = string();
+    return p.is_absolute() ? p : baseDir / p;
+  }
+  // The same, which must exist (the loaders report finer problems, naming the file).
+  fs::path existingFile(const fs::path& baseDir) const {
+    const fs::path resolved = file(baseDir);
+    requireFile(resolved, path_);
+    return resolved;
+  }
+  static void requireFile(const fs::path& file, const std::string& where) {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw SceneError(file.string(), "no such file (referenced by " + where + ")");
+  }
+  template <class Parse>
+  auto parsed(Parse parse) const {
+    const std::string s = string();
+    try {
+      return parse(s);
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
+    }
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  Node child(const std::string& key) const { return Node(value_.at(key), path_ + "." + key, file_); }
+  std::string typeName() const {
+    if (value_.is_null()) return "null";
+    if (value_.is_boolean()) return "a boolean";
+    if (value_.is_number()) return "a number";
+    if (value_.is_string()) return "a string";
+    if (value_.is_array()) return "an array";
+    return "an object";
+  }
+
+  const Json& value_;
+  std::string path_;
+  const std::string& file_;
+};
+
+// Scale, then rotation, then translation.
+struct Transform {
+  Vec3d scale{1, 1, 1};
+  Rotation rotation;
+  Vec3d translate;
+  Vec3d point(const Vec3d& p) const {
+    return rotation.apply({p.x * scale.x, p.y * scale.y, p.z * scale.z}) + translate;
+  }
+  Vec3d vector(const Vec3d& v) const { return rotation.apply({v.x * scale.x, v.y * scale.y, v.z * scale.z}); }
+};
+
+Transform readTransform(const Node& node) {
+  node.object({"scale", "rotate", "translate"});
+  Transform t;
+  if (node.has("scale")) {
+    const Node s = node["scale"];
+    if (s.isNumber()) {
+      const double k = s.positive();
+      t.scale = {k, k, k};
+    } else {
+      t.scale = s.vec3();
+      if (!(t.scale.x > 0 && t.scale.y > 0 && t.scale.z > 0)) s.fail("scale factors must be positive");
+    }
+  }
+  if (node.has("rotate")) {
+    const Node r = node["rotate"];
+    r.object({"axis", "degrees"});
+    try {
+      t.rotation = Rotation::aboutAxis(r["axis"].vec3(), r["degrees"].number() * std::numbers::pi / 180.0);
+    } catch (const std::invalid_argument&) {
+      r.fail("the axis must be non-zero");
+    }
+  }
+  if (node.has("translate")) t.translate = node["translate"].vec3();
+  return t;
+}
+
+TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& transform) {
+  tinyobj::ObjReader reader;
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  if (!reader.ParseFromFile(path.string(), config)) {
+    std::string message = reader.Error();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    throw SceneError(path.string(), (message.empty() ? "cannot read the OBJ file" : message) + " (referenced by " +
+                                        node.path() + ")");
+  }
+  TriangleMesh mesh;
+  const auto& vertices = reader.GetAttrib().vertices;
+  for (std::size_t i = 0; i + 2 < vertices.size(); i += 3)
+    mesh.positions.push_back(transform.point({vertices[i], vertices[i + 1], vertices[i + 2]}));
+  for (const auto& shape : reader.GetShapes()) {
+    const auto& idx = shape.mesh.indices;
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      std::array<uint32_t, 3> tri{};
+      for (int k = 0; k < 3; ++k) {
+        const int v = idx[i + k].vertex_index;
+        if (v < 0 || static_cast<std::size_t>(v) >= mesh.positions.size())
+          throw SceneError(path.string(), "a face refers to a vertex that does not exist");
+        tri[k] = static_cast<uint32_t>(v);
+      }
+      mesh.triangles.push_back(tri);
+    }
+  }
+  if (mesh.triangles.empty()) throw SceneError(path.string(), "no faces (referenced by " + node.path() + ")");
+  return mesh;
+}
+
+TabulatedBrdfOptions readTableOptions(const Node& node) {
+  node.object({"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
+  TabulatedBrdfOptions o;
+  if (node.has("layout")) {
+    const std::string layout = node["layout"].string();
+    if (layout == "4d") o.layout = TabulatedBrdfOptions::Layout::Full4D;
+    else if (layout == "isotropic") o.layout = TabulatedBrdfOptions::Layout::Isotropic;
+    else node["layout"].fail("expected \"4d\" or \"isotropic\"");
+  }
+  if (node.has("theta_out")) o.thetaOutCells = node["theta_out"].count(1);
+  if (node.has("phi_out")) o.phiOutCells = node["phi_out"].count(1);
+  if (node.has("theta_half")) o.thetaHalfCells = node["theta_half"].count(1);
+  if (node.has("phi_half")) o.phiHalfCells = node["phi_half"].count(2);
+  if (node.has("supersampling")) o.supersampling = node["supersampling"].count(1);
+  if (node.has("epsilon")) {
+    o.simplify.epsilon = node["epsilon"].number();
+    if (!(o.simplify.epsilon >= 0)) node["epsilon"].fail("must be >= 0");
+  }
+  if (node.has("cosine_weight")) {
+    o.cosineWeight = node["cosine_weight"].number();
+    if (!(o.cosineWeight >= 0 && o.cosineWeight <= 1)) node["cosine_weight"].fail("must be in [0, 1]");
+  }
+  if (o.mirror && o.layout == TabulatedBrdfOptions::Layout::Isotropic && o.phiHalfCells % 2 != 0)
+    node["phi_half"].fail("must be even for an isotropic table");
+  return o;
+}
+
+// Material descriptions are read up front (to report every error early) and built on demand.
+struct MaterialSpec {
+  std::string path;  // JSON path, for messages
+  std::optional<fs::path> file;  // the data file it needs, checked once the material is used
+  std::function<std::unique_ptr<Material>(TableProvider&)> build;
+};
+
+MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const SceneOverrides& overrides) {
+  const std::string type = node["type"].string();
+  MaterialSpec spec{node.path(), std::nullopt, {}};
+  if (type == "diffuse") {
+    node.object({"type", "albedo"});
+    const Color albedo = node["albedo"].color(1.0);
+    spec.build = [albedo](TableProvider&) { return std::make_unique<DiffuseMaterial>(albedo); };
+  } else if (type == "measured") {
+    node.object({"type", "file", "preset", "sampling", "interpolation", "table"});
+    if (node.has("file") == node.has("preset")) node.fail("a measured material needs exactly one of \"file\" and \"preset\"");
+    std::optional<fs::path> file;
+    std::string preset;
+    if (node.has("file")) {
+      file = node["file"].file(baseDir);
+      spec.file = file;
+    } else {
+      preset = node["preset"].string();
+      try {
+        (void)AnalyticBrdf::preset(preset);
+      } catch (const std::invalid_argument& e) {
+        node["preset"].fail(e.what());
+      }
+    }
+    BrdfSampling sampling = BrdfSampling::Adaptive;
+    if (node.has("sampling")) sampling = node["sampling"].parsed(parseBrdfSampling);
+    if (overrides.bsdfSampling) sampling = *overrides.bsdfSampling;
+    MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
+    if (node.has("interpolation")) {
+      const std::string name = node["interpolation"].string();
+      if (name == "trilinear") interpolation = MerlBrdf::Interpolation::Trilinear;
+      else if (name != "nearest") node["interpolation"].fail("expected \"nearest\" or \"trilinear\"");
+    }
+    const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
+    const std::string where = node.path();
+    spec.build = [=](TableProvider& tables) -> std::unique_ptr<Material> {
+      std::shared_ptr<const MerlBrdf> brdf;
+      std::string key;
+      if (file) {
+        try {
+          brdf = tables.merlFile(*file);
+        } catch (const BrdfFileError& e) {
+          throw SceneError(e.file(), e.problem() + " (referenced by " + where + ")");
+        }
+        key = file->string();
+      } else {
+        brdf = tables.merlPreset(preset);
+        key = "preset " + preset;
+      }
+      return std::make_unique<MeasuredMaterial>(brdf, tables.brdfSampler(brdf, key, interpolation, sampling, table));
+    };
+  } else if (type == "ggx-conductor") {
+    node.object({"type", "preset", "alpha", "f0"});
+    AnalyticBrdf brdf;
+    if (node.has("preset")) {
+      if (node.has("alpha") || node.has("f0")) node.fail("give either \"preset\" or \"alpha\" and \"f0\"");
+      try {
+        brdf = AnalyticBrdf::preset(node["preset"].string());
+      } catch (const std::invalid_argument& e) {
+        node["preset"].fail(e.what());
+      }
+      if (brdf.kind != AnalyticBrdf::Kind::Conductor) node["preset"].fail("not a conductor preset");
+    } else {
+      brdf.alpha = node["alpha"].positive();
+      const Color f0 = node["f0"].color(1.0);
+      brdf.f0 = {f0.r, f0.g, f0.b};
+    }
+    spec.build = [brdf](TableProvider&) { return std::make_unique<GgxConductorMaterial>(brdf); };
+  } else {
+    node["type"].fail("unknown material type \"" + type + "\" (diffuse, measured or ggx-conductor)");
+  }
+  return spec;
+}
+
+// The environment: its map (file or constant) and how it is placed and sampled.
+struct EnvironmentSpec {
+  std::optional<fs::path> file;
+  Color constant{1.0};
+  double scale = 1, rotationDegrees = 0;
+  EnvironmentStrategy strategy = EnvironmentSampling::Adaptive;
+  double epsilon = SimplifyOptions{}.epsilon;
+};
+
+EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
+  EnvironmentSpec spec;
+  const std::string type = node["type"].string();
+  if (type == "map") {
+    node.object({"type", "file", "scale", "rotation", "sampling", "epsilon"});
+    spec.file = node["file"].existingFile(baseDir);
+  } else if (type == "constant") {
+    node.object({"type", "radiance", "sampling"});
+    spec.constant = node["radiance"].color(1e30);
+  } else {
+    node["type"].fail("unknown environment type \"" + type + "\" (map or constant)");
+  }
+  if (node.has("scale")) spec.scale = node["scale"].positive();
+  if (node.has("rotation")) spec.rotationDegrees = node["rotation"].number();
+  if (node.has("sampling")) spec.strategy = node["sampling"].parsed(parseEnvironmentStrategy);
+  if (node.has("epsilon")) {
+    spec.epsilon = node["epsilon"].number();
+    if (!(spec.epsilon >= 0)) node["epsilon"].fail("must be >= 0");
+  }
+  return spec;
+}
+
+std::unique_ptr<Environment> buildEnvironment(const EnvironmentSpec& spec, TableProvider& tables, const std::string& where) {
+  std::shared_ptr<const EnvironmentMap> map;
+  std::string key;
+  if (spec.file) {
+    try {
+      map = tables.environmentMap(*spec.file);
+    } catch (const ImageFileError& e) {
+      throw SceneError(e.file(), e.problem() + " (referenced by " + where + ")");
+    }
+    key = spec.file->string();
+  } else {
+    // A constant as a small uniform map: every table strategy applies to it as to a real map.
+    constexpr uint32_t kWidth = 16, kHeight = 8;
+    std::vector<float> rgb;
+    for (uint32_t i = 0; i < kWidth * kHeight; ++i)
+      rgb.insert(rgb.end(), {static_cast<float>(spec.constant.r), static_cast<float>(spec.constant.g),
+                             static_cast<float>(spec.constant.b)});
+    map = std::make_shared<const EnvironmentMap>(kWidth, kHeight, std::move(rgb));
+    key = fmt::format("constant ({}, {}, {})", spec.constant.r, spec.constant.g, spec.constant.b);
+  }
+  EnvironmentLightOptions options;
+  options.worldFromMap = Rotation::aboutY(spec.rotationDegrees * std::numbers::pi / 180.0);
+  options.scale = static_cast<float>(spec.scale);
+  options.simplify.epsilon = spec.epsilon;
+  std::shared_ptr<const EnvironmentLight> light;
+  if (spec.strategy && !map->isBlack()) {
+    options.strategy = *spec.strategy;
+    light = tables.environmentLight(map, key, options);
+  }
+  // A black map has nothing to sample: uniform-sphere NEE finds nothing, cheaply.
+  const EnvironmentStrategy strategy = light ? spec.strategy : std::nullopt;
+  return std::make_unique<Environment>(map, options.worldFromMap, options.scale, strategy, light);
+}
+
+}  // namespace
+
+SceneError::SceneError(const std::string& file, const std::string& problem)
+    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
+
+std::string_view toString(MisMode mode) {
+  switch (mode) {
+    case MisMode::Power: return "power";
+    case MisMode::Balance: return "balance";
+    case MisMode::BsdfOnly: return "bsdf-only";
+    case MisMode::LightOnly: return "light-only";
+  }
+  return "?";
+}
+
+MisMode parseMisMode(std::string_view name) {
+  for (auto m : {MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly})
+    if (toString(m) == name) return m;
+  throw std::invalid_argument("unknown MIS mode '" + std::string(name) + "' (power, balance, bsdf-only or light-only)");
+}
+
+Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw SceneError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
+  std::ifstream in(file);
+  if (!in) throw SceneError(file.string(), "cannot open the file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return loadSceneText(text.str(), file, overrides, tables);
+}
+
+Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
+  const std::string name = file.string();
+  const fs::path baseDir = file.parent_path();
+  Json json;
+  try {
+    json = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw SceneError(name, std::string("invalid JSON: ") + e.what());
+  }
+  const Node root(json, "$", name);
+  root.object({"camera", "render", "environment", "materials", "shapes"});
+
+  // ---- Read and check everything ----
+  Scene scene;
+  RenderSettings& settings = scene.settings;
+  if (root.has("render")) {
+    const Node r = root["render"];
+    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis"});
+    if (r.has("spp")) settings.spp = r["spp"].count(1);
+    if (r.has("seed")) settings.seed = r["seed"].count(0);
+    if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
+    if (r.has("roulette_depth")) settings.rouletteDepth = r["roulette_depth"].count(1);
+    if (r.has("mis")) settings.mis = r["mis"].parsed(parseMisMode);
+  }
+  if (overrides.mis) settings.mis = *overrides.mis;
+  if (overrides.spp) settings.spp = *overrides.spp;
+  if (overrides.seed) settings.seed = *overrides.seed;
+
+  const Node cam = root["camera"];
+  cam.object({"eye", "target", "up", "fov", "width", "height", "crop"});
+  const uint32_t width = cam["width"].count(1), height = cam["height"].count(1);
+  CropWindow crop{0, 0, width, height};
+  if (cam.has("crop")) {
+    const auto c = cam["crop"].elements();
+    if (c.size() != 4) cam["crop"].fail("expected [x0, y0, x1, y1]");
+    crop = {c[0].count(0), c[1].count(0), c[2].count(0), c[3].count(0)};
+  }
+  if (overrides.crop) crop = *overrides.crop;
+  try {
+    scene.camera = std::make_unique<Camera>(cam["eye"].vec3(), cam["target"].vec3(),
+                                            cam.has("up") ? cam["up"].vec3() : Vec3d{0, 1, 0}, cam["fov"].number(),
+                                            width, height, crop);
+  } catch (const std::invalid_argument& e) {
+    cam.fail(e.what());
+  }
+
+  const EnvironmentSpec envSpec = [&] {
+    EnvironmentSpec s = readEnvironment(root["environment"], baseDir);
+    if (overrides.envSampling) s.strategy = *overrides.envSampling;
+    return s;
+  }();
+
+  std::map<std::string, MaterialSpec> materialSpecs;
+  for (const auto& [key, node] : root["materials"].members()) materialSpecs.emplace(key, readMaterial(node, baseDir, overrides));
+
+  // Shapes refer to materials by name; each used name gets an index, in order of first use.
+  std::map<std::string, uint32_t> materialIndex;
+  std::vector<const MaterialSpec*> used;
+  auto materialOf = [&](const Node& shape) {
+    const Node ref = shape["material"];
+    const std::string key = ref.string();
+    const auto spec = materialSpecs.find(key);
+    if (spec == materialSpecs.end()) ref.fail("no material named \"" + key + "\" in $.materials");
+    const auto [it, inserted] = materialIndex.emplace(key, static_cast<uint32_t>(used.size()));
+    if (inserted) used.push_back(&spec->second);
+    return it->second;
+  };
+
+  std::vector<Sphere> spheres;
+  std::vector<TriangleMesh> meshes;
+  for (const Node& shape : root["shapes"].elements()) {
+    const std::string type = shape["type"].string();
+    if (type == "sphere") {
+      shape.object({"type", "center", "radius", "material"});
+      spheres.push_back({shape["center"].vec3(), shape["radius"].positive(), materialOf(shape)});
+    } else if (type == "quad") {
+      shape.object({"type", "corner", "edge_u", "edge_v", "transform", "material"});
+      const Transform t = shape.has("transform") ? readTransform(shape["transform"]) : Transform{};
+      const Vec3d corner = shape["corner"].vec3(), u = shape["edge_u"].vec3(), v = shape["edge_v"].vec3();
+      if (!(length(cross(u, v)) > 0)) shape.fail("edge_u and edge_v must span a parallelogram");
+      TriangleMesh quad;
+      quad.positions = {t.point(corner), t.point(corner + u), t.point(corner + u + v), t.point(corner + v)};
+      quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+      quad.tangent = t.vector(u);
+      quad.material = materialOf(shape);
+      meshes.push_back(std::move(quad));
+    } else if (type == "mesh") {
+      shape.object({"type", "file", "transform", "material"});
+      const Transform t = shape.has("transform") ? readTransform(shape["transform"]) : Transform{};
+      TriangleMesh mesh = readObj(shape["file"].existingFile(baseDir), shape["file"], t);
+      mesh.material = materialOf(shape);
+      meshes.push_back(std::move(mesh));
+    } else {
+      shape["type"].fail("unknown shape type \"" + type + "\" (sphere, quad or mesh)");
+    }
+  }
+
+  // ---- Build what is used ----
+  for (const MaterialSpec* spec : used)
+    if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
+  for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
+  scene.environment = buildEnvironment(envSpec, tables, "$.environment");
+  if (settings.mis == MisMode::LightOnly && scene.environment->needsMis())
+    throw SceneError(name, "light-only rendering cannot use compensated environment sampling (its pdf is 0 where the "
+                           "map is dimmer than its mean); choose another --env-sampling or --mis");
+  try {
+    scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(name, std::string("$.shapes: ") + e.what());
+  }
+  return scene;
+}
+
+}  // namespace acdf

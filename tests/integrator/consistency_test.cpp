@@ -1,0 +1,115 @@
+// Consistency: every strategy estimates the same integral, so renders of one scene with
+// different strategies must agree in mean within their error bars (3 standard errors of the
+// difference). A biased strategy — an adaptive table that dropped mass, an MIS weight that does
+// not sum to one — shows up as a difference far beyond them.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "acdf/envmap/image_file.h"
+#include "acdf/envmap/lat_long.h"
+#include "render_test_util.h"
+
+namespace acdf {
+namespace {
+
+// A sky with a broad bright lobe, written once per test process: varied enough that the tables
+// matter, smooth enough that BSDF sampling alone has no heavy tail (a small sun makes rare, huge
+// samples whose sample variance understates the error, and error bars mean nothing).
+std::string smoothSky() {
+  struct TemporaryFile {
+    std::string path;
+    ~TemporaryFile() { std::filesystem::remove(path); }
+  };
+  static const TemporaryFile sky = [] {
+    TemporaryFile file{
+        (std::filesystem::temp_directory_path() / ("acdf_consistency_sky_" + std::to_string(::getpid()) + ".exr")).string()};
+    Image image;
+    image.width = 64;
+    image.height = 32;
+    image.channels = 3;
+    const Vec3d lobe = normalize(Vec3d{1.0, 1.2, 0.6});
+    for (uint32_t r = 0; r < image.height; ++r)
+      for (uint32_t c = 0; c < image.width; ++c) {
+        const Vec3d w = LatLongMapping::direction(std::numbers::pi * (r + 0.5) / image.height,
+                                                  2.0 * std::numbers::pi * (c + 0.5) / image.width);
+        const double bright = std::pow(std::max(0.0, dot(w, lobe)), 8.0);
+        image.pixels.insert(image.pixels.end(), {static_cast<float>(0.3 + 4.0 * bright),
+                                                 static_cast<float>(0.4 + 3.0 * bright),
+                                                 static_cast<float>(0.6 + 2.0 * bright)});
+      }
+    writeExr(file.path, image);
+    return file;
+  }();
+  return sky.path;
+}
+
+// A measured sphere and a diffuse sphere on a diffuse floor under the sky: direct and indirect
+// light, a glossy lobe light sampling rarely finds and a bright region BSDF sampling rarely finds.
+nlohmann::json skyScene(const std::string& sampling) {
+  return {
+      {"camera", {{"eye", {0, 1.6, 4.5}}, {"target", {0, 0.7, 0}}, {"fov", 40}, {"width", 20}, {"height", 12}}},
+      {"render", {{"spp", rendertest::kSanitized ? 24 : 96}, {"seed", 3}, {"max_depth", 4}}},
+      {"environment", {{"type", "map"}, {"file", smoothSky()}, {"sampling", "adaptive"}}},
+      {"materials",
+       {{"metal", {{"type", "measured"}, {"preset", "gold"}, {"sampling", sampling}, {"table", {{"layout", "isotropic"}}}}},
+        {"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
+      {"shapes",
+       {{{"type", "sphere"}, {"center", {-0.6, 0.6, 0}}, {"radius", 0.6}, {"material", "metal"}},
+        {{"type", "sphere"}, {"center", {0.7, 0.5, 0.3}}, {"radius", 0.5}, {"material", "floor"}},
+        {{"type", "quad"}, {"corner", {-5, 0, -5}}, {"edge_u", {0, 0, 10}}, {"edge_v", {10, 0, 0}}, {"material", "floor"}}}},
+  };
+}
+
+void expectAgree(const rendertest::ImageMean& a, const rendertest::ImageMean& b, const std::string& what) {
+  auto check = [&](double ma, double sa, double mb, double sb, const char* channel) {
+    const double bar = 3.0 * std::sqrt(sa * sa + sb * sb);
+    EXPECT_LE(std::abs(ma - mb), bar) << what << " " << channel << ": " << ma << " vs " << mb << " (3σ = " << bar << ")";
+    // The bars themselves must be meaningful: a few percent, not the size of the signal.
+    EXPECT_LT(bar, 0.1 * std::max(ma, mb)) << what << " " << channel;
+  };
+  check(a.mean.r, a.standardError.r, b.mean.r, b.standardError.r, "red");
+  check(a.mean.g, a.standardError.g, b.mean.g, b.standardError.g, "green");
+  check(a.mean.b, a.standardError.b, b.mean.b, b.standardError.b, "blue");
+}
+
+rendertest::ImageMean renderMean(const std::string& brdfSampling, MisMode mis, EnvironmentStrategy env) {
+  SceneOverrides overrides;
+  overrides.mis = mis;
+  overrides.envSampling = env;
+  return rendertest::imageMean(rendertest::renderScene(skyScene(brdfSampling), overrides).film);
+}
+
+TEST(Consistency, MisModesAgree) {
+  const auto power = renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive);
+  expectAgree(power, renderMean("adaptive", MisMode::Balance, EnvironmentSampling::Adaptive), "power vs balance");
+  expectAgree(power, renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive), "power vs bsdf-only");
+  expectAgree(power, renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Adaptive), "power vs light-only");
+}
+
+TEST(Consistency, UniformAndAdaptiveTablesAgree) {
+  // BSDF sampling alone, so the BRDF table's own bias could not hide behind light sampling.
+  expectAgree(renderMean("uniform", MisMode::BsdfOnly, EnvironmentSampling::Adaptive),
+              renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive), "uniform vs adaptive BRDF table");
+  // Light sampling alone for the environment tables, likewise.
+  expectAgree(renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Uniform),
+              renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Adaptive),
+              "uniform vs adaptive environment table");
+}
+
+TEST(Consistency, EnvironmentStrategiesAgreeUnderMis) {
+  const auto adaptive = renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive);
+  expectAgree(adaptive, renderMean("adaptive", MisMode::Power, std::nullopt), "adaptive vs uniform-sphere");
+  expectAgree(adaptive, renderMean("adaptive", MisMode::Power, EnvironmentSampling::Alias), "adaptive vs alias");
+  expectAgree(adaptive, renderMean("adaptive", MisMode::Power, EnvironmentSampling::Compensated), "adaptive vs compensated");
+}
+
+}  // namespace
+}  // namespace acdf

@@ -1,0 +1,154 @@
+// `acdf render` end to end: a small render with its JSON summary and output files, and the
+// failures a user meets — bad scene files (with the JSON path of the problem), missing data
+// files, unwritable outputs — each exit 2 with one line on stderr and no output file left.
+
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app_test_util.h"
+
+namespace acdf {
+namespace {
+
+namespace fs = std::filesystem;
+using apptest::expectOneLineFailure;
+using apptest::runAcdf;
+
+nlohmann::json tinyScene() {
+  return {
+      {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 30}, {"width", 8}, {"height", 6}}},
+      {"render", {{"spp", 2}}},
+      {"environment", {{"type", "map"}, {"file", apptest::sourceDir() + "/data/envmaps/sunset_1024x512.exr"}}},
+      {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}},
+                     {"unused", {{"type", "measured"}, {"file", "never-loaded.binary"}}}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "grey"}}}},
+  };
+}
+
+class RenderCli : public apptest::TempDirTest {
+ protected:
+  std::string writeScene(const nlohmann::json& scene, const std::string& name = "scene.json") {
+    apptest::writeFile(path(name), scene.dump(2));
+    return path(name);
+  }
+  // Nothing but the scene (and what the test put there) in the directory: no partial outputs.
+  void expectNoOutputs() {
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name.ends_with(".json") || name.ends_with(".binary") || name == "readonly" || name == "stdout.txt" ||
+                  name == "stderr.txt")
+          << "left behind: " << name;
+    }
+  }
+};
+
+TEST_F(RenderCli, RendersWithJsonSummary) {
+  nlohmann::json scene = tinyScene();
+  // The unused material names a file that does not exist: only what the shapes use is loaded.
+  fs::create_directories(path("out"));
+  const auto r = runAcdf({"render", writeScene(scene), "-o", path("out/image.exr"), "--json", "--env-sampling",
+                          "uniform-sphere", "--mis", "balance", "--threads", "2"},
+                         dir_);
+  ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"seconds", "setup_ms", "spp", "samples_per_second", "rays_per_second", "tables_built",
+                          "tables_from_cache", "exr", "png"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["spp"], 2);
+  EXPECT_EQ(j["env_sampling"], "uniform-sphere");
+  EXPECT_TRUE(j["tables_built"].empty()) << "a diffuse sphere under uniform-sphere sampling needs no table";
+  EXPECT_TRUE(fs::is_regular_file(path("out/image.exr")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/image.png")));
+}
+
+TEST_F(RenderCli, BuildsOnlyTheChosenEnvironmentTable) {
+  const auto r = runAcdf({"render", writeScene(tinyScene()), "-o", path("a.exr"), "--json", "--env-sampling", "alias"}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
+  const auto built = nlohmann::json::parse(r.out)["tables_built"];
+  ASSERT_EQ(built.size(), 1u);
+  EXPECT_EQ(built[0].get<std::string>().rfind("envmap alias ", 0), 0u) << built;
+}
+
+TEST_F(RenderCli, UnknownKeyNamesItsPath) {
+  nlohmann::json scene = tinyScene();
+  scene["shapes"][0]["radious"] = 2;
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "$.shapes[0].radious: unknown key");
+  expectNoOutputs();
+}
+
+TEST_F(RenderCli, WrongTypeNamesItsPath) {
+  nlohmann::json scene = tinyScene();
+  scene["camera"]["fov"] = "wide";
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "$.camera.fov: expected a number, got a string");
+  expectNoOutputs();
+}
+
+TEST_F(RenderCli, InvalidJson) {
+  apptest::writeFile(path("scene.json"), "{\"camera\": ");
+  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "invalid JSON");
+}
+
+TEST_F(RenderCli, MissingSceneFile) {
+  expectOneLineFailure(runAcdf({"render", path("nope.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("nope.json"),
+                       "no such file");
+}
+
+TEST_F(RenderCli, MissingReferencedFileIsResolvedAgainstTheScene) {
+  nlohmann::json scene = tinyScene();
+  scene["materials"]["grey"] = {{"type", "measured"}, {"file", "missing.binary"}};
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("missing.binary"),
+                       "no such file (referenced by $.materials.grey.file)");
+  expectNoOutputs();
+}
+
+TEST_F(RenderCli, BrokenReferencedFile) {
+  apptest::writeFile(path("broken.binary"), "not a BRDF");
+  nlohmann::json scene = tinyScene();
+  scene["materials"]["grey"] = {{"type", "measured"}, {"file", "broken.binary"}};
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("broken.binary"),
+                       "referenced by $.materials.grey");
+  expectNoOutputs();
+}
+
+TEST_F(RenderCli, UnknownMaterialReference) {
+  nlohmann::json scene = tinyScene();
+  scene["shapes"][0]["material"] = "gold";
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "$.shapes[0].material: no material named \"gold\"");
+}
+
+TEST_F(RenderCli, UnwritableOutputLeavesNoFile) {
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("no-such-dir/x.exr")}, dir_),
+                       "acdf: " + path("no-such-dir/x.exr"), "output directory does not exist");
+  fs::create_directories(path("taken.exr"));
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("taken.exr")}, dir_),
+                       "acdf: " + path("taken.exr"), "is a directory");
+  fs::remove(path("taken.exr"));
+  expectNoOutputs();
+
+  fs::create_directories(path("readonly"));
+  fs::permissions(path("readonly"), fs::perms::owner_read | fs::perms::owner_exec);
+  if (::access(path("readonly").c_str(), W_OK) == 0)
+    GTEST_SKIP() << "running as a user who can write anywhere (root): no read-only directory to test";
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("readonly/x.exr")}, dir_),
+                       "acdf: " + path("readonly/x.exr"), "not writable");
+  EXPECT_TRUE(fs::is_empty(path("readonly")));
+}
+
+TEST_F(RenderCli, BadStrategyOnTheCommandLine) {
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("x.exr"), "--env-sampling", "magic"}, dir_),
+                       "acdf: render: --env-sampling", "uniform-sphere");
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("x.exr"), "--mis", "best"}, dir_),
+                       "acdf: render: --mis", "power");
+}
+
+}  // namespace
+}  // namespace acdf

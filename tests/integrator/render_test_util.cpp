@@ -1,0 +1,41 @@
+#include "render_test_util.h"
+
+#include <cmath>
+
+namespace acdf::rendertest {
+
+Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& overrides) {
+  // One provider for the whole test program: scenes that share a material or a map share its
+  // tables, as they would within one scene.
+  static TableProvider tables;
+  const Scene loaded = loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
+  Rendered r{makeFilm(loaded), {}};
+  r.stats = render(loaded, r.film);
+  return r;
+}
+
+ImageMean imageMean(const Film& film) {
+  Color sum, variance;
+  for (uint32_t y = 0; y < film.height(); ++y)
+    for (uint32_t x = 0; x < film.width(); ++x) {
+      const Color se = film.standardError(x, y);
+      sum += film.mean(x, y);
+      variance += se * se;
+    }
+  const double n = static_cast<double>(film.width()) * film.height();
+  return {sum * (1.0 / n), Color(std::sqrt(variance.r), std::sqrt(variance.g), std::sqrt(variance.b)) * (1.0 / n)};
+}
+
+nlohmann::json furnaceScene(const nlohmann::json& material, const Color& radiance, uint32_t size, uint32_t spp) {
+  // The sphere subtends asin(1/3) = 19.5° from the eye; a 20° field of view (14.1° to the
+  // corners) keeps every pixel on it.
+  return {
+      {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 20}, {"width", size}, {"height", size}}},
+      {"render", {{"spp", spp}, {"seed", 7}}},
+      {"environment", {{"type", "constant"}, {"radiance", {radiance.r, radiance.g, radiance.b}}}},
+      {"materials", {{"m", material}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}},
+  };
+}
+
+}  // namespace acdf::rendertest
