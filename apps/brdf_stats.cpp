@@ -82,6 +82,7 @@ nlohmann::ordered_json samplerJson(const SamplerRow& row) {
   nlohmann::ordered_json j;
   j["mean"] = row.estimate.mean;
   j["variance"] = row.estimate.variance;
+  j["max_weight"] = row.estimate.maxRelativeWeight;
   j["ns_per_sample"] = row.estimate.nsPerSample();
   j["efficiency"] = row.estimate.efficiency();
   if (row.table) {
@@ -153,12 +154,13 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     std::printf("\nreflected radiance under a uniform white sky, %u outgoing directions (theta_o <= %.0f deg) x %u "
                 "samples\n",
                 directions, maxThetaDegrees, estimator.samplesPerDirection);
-    std::printf("%-10s %12s %12s %12s %14s %12s\n", "sampler", "mean", "variance", "ns/sample", "efficiency",
-                "eff / unif");
+    std::printf("%-10s %12s %12s %12s %12s %14s %12s\n", "sampler", "mean", "variance", "max weight", "ns/sample",
+                "efficiency", "eff / unif");
     const double uniformEfficiency = rows[1].estimate.efficiency();
     for (const SamplerRow& row : rows)
-      std::printf("%-10s %12.5g %12.5g %12.1f %14.4g %12.3g\n", row.name.c_str(), row.estimate.mean,
-                  row.estimate.variance, row.estimate.nsPerSample(), row.estimate.efficiency(),
+      std::printf("%-10s %12.5g %12.5g %12.3g %12.1f %14.4g %12.3g\n", row.name.c_str(), row.estimate.mean,
+                  row.estimate.variance, row.estimate.maxRelativeWeight, row.estimate.nsPerSample(),
+                  row.estimate.efficiency(),
                   row.estimate.efficiency() / uniformEfficiency);
   }
   if (std::fflush(stdout) != 0) return 1;
@@ -175,7 +177,7 @@ std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args
       app.add_option("--res", args.resolution,
                      "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, iso theta_o x theta_h x "
                      "phi (default: the library's)"),
-      app.add_option("--epsilon", args.epsilon, "Largest CDF error the adaptive simplifier leaves (>= 0)")
+      app.add_option("--epsilon", args.epsilon, "Adaptive simplification tolerance (>= 0): the largest chi2-divergence an interval may add")
           ->capture_default_str(),
       app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
           ->check(CLI::IsMember({"nearest", "trilinear"}))
@@ -234,7 +236,8 @@ Command addBrdfStats(CLI::App& parent) {
       "compression (uniform bytes / adaptive bytes). Then it runs one fixed estimator with each sampler\n"
       "(cosine-weighted, uniform table, adaptive table): the radiance reflected under a uniform white sky for\n"
       "16 x 4 stratified outgoing directions up to theta_o = 85 deg, --samples samples each, fixed seed. It\n"
-      "reports the per-sample variance, ns per sample and efficiency = 1 / (variance x seconds per sample),\n"
+      "reports the per-sample variance, max_weight (the largest single sample over its direction's mean: how\n"
+      "bright a firefly can get), ns per sample and efficiency = 1 / (variance x seconds per sample),\n"
       "and each table's tabulation and CDF build times (JSON: build_ms and tabulation_ms at the top level\n"
       "are the adaptive table's). Isotropic tables are indexed by phi_h - phi_o; mirrored (the default) they\n"
       "store |phi_h - phi_o| in [0, pi), half of the phi cells --res gives.\n"

@@ -1,5 +1,6 @@
 #include "acdf/brdf/reflectance_estimator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <numbers>
 #include <stdexcept>
@@ -23,7 +24,7 @@ ReflectanceEstimate estimateReflectance(const BrdfSampler& sampler, const Reflec
       const double phiOut = (p + 0.5) / o.phiCount * 2.0 * std::numbers::pi;
       const Vec3d wo = sphericalDirection(thetaOut, phiOut);
       Pcg32 rng(o.seed, uint64_t{t} * o.phiCount + p);
-      double sum = 0.0, sumSquares = 0.0;
+      double sum = 0.0, sumSquares = 0.0, largest = 0.0;
       for (uint32_t k = 0; k < o.samplesPerDirection; ++k) {
         const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
         const BrdfSample s = sampler.sample(wo, u0, u1);
@@ -31,11 +32,13 @@ ReflectanceEstimate estimateReflectance(const BrdfSampler& sampler, const Reflec
         if (o.incident && y != 0.0) y *= o.incident(s.wi);
         sum += y;
         sumSquares += y * y;
+        largest = std::max(largest, y);
       }
       const double n = o.samplesPerDirection;
       const double mean = sum / n;
       meanSum += mean;
       varianceSum += std::max(0.0, sumSquares / n - mean * mean);
+      if (mean > 0.0) result.maxRelativeWeight = std::max(result.maxRelativeWeight, largest / mean);
     }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double directions = static_cast<double>(o.thetaCount) * o.phiCount;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <numbers>
 #include <stdexcept>
 
@@ -74,65 +75,112 @@ std::vector<double> subPoints(uint32_t cells, uint32_t per, double range) {
   return points;
 }
 
-// A half-vector sub-point of the grid: its direction, frame and Jacobian π s sinθh.
-struct HalfVectorPoint {
-  Vec3d direction;
-  HalfVectorFrame frame;
-  double jacobian;
+// The azimuths of the half-vector sub-points relative to the outgoing direction's, on which the
+// BRDF is evaluated. A MERL BRDF is isotropic: turning ωo and ωh together about the normal changes
+// nothing, so the target at (θo, φo, ωh) is the target at (θo, 0) with ωh turned by −φo; only
+// Δφ = φh − φo matters. With n sub-points per cell, P cells of φh and Q of φo over 2π, L = lcm(P, Q),
+// a = L/P, b = L/Q and δ = 2π/(2Ln), the sub-points are φh_k = (2k + 1)a·δ and φo_j = (2j + 1)b·δ,
+// so every Δφ = (2ka − 2jb + a − b)·δ lies on one lattice of Ln points, offset by half a step when
+// a − b is odd. The BRDF is evaluated once per (θo, θh, lattice point) instead of once per 4D
+// sub-point: for the default table, 2M evaluations instead of 67M. An isotropic table has φo = 0
+// and its lattice is the Δφ sub-points themselves.
+struct AzimuthLattice {
+  uint32_t points;
+  double spacing, offset;  // point t is at (t + offset) · spacing
+  int64_t stepPerHalf, stepPerOut, shift;
+
+  AzimuthLattice(const TabulatedBrdfOptions& o) {
+    const uint32_t per = o.supersampling;
+    if (o.layout == Layout::Isotropic) {
+      points = phiCells(o) * per;
+      spacing = phiRange(o) / points;
+      offset = 0.5;
+      stepPerHalf = 1, stepPerOut = 0, shift = 0;
+      return;
+    }
+    const int64_t lcm = std::lcm<int64_t>(o.phiHalfCells, o.phiOutCells);
+    const int64_t a = lcm / o.phiHalfCells, b = lcm / o.phiOutCells, parity = (a - b) & 1;
+    points = static_cast<uint32_t>(lcm * per);
+    spacing = kTwoPi / points;
+    offset = 0.5 * static_cast<double>(parity);
+    stepPerHalf = a, stepPerOut = b, shift = (a - b - parity) / 2;
+  }
+  // The lattice point of φh sub-point k seen from φo sub-point j.
+  uint32_t index(uint32_t k, uint32_t j) const {
+    const int64_t t = (k * stepPerHalf - j * stepPerOut + shift) % points;
+    return static_cast<uint32_t>(t < 0 ? t + points : t);
+  }
 };
 
 // f·cosθi · 4(ωo·ωh) · π s sinθh averaged over each cell's sub-points: the target density in
-// (s, φh), row-major over (θo[, φo], s, φh). Slices in parallel; each cell's sum in double in a
+// (s, φh), row-major over (θo[, φo], s, φh). θo cells in parallel; each cell's sum in double in a
 // fixed order.
 std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
                             const TabulatedBrdfOptions& o) {
   const uint32_t per = o.supersampling;
   const uint32_t sCells = o.thetaHalfCells, pCells = phiCells(o);
+  const bool full = o.layout == Layout::Full4D;
+  const uint32_t phiOutCells = full ? o.phiOutCells : 1, phiOutPer = full ? per : 1;
+  const AzimuthLattice lattice(o);
+
+  // The half vectors of the lattice: direction, frame and Jacobian π s sinθh.
   const std::vector<double> sValues = subPoints(sCells, per, 1.0);
-  const std::vector<double> phiValues = subPoints(pCells, per, phiRange(o));
-  std::vector<HalfVectorPoint> halfPoints;
-  halfPoints.reserve(sValues.size() * phiValues.size());
+  struct HalfVector {
+    Vec3d direction;
+    HalfVectorFrame frame;
+    double jacobian;
+  };
+  std::vector<HalfVector> halfVectors;
+  halfVectors.reserve(sValues.size() * lattice.points);
   for (double s : sValues) {
     const double thetaHalf = s * s * kHalfPi;
-    for (double phi : phiValues)
-      halfPoints.push_back({sphericalDirection(thetaHalf, phi), HalfVectorFrame(thetaHalf, phi),
-                            kPi * s * std::sin(thetaHalf)});
+    for (uint32_t t = 0; t < lattice.points; ++t) {
+      const double phi = (t + lattice.offset) * lattice.spacing;
+      halfVectors.push_back({sphericalDirection(thetaHalf, phi), HalfVectorFrame(thetaHalf, phi),
+                             kPi * s * std::sin(thetaHalf)});
+    }
   }
 
   const std::vector<double> thetaOut = subPoints(o.thetaOutCells, per, kHalfPi);
-  // Isotropic tables put ωo at φo = 0; Δφ is then the half vector's own azimuth.
-  const bool full = o.layout == Layout::Full4D;
-  const std::vector<double> phiOut = full ? subPoints(o.phiOutCells, per, kTwoPi) : std::vector<double>{0.0};
-  const uint32_t phiOutCells = full ? o.phiOutCells : 1;
-  const uint32_t phiOutPer = full ? per : 1;
-
   const std::size_t sliceCells = std::size_t{sCells} * pCells;
-  const std::size_t slices = std::size_t{o.thetaOutCells} * phiOutCells;
-  std::vector<float> values(slices * sliceCells);
+  const uint32_t phiSubPoints = pCells * per;
+  std::vector<float> values(std::size_t{o.thetaOutCells} * phiOutCells * sliceCells);
   const double subPointsPerCell = std::pow(static_cast<double>(per), full ? 4 : 3);
 
-  tbb::parallel_for(std::size_t{0}, slices, [&](std::size_t slice) {
-    const std::size_t thetaCell = slice / phiOutCells, phiCell = slice % phiOutCells;
-    std::vector<double> sums(sliceCells, 0.0);
-    for (uint32_t a = 0; a < per; ++a)
-      for (uint32_t b = 0; b < phiOutPer; ++b) {
-        const Vec3d wo = sphericalDirection(thetaOut[thetaCell * per + a], phiOut[phiCell * phiOutPer + b]);
-        for (std::size_t k = 0; k < halfPoints.size(); ++k) {
-          const HalfVectorPoint& h = halfPoints[k];
-          const double cosOutHalf = dot(wo, h.direction);
-          if (!(cosOutHalf > 0.0)) continue;  // ωi would be below the horizon
-          const Vec3d wi = reflect(wo, h.direction);
-          if (!(wi.z > 0.0)) continue;
-          double thetaDiff, phiDiff;
-          h.frame.diffAngles(wi, thetaDiff, phiDiff);
-          const double f = brdf.evalHalfDiff(h.frame.thetaHalf(), thetaDiff, phiDiff, interpolation).luminance();
-          // Sub-point k lies in cell (k / (phi sub-points) / per, k % (phi sub-points) / per).
-          const std::size_t sCell = k / phiValues.size() / per, pCell = k % phiValues.size() / per;
-          sums[sCell * pCells + pCell] += f * wi.z * 4.0 * cosOutHalf * h.jacobian;
-        }
+  tbb::parallel_for(uint32_t{0}, o.thetaOutCells, [&](uint32_t thetaCell) {
+    // The target at this cell's θo sub-points (φo = 0) over the lattice.
+    std::vector<double> target(std::size_t{per} * halfVectors.size(), 0.0);
+    for (uint32_t a = 0; a < per; ++a) {
+      const Vec3d wo = sphericalDirection(thetaOut[thetaCell * per + a], 0.0);
+      double* row = target.data() + std::size_t{a} * halfVectors.size();
+      for (std::size_t k = 0; k < halfVectors.size(); ++k) {
+        const HalfVector& h = halfVectors[k];
+        const double cosOutHalf = dot(wo, h.direction);
+        if (!(cosOutHalf > 0.0)) continue;  // ωi would be below the horizon
+        const Vec3d wi = reflect(wo, h.direction);
+        if (!(wi.z > 0.0)) continue;
+        double thetaDiff, phiDiff;
+        h.frame.diffAngles(wi, thetaDiff, phiDiff);
+        const double f = brdf.evalHalfDiff(h.frame.thetaHalf(), thetaDiff, phiDiff, interpolation).luminance();
+        row[k] = f * wi.z * 4.0 * cosOutHalf * h.jacobian;
       }
-    float* out = values.data() + slice * sliceCells;
-    for (std::size_t c = 0; c < sliceCells; ++c) out[c] = static_cast<float>(sums[c] / subPointsPerCell);
+    }
+    std::vector<double> sums(sliceCells);
+    std::vector<uint32_t> latticeOf(phiSubPoints);
+    for (uint32_t phiCell = 0; phiCell < phiOutCells; ++phiCell) {
+      std::fill(sums.begin(), sums.end(), 0.0);
+      for (uint32_t a = 0; a < per; ++a)
+        for (uint32_t j = phiCell * phiOutPer; j < (phiCell + 1) * phiOutPer; ++j) {
+          for (uint32_t k = 0; k < phiSubPoints; ++k) latticeOf[k] = lattice.index(k, j);
+          for (std::size_t i = 0; i < sValues.size(); ++i) {
+            const double* row = target.data() + (a * sValues.size() + i) * lattice.points;
+            double* cells = sums.data() + i / per * pCells;
+            for (uint32_t k = 0; k < phiSubPoints; ++k) cells[k / per] += row[latticeOf[k]];
+          }
+        }
+      float* out = values.data() + (std::size_t{thetaCell} * phiOutCells + phiCell) * sliceCells;
+      for (std::size_t c = 0; c < sliceCells; ++c) out[c] = static_cast<float>(sums[c] / subPointsPerCell);
+    }
   });
   return values;
 }

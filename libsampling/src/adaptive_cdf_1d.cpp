@@ -23,23 +23,24 @@ AdaptiveCdf1D::AdaptiveCdf1D(std::span<const float> function, float lo, float hi
 }
 
 namespace {
-detail::BreakpointCdf view(const std::vector<float>& cdf, const VertexIndices& vertices) {
-  return {cdf.data(), cdf.size(), &vertices, 0};
+// The stored CDF keeps its end points (cdfAt() reports them); the view skips them.
+detail::BreakpointCdf view(const std::vector<float>& cdf, const VertexIndices& vertices, uint32_t cells) {
+  return {cdf.data() + 1, cdf.size(), cells, &vertices, 1};
 }
 }  // namespace
 
 Sample1D AdaptiveCdf1D::sample(float u) const {
-  const detail::Draw d = detail::draw(view(cdf_, vertices_), axis_, clampUnit(u));
+  const detail::Draw d = detail::draw(view(cdf_, vertices_, axis_.cells()), axis_, clampUnit(u));
   return {d.x, clampDensity(d.density)};
 }
 
 float AdaptiveCdf1D::pdf(float x) const {
   if (!axis_.contains(x)) return 0.0f;
-  return clampDensity(detail::lookup(view(cdf_, vertices_), axis_, x).density);
+  return clampDensity(detail::lookup(view(cdf_, vertices_, axis_.cells()), axis_, x).density);
 }
 
 float AdaptiveCdf1D::invert(float x) const {
-  return detail::invert(view(cdf_, vertices_), axis_, x);
+  return detail::invert(view(cdf_, vertices_, axis_.cells()), axis_, x);
 }
 
 }  // namespace acdf

@@ -14,31 +14,39 @@
 
 namespace acdf::detail {
 
+// The end points of every CDF are implicit: value 0 at vertex 0 and value 1 at vertex `cells`.
+// Only the interior points are stored, which for the many short conditional CDFs of a cascade is
+// most of its storage (a CDF of two intervals stores one value and one index, not three of each).
 struct BreakpointCdf {
-  const float* cdf = nullptr;  // count values, cdf[0] = 0, cdf[count-1] = 1, non-decreasing
-  std::size_t count = 0;
-  // Grid vertex of point j is (*vertices)[vertexOffset + j]; null means point j is vertex j.
+  const float* interior = nullptr;  // count − 2 values in [0, 1], non-decreasing
+  std::size_t count = 0;            // points, end points included (>= 2)
+  uint32_t cells = 0;               // grid cells of the axis: the vertex of the last point
+  // Grid vertex of interior point j is (*vertices)[vertexOffset + j − 1]; null means point j is
+  // vertex j (every vertex is a point).
   const VertexIndices* vertices = nullptr;
   std::size_t vertexOffset = 0;
 
+  float value(std::size_t j) const { return j == 0 ? 0.0f : j + 1 == count ? 1.0f : interior[j - 1]; }
+
   uint32_t vertex(std::size_t j) const {
-    return vertices ? (*vertices)[vertexOffset + j] : static_cast<uint32_t>(j);
+    if (!vertices) return static_cast<uint32_t>(j);
+    return j == 0 ? 0u : j + 1 == count ? cells : (*vertices)[vertexOffset + j - 1];
   }
 
-  // The interval j with cdf[j] <= u < cdf[j+1], for u in [0, 1): it always has positive mass.
+  // The interval j with value(j) <= u < value(j+1), for u in [0, 1): it always has positive mass.
   std::size_t intervalOfVariate(float u) const {
-    const float* it = std::upper_bound(cdf, cdf + count, u);
-    return std::clamp<std::size_t>(static_cast<std::size_t>(it - cdf), 1, count - 1) - 1;
+    return static_cast<std::size_t>(std::upper_bound(interior, interior + (count - 2), u) - interior);
   }
 
+  // The interval holding `cell`: the number of interior vertices at or below it.
   std::size_t intervalOfCell(uint32_t cell) const {
     if (!vertices) return std::min<std::size_t>(cell, count - 2);
-    return vertices->intervalOf(vertexOffset, vertexOffset + count, cell) - vertexOffset;
+    return vertices->countAtMost(vertexOffset, vertexOffset + count - 2, cell);
   }
 
   // Exact in double: the difference of two floats.
   double mass(std::size_t j) const {
-    return static_cast<double>(cdf[j + 1]) - static_cast<double>(cdf[j]);
+    return static_cast<double>(value(j + 1)) - static_cast<double>(value(j));
   }
 };
 
@@ -54,7 +62,7 @@ inline Draw draw(const BreakpointCdf& c, const GridAxis& axis, float u) {
   const std::size_t j = c.intervalOfVariate(u);
   const double mass = c.mass(j);
   const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
-  const double t = (static_cast<double>(u) - c.cdf[j]) / mass;
+  const double t = (static_cast<double>(u) - c.value(j)) / mass;
   return {j, axis.place(first, end, t), axis.density(mass, end - first)};
 }
 
@@ -73,7 +81,7 @@ inline float invert(const BreakpointCdf& c, const GridAxis& axis, float x) {
   const std::size_t j = c.intervalOfCell(axis.cellOf(x));
   const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
   const double t = std::clamp((axis.gridCoordinate(x) - first) / (end - first), 0.0, 1.0);
-  return static_cast<float>(c.cdf[j] + t * c.mass(j));
+  return static_cast<float>(c.value(j) + t * c.mass(j));
 }
 
 // Appends the n+1 values of the normalised CDF of `masses` to `out` and returns Σ masses.

@@ -22,8 +22,9 @@ struct NodeView {
   std::size_t childBase;  // index in the next level of the child of interval 0
 };
 
-// The pooled 1D CDFs of one level. A uniform level (no starts) holds cells+1 points per CDF, one
-// per grid vertex; an adaptive level locates CDF k at points [starts[k], starts[k+1]).
+// The pooled 1D CDFs of one level, interior points only (see BreakpointCdf). A uniform level
+// (no starts) holds cells − 1 values per CDF, one per inner grid vertex; an adaptive level
+// locates the interior points of CDF k at [starts[k], starts[k+1]).
 struct LevelView {
   const float* cdf;
   const VertexIndices* vertices;
@@ -31,10 +32,10 @@ struct LevelView {
   uint32_t cells;
 
   NodeView node(std::size_t index) const {
-    if (!starts) return {{cdf + index * (cells + 1), cells + 1u, nullptr, 0}, index * cells};
+    if (!starts) return {{cdf + index * (cells - 1), cells + 1u, cells}, index * cells};
     const std::size_t first = starts[index], end = starts[index + 1];
-    // Every earlier 1D CDF of the level has (points - 1) children before ours.
-    return {{cdf + first, end - first, vertices, first}, first - index};
+    // Every earlier 1D CDF of the level has (interior points + 1) children before ours.
+    return {{cdf + first, end - first + 2, cells, vertices, first}, first + index};
   }
 };
 
@@ -87,7 +88,7 @@ struct LevelBuffer {
   DimensionMethod method;
   std::vector<float> cdf;
   VertexIndices vertices;
-  std::vector<uint32_t> counts;  // points of each 1D CDF, in level order
+  std::vector<uint32_t> counts;  // interior points of each 1D CDF, in level order
 };
 using Subtree = std::vector<LevelBuffer>;  // one buffer per sampled level
 
@@ -128,7 +129,7 @@ class Builder {
     Subtree t(sizes_.size());
     for (std::size_t d = 0; d < sizes_.size(); ++d) {
       t[d].method = method(d);
-      t[d].vertices = VertexIndices(sizes_[d]);
+      t[d].vertices = VertexIndices(sizes_[d] - 1);  // the largest interior vertex
     }
     return t;
   }
@@ -169,11 +170,11 @@ class Builder {
     }
 
     LevelBuffer& buffer = out[level];
-    for (uint32_t v : kept) {
-      buffer.cdf.push_back(cdf[v]);
-      if (buffer.method == DimensionMethod::Adaptive) buffer.vertices.push_back(v);
+    for (std::size_t j = 1; j + 1 < kept.size(); ++j) {
+      buffer.cdf.push_back(cdf[kept[j]]);
+      if (buffer.method == DimensionMethod::Adaptive) buffer.vertices.push_back(kept[j]);
     }
-    buffer.counts.push_back(static_cast<uint32_t>(kept.size()));
+    buffer.counts.push_back(static_cast<uint32_t>(kept.size() - 2));
     for (const Child& c : children) append(out, c.tree);
     return total;
   }
@@ -490,26 +491,31 @@ std::size_t Cascade::bytes() const {
 }
 
 std::size_t Cascade::distinctSlices() const {
-  const Level& first = levels_.front();
-  const std::size_t m = axes_[conditioningDims_].cells();
-  return first.method == DimensionMethod::Uniform ? first.cdf.size() / (m + 1) : first.starts.size() - 1;
+  // Roots are numbered in slice order, so the last slice has the largest.
+  return sliceRoot_.empty() ? slices() : sliceRoot_.back() + std::size_t{1};
+}
+
+std::vector<std::size_t> Cascade::cdfsPerLevel() const {
+  // A level's CDFs are the intervals of the level above: each CDF has its interior points + 1.
+  std::vector<std::size_t> cdfs{distinctSlices()};
+  for (std::size_t level = 0; level + 1 < levels_.size(); ++level) cdfs.push_back(levels_[level].cdf.size() + cdfs.back());
+  return cdfs;
 }
 
 std::vector<double> Cascade::averageIntervals() const {
   std::vector<double> result;
   for (std::size_t d = 0; d < conditioningDims_; ++d) result.push_back(axes_[d].cells());
+  const std::vector<std::size_t> cdfs = cdfsPerLevel();
   for (std::size_t level = 0; level < levels_.size(); ++level) {
-    const Level& l = levels_[level];
-    const std::size_t m = axes_[conditioningDims_ + level].cells();
-    const std::size_t nodes = l.method == DimensionMethod::Uniform ? l.cdf.size() / (m + 1) : l.starts.size() - 1;
-    result.push_back(static_cast<double>(l.cdf.size() - nodes) / static_cast<double>(nodes));
+    result.push_back(static_cast<double>(levels_[level].cdf.size() + cdfs[level]) / static_cast<double>(cdfs[level]));
   }
   return result;
 }
 
 std::vector<std::size_t> Cascade::pointsPerDimension() const {
   std::vector<std::size_t> result;
-  for (const Level& l : levels_) result.push_back(l.cdf.size());
+  const std::vector<std::size_t> cdfs = cdfsPerLevel();
+  for (std::size_t level = 0; level < levels_.size(); ++level) result.push_back(levels_[level].cdf.size() + 2 * cdfs[level]);
   return result;
 }
 

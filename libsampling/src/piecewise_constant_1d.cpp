@@ -13,7 +13,10 @@ PiecewiseConstant1D::PiecewiseConstant1D(std::span<const float> function, float 
 }
 
 namespace {
-detail::BreakpointCdf view(std::span<const float> cdf) { return {cdf.data(), cdf.size()}; }
+// The stored CDF keeps its end points (cdf() reports them); the view skips them.
+detail::BreakpointCdf view(std::span<const float> cdf) {
+  return {cdf.data() + 1, cdf.size(), static_cast<uint32_t>(cdf.size() - 1)};
+}
 }  // namespace
 
 Sample1D PiecewiseConstant1D::sample(float u) const {

@@ -110,6 +110,8 @@ TEST_F(BrdfCli, StatsJsonKeysAreConsistent) {
     EXPECT_LT(s["mean"].get<double>(), 1.05) << s;
     EXPECT_GT(s["variance"].get<double>(), 0) << s;
     EXPECT_GT(s["ns_per_sample"].get<double>(), 0) << s;
+    // No sample can be below the mean of a positive estimator everywhere.
+    EXPECT_GT(s["max_weight"].get<double>(), 1.0) << s;
     const double efficiency = s["efficiency"].get<double>();
     EXPECT_NEAR(efficiency, 1e9 / (s["variance"].get<double>() * s["ns_per_sample"].get<double>()),
                 1e-6 * efficiency)

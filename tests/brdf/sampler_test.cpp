@@ -48,11 +48,10 @@ constexpr uint64_t kSamples = 1'000'000;
 constexpr uint32_t kSubCells = 32;
 #endif
 
-// The Table 1 test's thresholds. Issue 3 asks for >= 20x at <= 1.1x variance; the default table
-// reaches about 21x at 1.13x (see docs/performance.md), so the test holds the measured level and
-// fails on any regression; closing the remaining gap is open work.
+// The Table 1 test's thresholds, as issue 3 asks: >= 20x smaller at <= 1.1x the variance. The
+// default table measures 22.4x at 1.083x (see docs/performance.md).
 constexpr double kTable1Compression = 20.0;
-constexpr double kTable1VarianceRatio = 1.15;
+constexpr double kTable1VarianceRatio = 1.10;
 
 // Chi-square tests in this program, for the Šidák correction: 4 materials × 3 samplers × 4 angles,
 // plus the isotropic layouts on nickel (2 × 4).
@@ -230,11 +229,13 @@ TEST(ReflectanceEstimator, LambertianKnownAnswers) {
   const ReflectanceEstimate cosine = estimateReflectance(library().sampler("lambertian", "cosine"), o);
   EXPECT_NEAR(cosine.mean, kLambertAlbedo, 1e-6);
   EXPECT_LT(cosine.variance, 1e-12);
+  EXPECT_NEAR(cosine.maxRelativeWeight, 1.0, 1e-6);  // every sample equals the mean
   for (const char* name : {"uniform-4d", "adaptive-4d", "uniform-iso", "adaptive-iso"}) {
     const ReflectanceEstimate e = estimateReflectance(library().sampler("lambertian", name), o);
     const double standardError = std::sqrt(e.variance / e.samples);
     EXPECT_NEAR(e.mean, kLambertAlbedo, 5 * standardError + 1e-6) << name << " variance " << e.variance;
     EXPECT_GT(e.variance, 0.0) << name;
+    EXPECT_GT(e.maxRelativeWeight, 1.0) << name;
   }
 }
 
@@ -269,14 +270,65 @@ TEST(BrdfTable1, NickelAdaptiveIsSmallerAtNearlyTheUniformVariance) {
   EXPECT_LE(a.variance, c.variance / 5) << measured;
 }
 
+// The 4D table is tabulated from the isotropic target by rotation (see tabulate() in
+// tabulated_brdf_sampler.cpp). Check its cell probabilities against a direct quadrature of
+// ∫cell f·cosθi·4(ωo·ωh) dωh over the cell's ωo, with 3 points per axis (the table uses 2), so the
+// two agree only as far as both approximate the integral: a rotation the wrong way, a lattice
+// off by a sub-point or a wrong Jacobian shows up as a total-variation distance far above it.
+double directQuadratureDistance(const TabulatedBrdfSampler& table, const MerlBrdf& brdf, uint32_t thetaCell,
+                                uint32_t phiCell, uint32_t quadraturePhiCell) {
+  const TabulatedBrdfOptions& o = table.options();
+  constexpr uint32_t kPer = 3;
+  std::vector<double> mass(std::size_t{o.thetaHalfCells} * o.phiHalfCells, 0.0);
+  for (uint32_t a = 0; a < kPer; ++a)
+    for (uint32_t b = 0; b < kPer; ++b) {
+      const double thetaOut = (thetaCell + (a + 0.5) / kPer) * (kPi / 2) / o.thetaOutCells;
+      const double phiOut = (quadraturePhiCell + (b + 0.5) / kPer) * (2 * kPi) / o.phiOutCells;
+      const Vec3d wo = sphericalDirection(thetaOut, phiOut);
+      for (uint32_t i = 0; i < o.thetaHalfCells * kPer; ++i) {
+        const double s = (i + 0.5) / (o.thetaHalfCells * kPer);
+        const double thetaHalf = s * s * kPi / 2;
+        for (uint32_t k = 0; k < o.phiHalfCells * kPer; ++k) {
+          const Vec3d wh = sphericalDirection(thetaHalf, (k + 0.5) / (o.phiHalfCells * kPer) * 2 * kPi);
+          const Vec3d wi = reflect(wo, wh);
+          if (!(wi.z > 0.0) || !(dot(wo, wh) > 0.0)) continue;
+          const double f = brdf.eval(wi, wo, kNearest).luminance();
+          // dωh = sinθh dθh dφ with dθh = π s ds
+          mass[i / kPer * o.phiHalfCells + k / kPer] += f * wi.z * 4 * dot(wo, wh) * std::sin(thetaHalf) * kPi * s;
+        }
+      }
+    }
+  double total = 0.0;
+  for (double m : mass) total += m;
+  const std::vector<double> p = table.table().cellProbabilities(std::size_t{thetaCell} * o.phiOutCells + phiCell);
+  double distance = 0.0;
+  for (std::size_t c = 0; c < mass.size(); ++c) distance += 0.5 * std::fabs(p[c] - mass[c] / total);
+  return distance;
+}
+
+TEST(BrdfTabulation, FourDimensionalTableMatchesDirectQuadrature) {
+  const auto& uniform = dynamic_cast<const TabulatedBrdfSampler&>(library().sampler("nickel", "uniform-4d"));
+  const MerlBrdf& nickel = library().brdf("nickel");
+  for (auto [thetaCell, phiCell] : {std::pair{4u, 3u}, std::pair{20u, 9u}, std::pair{29u, 14u}}) {
+    const double distance = directQuadratureDistance(uniform, nickel, thetaCell, phiCell, phiCell);
+    EXPECT_LT(distance, 0.015) << "slice " << thetaCell << ", " << phiCell;
+    // The check can tell: the same slice against the quadrature a quarter turn away is further off
+    // (least so at small θo, where the lobe is nearly round in φh).
+    const double turned = directQuadratureDistance(uniform, nickel, thetaCell, phiCell, (phiCell + 4) % 16);
+    EXPECT_GT(turned, 3 * distance) << "slice " << thetaCell << ", " << phiCell;
+    std::printf("slice %u,%u: total variation %.4f (a quarter turn away: %.3f)\n", thetaCell, phiCell, distance, turned);
+  }
+}
+
 // Isotropic reduction: 1/32 of the 4D table's cells (1/16 for dropping φo, 1/2 for the mirror)
-// with the same sampling quality. In bytes a little less than 32×: each conditional CDF stores
-// cells + 1 values (33 for 32 φh cells, 17 for 16 Δφ cells), 8705 against 4609 per slice.
+// with the same sampling quality. In bytes a little more than 32×: each 1D CDF stores its cells − 1
+// inner values (31 for 32 φh cells, 15 for 16 Δφ cells), 255 + 256·31 = 8191 against
+// 255 + 256·15 = 4095 per slice.
 TEST(BrdfTable1, IsotropicTableMatchesTheFullOneAtAThirtySecondOfTheStorage) {
   const auto& full = dynamic_cast<const TabulatedBrdfSampler&>(library().sampler("nickel", "uniform-4d"));
   const auto& iso = dynamic_cast<const TabulatedBrdfSampler&>(library().sampler("nickel", "uniform-iso"));
   const double ratio = double(full.bytes()) / iso.bytes();
-  EXPECT_NEAR(ratio, 16.0 * 8705 / 4609, 0.01);
+  EXPECT_NEAR(ratio, 16.0 * 8191 / 4095, 0.01);
   const ReflectanceEstimate f = estimateReflectance(full), i = estimateReflectance(iso);
   EXPECT_LE(i.variance, 1.05 * f.variance) << "iso " << i.variance << " full " << f.variance;
 }

@@ -475,13 +475,29 @@ TEST(CascadeOptions, WeightBoundHoldsForWholeCells) {
 
 // ---- Structure --------------------------------------------------------------------------------
 
-TEST(CascadeStructure, UniformLevelsStoreEveryVertex) {
+TEST(CascadeStructure, UniformLevelsStoreEveryInnerVertex) {
   const auto v = makeFixture(Fixture::Smooth, k2D);
   const Cascade c(v, unitAxes(k2D), withMethods({DM::Uniform, DM::Uniform}));
   EXPECT_EQ(c.averageIntervals(), (std::vector<double>{64, 32}));
   EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{65, 64 * 33}));
-  EXPECT_GE(c.bytes(), (65 + 64 * 33) * sizeof(float));
-  EXPECT_LT(c.bytes(), (65 + 64 * 33) * sizeof(float) + 1024);
+  // The end points 0 and 1 of every CDF are implicit.
+  EXPECT_GE(c.bytes(), (63 + 64 * 31) * sizeof(float));
+  EXPECT_LT(c.bytes(), (63 + 64 * 31) * sizeof(float) + 1024);
+}
+
+TEST(CascadeStructure, EndPointsAreImplicit) {
+  // A constant function keeps only the end points of each 1D CDF: nothing is stored for them but
+  // each CDF's offset (two per level, with the end) and the slice integral.
+  const std::vector<float> v(64 * 32, 1.0f);
+  const Cascade c(v, unitAxes(k2D));
+  EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{2, 2}));
+  EXPECT_EQ(c.averageIntervals(), (std::vector<double>{1, 1}));
+  EXPECT_EQ(c.bytes(), sizeof(double) + 2 * 2 * sizeof(uint32_t));
+  const std::array<float, 2> u{0.25f, 0.75f};
+  const SampleND x = c.sample(u);
+  EXPECT_FLOAT_EQ(x.x[0], 0.25f);
+  EXPECT_FLOAT_EQ(x.x[1], 0.75f);
+  EXPECT_FLOAT_EQ(x.pdf, 1.0f);
 }
 
 TEST(CascadeStructure, ConditionedUniformLevels) {

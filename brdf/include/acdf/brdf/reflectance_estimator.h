@@ -29,6 +29,9 @@ struct ReflectanceEstimatorOptions {
 struct ReflectanceEstimate {
   double mean = 0;      // L(ωo) averaged over the directions
   double variance = 0;  // Var[Y | ωo] averaged over the directions
+  // The largest single Y over all directions, relative to that direction's mean: how far above
+  // the estimate one sample can land (a firefly); 1 for a zero-variance sampler.
+  double maxRelativeWeight = 0;
   uint64_t samples = 0;
   double seconds = 0;   // wall-clock time drawing and weighting the samples (single thread)
 

@@ -13,8 +13,10 @@
 // the normalised conditionals of the interval's cells (the paper's eq. 10).
 //
 // Storage: per sampled dimension, the 1D CDFs of that level are pooled: float CDF values, and for
-// adaptive levels 8/16/32-bit vertex indices plus one 32-bit offset per 1D CDF. The children of a
-// level's CDF are contiguous in the next level, so no child pointers are stored.
+// adaptive levels 8/16/32-bit vertex indices plus one 32-bit offset per 1D CDF. Only interior
+// points are stored: every CDF starts at 0 on vertex 0 and ends at 1 on the last vertex, so the
+// end points are implicit (uniform and adaptive levels alike). The children of a level's CDF are
+// contiguous in the next level, so no child pointers are stored.
 // Precision: all sums in double; stored CDFs in float; pdf = product of the per-level densities
 // computed in double and clamped into the positive float range.
 // Zero mass: a slice (or sub-block) with no mass gets a uniform distribution of two points;
@@ -101,7 +103,8 @@ class Cascade {
   // Per axis: the average number of intervals of its 1D CDFs (the paper's "average resolution");
   // conditioning axes report their cell count.
   std::vector<double> averageIntervals() const;
-  // Kept points (interval ends) summed over all 1D CDFs of each sampled axis.
+  // Kept points (interval ends, the implicit end points included) summed over all 1D CDFs of
+  // each sampled axis.
   std::vector<std::size_t> pointsPerDimension() const;
 
   // Probability the distribution of `slice` gives each cell of the sampled grid, row-major.
@@ -122,9 +125,9 @@ class Cascade {
 
   struct Level {
     DimensionMethod method;
-    std::vector<float> cdf;        // pooled CDF values of all 1D CDFs of this level
-    VertexIndices vertices;        // adaptive only: grid vertex of each pooled point
-    std::vector<uint32_t> starts;  // adaptive only: first pooled point of each 1D CDF, plus end
+    std::vector<float> cdf;        // pooled interior CDF values of all 1D CDFs of this level
+    VertexIndices vertices;        // adaptive only: grid vertex of each pooled value
+    std::vector<uint32_t> starts;  // adaptive only: first pooled value of each 1D CDF, plus end
   };
 
  private:
@@ -132,6 +135,7 @@ class Cascade {
   std::vector<std::size_t> groupSlices(std::span<const float> values, std::size_t sliceSize);
   std::vector<double> cellProbabilitiesOfRoot(std::size_t root) const;
   std::size_t rootOf(std::size_t slice) const { return sliceRoot_.empty() ? slice : sliceRoot_[slice]; }
+  std::vector<std::size_t> cdfsPerLevel() const;
 
   std::vector<GridAxis> axes_;
   std::size_t conditioningDims_ = 0;

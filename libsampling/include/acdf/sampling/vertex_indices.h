@@ -42,27 +42,28 @@ class VertexIndices {
     wide32_.shrink_to_fit();
   }
 
-  // Index j in [first, last-1) of the breakpoint interval [v[j], v[j+1]) that holds `cell`,
-  // given v[first] <= cell < v[last-1]. Inline and branchless within the search (the width
-  // test is the same on every call of a table): it sits on every pdf() call.
-  std::size_t intervalOf(std::size_t first, std::size_t last, uint32_t cell) const {
-    if (width_ == 1) return lastAtMost(narrow8_.data(), first, last, cell);
-    if (width_ == 2) return lastAtMost(narrow16_.data(), first, last, cell);
-    return lastAtMost(wide32_.data(), first, last, cell);
+  // How many of the sorted indices [first, last) are <= cell. Inline and branchless within the
+  // search (the width test is the same on every call of a table): it sits on every pdf() call.
+  std::size_t countAtMost(std::size_t first, std::size_t last, uint32_t cell) const {
+    if (width_ == 1) return countAtMost(narrow8_.data() + first, last - first, cell);
+    if (width_ == 2) return countAtMost(narrow16_.data() + first, last - first, cell);
+    return countAtMost(wide32_.data() + first, last - first, cell);
   }
 
  private:
-  // Largest j in [first, last-2] with v[j] <= cell: a binary search whose loop has no
-  // data-dependent branch (the compiler emits a conditional move).
+  // Every index before `base` is <= cell and the answer lies in [base, base + length]; halving
+  // keeps that, and the loop has no data-dependent branch (the compiler emits a conditional move).
   template <class T>
-  static std::size_t lastAtMost(const T* v, std::size_t first, std::size_t last, uint32_t cell) {
-    std::size_t base = first, length = last - 1 - first;  // candidates [base, base + length)
+  static std::size_t countAtMost(const T* v, std::size_t n, uint32_t cell) {
+    if (n == 0) return 0;
+    const T* base = v;
+    std::size_t length = n;
     while (length > 1) {
       const std::size_t half = length / 2;
-      base = v[base + half] <= cell ? base + half : base;
+      base = base[half] <= cell ? base + half : base;
       length -= half;
     }
-    return base;
+    return static_cast<std::size_t>(base - v) + (*base <= cell ? 1 : 0);
   }
 
   unsigned width_ = 2;
