@@ -1,13 +1,13 @@
-// bench_envmap: environment lights (acdf::envmap) with the uniform, alias and adaptive tables, on
-// a procedural 4096×2048 sun and sky (the "noon" preset) and on the real maps of the shared test
-// data (../shared/data/envmaps, each benchmarked only when present).
+// bench_envmap: environment lights (acdf::envmap) with the uniform, alias, adaptive and hierarchical
+// tables, on a procedural 4096×2048 sun and sky (the "noon" preset) and on the real maps of the
+// shared test data (../shared/data/envmaps, each benchmarked only when present).
 //
 // Benchmarks (names "<what>/<method>/<map>"):
 //   build/*   EnvironmentLight construction: the table of luminance × ΔΩ and its distribution
 //             (wall ms/op, TBB on all cores); counters: process_cpu_ms (CPU time of all threads per
 //             build), peak_build_bytes (rise of the resident high-water mark, see PeakMemory),
 //             bytes, bytes_vs_uniform
-//   h2h/<map> sample() and pdf() of the three lights interleaved in chunks (HeadToHead): median
+//   h2h/<map> sample() and pdf() of the four lights interleaved in chunks (HeadToHead): median
 //             ns/op of each and the ratios vs uniform under the same machine noise (counters).
 //             sample() returns the direction, radiance and pdf; pdf() takes world directions
 //             sampled beforehand from the uniform light.
@@ -32,7 +32,7 @@ using namespace acdf;
 using namespace acdf::bench;
 
 constexpr EnvironmentSampling kMethods[] = {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
-                                            EnvironmentSampling::Adaptive};
+                                            EnvironmentSampling::Adaptive, EnvironmentSampling::Hierarchical};
 
 struct MapSet {
   std::shared_ptr<const EnvironmentMap> map;
@@ -116,7 +116,9 @@ void headToHead(benchmark::State& st, const std::string& name) {
     h2h.round(offset);
     offset = (offset + kChunk) & kVariateMask;
   }
-  h2h.reportSamplersVsUniform(st);
+  std::vector<std::string> names;
+  for (EnvironmentSampling method : kMethods) names.emplace_back(toString(method));
+  h2h.reportVsUniform(st, names);
 }
 
 void registerMap(const std::string& name, std::shared_ptr<const EnvironmentMap> map) {

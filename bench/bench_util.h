@@ -115,16 +115,19 @@ class HeadToHead {
 
   // For contenders added as sample(uniform, alias, adaptive) then pdf(uniform, alias, adaptive):
   // the median ns/op of each and the alias and adaptive ratios to uniform, as counters.
-  void reportSamplersVsUniform(benchmark::State& st) const {
+  void reportSamplersVsUniform(benchmark::State& st) const { reportVsUniform(st, {"uniform", "alias", "adaptive"}); }
+
+  // The same for any samplers, `names` in the order added, "uniform" first (the reference).
+  void reportVsUniform(benchmark::State& st, const std::vector<std::string>& names) const {
     const char* what[] = {"sample", "pdf"};
     for (std::size_t k = 0; k < 2; ++k) {
-      const double uni = medianNsPerOp(3 * k + 0), ali = medianNsPerOp(3 * k + 1), ada = medianNsPerOp(3 * k + 2);
       const std::string p = what[k];
-      st.counters[p + "_ns_uniform"] = uni;
-      st.counters[p + "_ns_alias"] = ali;
-      st.counters[p + "_ns_adaptive"] = ada;
-      st.counters[p + "_alias_vs_uniform"] = ali / uni;
-      st.counters[p + "_adaptive_vs_uniform"] = ada / uni;
+      const double uni = medianNsPerOp(names.size() * k);
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        const double ns = medianNsPerOp(names.size() * k + i);
+        st.counters[p + "_ns_" + names[i]] = ns;
+        if (i > 0) st.counters[p + "_" + names[i] + "_vs_uniform"] = ns / uni;
+      }
     }
   }
 
