@@ -156,7 +156,7 @@ TEST_F(ReadImage, AllBlackMapIsALightThatEmitsNothing) {
   auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(file));
   EXPECT_TRUE(map->isBlack());
   for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                        EnvironmentSampling::Compensated}) {
+                        EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
     const EnvironmentLight light(map, {.strategy = strategy});
     EXPECT_TRUE(light.emitsNothing());
     EXPECT_EQ(light.tableBytes(), 0u);
@@ -177,7 +177,7 @@ TEST_F(ReadImage, TinyMapsLoadAndSample) {
     ASSERT_EQ(map->width(), width);
     ASSERT_EQ(map->height(), height);
     for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                          EnvironmentSampling::Compensated}) {
+                          EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
       const EnvironmentLight light(map, {.strategy = strategy});
       for (float u0 : {0.0f, 0.5f, kOneMinusEpsilon})
         for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
