@@ -186,7 +186,7 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
 }
 
 // Bump when tabulate() changes its values: cached tables of the old ones must not be used.
-constexpr int kTabulationVersion = 1;
+constexpr int kTabulationVersion = 2;  // 2: 4D tables rotated from the isotropic target
 
 CascadeOptions cascadeOptions(const TabulatedBrdfOptions& o) {
   CascadeOptions cascade;

@@ -5,8 +5,10 @@
 //            u8 metric, f64 ε, u32 point budget, f64 ρ; u8 conditional rule; u8 tolerance rule;
 //            f64 slice grouping tolerance
 //   slice integrals (u64 count, f64 each), slice roots (u64 count, u32 each)
-//   per sampled level: u8 method, CDF values (u64 count, f32 each); adaptive levels add u8 vertex
-//            index width, u64 count and the indices (width bytes each), and starts (u64, u32 each)
+//   per sampled level: u8 method, interior CDF values (u64 count, f32 each); adaptive levels add
+//            u8 vertex index width, u64 count and the indices (width bytes each), and starts (u64
+//            count, u32 each)
+// That is the in-memory layout of cascade.h (the end points 0 and 1 of each CDF are implicit).
 // Arrays carry their counts so a reader can check them against the shape before using them.
 
 #include <algorithm>
@@ -25,20 +27,19 @@ constexpr uint32_t kMagic = 0x43534341;  // "ACSC" read as little-endian bytes
 
 std::string levelName(std::size_t level) { return "level " + std::to_string(level); }
 
-// One 1D CDF as every sampler requires it: from exactly 0 to exactly 1, non-decreasing (which
-// also rules out NaN and Inf), so every u in [0, 1) falls in an interval of positive mass.
-void checkCdf(const ByteReader& in, const float* cdf, std::size_t count, const std::string& where) {
-  if (count < 2) in.fail(where + ": a CDF needs at least 2 points, has " + std::to_string(count));
-  if (cdf[0] != 0.0f || cdf[count - 1] != 1.0f) {
-    in.fail(where + ": CDF runs from " + std::to_string(cdf[0]) + " to " + std::to_string(cdf[count - 1]) +
-            " instead of 0 to 1");
-  }
-  for (std::size_t j = 1; j < count; ++j) {
-    if (!(cdf[j] >= cdf[j - 1])) {
-      in.fail(where + ": CDF value " + std::to_string(cdf[j]) + " at point " + std::to_string(j) +
-              " is not >= the previous " + std::to_string(cdf[j - 1]));
+// The interior values of one 1D CDF as every sampler requires them: with the implicit end points
+// 0 and 1, a non-decreasing sequence (which also rules out NaN and Inf), so every u in [0, 1)
+// falls in an interval of positive mass.
+void checkCdf(const ByteReader& in, const float* interior, std::size_t count, const std::string& where) {
+  float previous = 0.0f;
+  for (std::size_t j = 0; j < count; ++j) {
+    if (!(interior[j] >= previous)) {
+      in.fail(where + ": CDF value " + std::to_string(interior[j]) + " at point " + std::to_string(j + 1) +
+              " is not >= the previous " + std::to_string(previous));
     }
+    previous = interior[j];
   }
+  if (!(previous <= 1.0f)) in.fail(where + ": CDF value " + std::to_string(previous) + " exceeds 1");
 }
 
 template <class Enum>
@@ -88,13 +89,14 @@ CascadeOptions readOptions(ByteReader& in, uint32_t conditioningDims, std::size_
   return o;
 }
 
-// Reads an adaptive level's vertex indices (at most `largestVertex`) in the width a build uses.
+// Reads an adaptive level's interior vertex indices (at most `largestVertex`) in the width a build
+// uses for them.
 VertexIndices readVertices(ByteReader& in, uint32_t largestVertex, const std::string& where) {
   VertexIndices v(largestVertex);
   const uint8_t width = in.get<uint8_t>();
   if (width != v.width()) {
-    in.fail(where + ": " + std::to_string(width) + "-byte vertex indices for " + std::to_string(largestVertex) +
-            " cells (a build uses " + std::to_string(v.width()) + ")");
+    in.fail(where + ": " + std::to_string(width) + "-byte vertex indices up to " + std::to_string(largestVertex) +
+            " (a build uses " + std::to_string(v.width()) + ")");
   }
   const uint64_t count = in.get<uint64_t>();
   if (count > in.remaining() / width) {
@@ -104,10 +106,6 @@ VertexIndices readVertices(ByteReader& in, uint32_t largestVertex, const std::st
   v.reserve(static_cast<std::size_t>(count));
   for (uint64_t i = 0; i < count; ++i) {
     const uint32_t vertex = width == 1 ? in.get<uint8_t>() : width == 2 ? in.get<uint16_t>() : in.get<uint32_t>();
-    if (vertex > largestVertex) {
-      in.fail(where + ": vertex index " + std::to_string(vertex) + " beyond " + std::to_string(largestVertex) +
-              " cells");
-    }
     v.push_back(vertex);
   }
   return v;
@@ -203,8 +201,12 @@ Cascade Cascade::read(ByteReader& in) {
     if (c.sliceRoot_.size() != slices) {
       in.fail(std::to_string(c.sliceRoot_.size()) + " slice roots for " + std::to_string(slices) + " slices");
     }
+    // Roots are numbered in slice order: each slice reuses an earlier root or takes the next.
     nodes = 0;
-    for (uint32_t r : c.sliceRoot_) nodes = std::max<std::size_t>(nodes, std::size_t{r} + 1);
+    for (uint32_t r : c.sliceRoot_) {
+      if (r > nodes) in.fail("slice roots are not numbered in slice order");
+      nodes = std::max<std::size_t>(nodes, std::size_t{r} + 1);
+    }
   }
 
   for (std::size_t level = 0; level < c.sampledDims(); ++level) {
@@ -218,17 +220,17 @@ Cascade Cascade::read(ByteReader& in) {
     l.cdf = in.getArray<float>("CDF values");
     if (l.cdf.size() > UINT32_MAX) in.fail(where + ": more than 2^32 CDF values");
     if (l.method == DimensionMethod::Uniform) {
-      // Every 1D CDF keeps all cells + 1 grid vertices and has one child per cell.
-      if (l.cdf.size() / (std::size_t{cells} + 1) != nodes || l.cdf.size() % (std::size_t{cells} + 1) != 0) {
+      // Every 1D CDF keeps all cells − 1 inner grid vertices and has one child per cell.
+      if (l.cdf.size() != nodes * (std::size_t{cells} - 1)) {
         in.fail(where + ": " + std::to_string(l.cdf.size()) + " CDF values for " + std::to_string(nodes) +
                 " uniform CDFs of " + std::to_string(cells) + " cells");
       }
       for (std::size_t k = 0; k < nodes; ++k) {
-        checkCdf(in, l.cdf.data() + k * (cells + 1), cells + 1, where + " CDF " + std::to_string(k));
+        checkCdf(in, l.cdf.data() + k * (cells - 1), cells - 1, where + " CDF " + std::to_string(k));
       }
       nodes *= cells;
     } else {
-      l.vertices = readVertices(in, cells, where);
+      l.vertices = readVertices(in, cells - 1, where);
       if (l.vertices.size() != l.cdf.size()) {
         in.fail(where + ": " + std::to_string(l.vertices.size()) + " vertex indices for " +
                 std::to_string(l.cdf.size()) + " CDF values");
@@ -241,18 +243,20 @@ Cascade Cascade::read(ByteReader& in) {
       for (std::size_t k = 0; k < nodes; ++k) {
         const std::string cdfName = where + " CDF " + std::to_string(k);
         const uint32_t first = l.starts[k], end = l.starts[k + 1];
-        if (std::size_t{end} < std::size_t{first} + 2 || end > l.cdf.size()) in.fail(cdfName + ": bad start offsets");
-        // The kept vertices run from 0 to the last grid vertex, strictly increasing.
-        if (l.vertices[first] != 0 || l.vertices[end - 1] != cells) {
-          in.fail(cdfName + ": vertices do not span the axis' " + std::to_string(cells) + " cells");
-        }
-        for (uint32_t j = first + 1; j < end; ++j) {
-          if (l.vertices[j] <= l.vertices[j - 1]) in.fail(cdfName + ": vertex indices not increasing");
+        if (end < first) in.fail(cdfName + ": start offsets decrease");
+        // Interior vertices lie strictly between vertex 0 and the last one, strictly increasing.
+        uint32_t previous = 0;
+        for (uint32_t j = first; j < end; ++j) {
+          if (l.vertices[j] <= previous || l.vertices[j] >= cells) {
+            in.fail(cdfName + ": vertex index " + std::to_string(l.vertices[j]) + " not strictly between " +
+                    std::to_string(previous) + " and " + std::to_string(cells));
+          }
+          previous = l.vertices[j];
         }
         checkCdf(in, l.cdf.data() + first, end - first, cdfName);
       }
-      // Each interval of this level has one child CDF in the next.
-      nodes = l.cdf.size() - nodes;
+      // Each CDF has its interior points + 1 intervals, each with one child CDF in the next level.
+      nodes = l.cdf.size() + nodes;
     }
     c.levels_.push_back(std::move(l));
   }

@@ -168,10 +168,10 @@ TEST(CascadeSerialization, CasesCoverGroupingFallbackAndEveryIndexWidth) {
   EXPECT_TRUE(grouped.isUniformFallback(0));
   EXPECT_TRUE(build("mixed-4d-conditioned").isUniformFallback(2));
   // 1D tables of 3000 and 70000 cells use 16- and 32-bit indices (vertex_indices.h): bytes are
-  // points × (4 + width) plus two starts and the integral.
+  // interior points × (4 + width) plus two starts and the integral.
   for (auto [name, width] : {std::pair{"adaptive-1d-16bit", 2u}, std::pair{"adaptive-1d-32bit", 4u}}) {
     const Cascade c = build(name);
-    EXPECT_EQ(c.bytes(), c.pointsPerDimension()[0] * (4 + width) + 2 * 4 + 8) << name;
+    EXPECT_EQ(c.bytes(), (c.pointsPerDimension()[0] - 2) * (4 + width) + 2 * 4 + 8) << name;
   }
 }
 
@@ -199,8 +199,8 @@ std::string problemOf(std::span<const std::byte> bytes) {
   return "";
 }
 
-// A 1D uniform cascade of 4 cells: 89 bytes of header, shape and options, then 5 CDF floats.
-// Offsets follow the layout in cascade_io.cpp.
+// A 1D uniform cascade of 4 cells: 89 bytes of header, shape and options, then its 3 interior
+// CDF values 0.1, 0.3, 0.6. Offsets follow the layout in cascade_io.cpp.
 constexpr std::size_t kFirstCdfValue = 89;
 
 std::vector<std::byte> smallUniform() {
@@ -215,7 +215,7 @@ void putFloat(std::vector<std::byte>& bytes, std::size_t offset, float v) {
 
 TEST(CascadeSerialization, RejectsInconsistentDataWithAClearMessage) {
   std::vector<std::byte> bytes = smallUniform();
-  ASSERT_EQ(bytes.size(), kFirstCdfValue + 5 * 4);
+  ASSERT_EQ(bytes.size(), kFirstCdfValue + 3 * 4);
   ASSERT_EQ(problemOf(bytes), "");
 
   auto expectProblem = [](const std::vector<std::byte>& b, const std::string& fragment) {
@@ -228,8 +228,8 @@ TEST(CascadeSerialization, RejectsInconsistentDataWithAClearMessage) {
   b[0] = std::byte{'X'};
   expectProblem(b, "wrong magic");
   b = bytes;
-  b[4] = std::byte{2};
-  expectProblem(b, "format version 2");
+  b[4] = std::byte{9};
+  expectProblem(b, "format version 9, this build reads 2");
   b = bytes;
   b.push_back(std::byte{0});
   expectProblem(b, "1 unexpected trailing bytes");
@@ -237,17 +237,20 @@ TEST(CascadeSerialization, RejectsInconsistentDataWithAClearMessage) {
   b.resize(b.size() - 1);
   expectProblem(b, "truncated");
   b = bytes;
-  putFloat(b, kFirstCdfValue + 2 * 4, 0.9f);  // F = 0, 0.1, 0.9, 0.6, 1
-  expectProblem(b, "is not >= the previous");
+  putFloat(b, kFirstCdfValue + 1 * 4, 0.9f);  // F = 0, 0.1, 0.9, 0.6, 1
+  expectProblem(b, "CDF value 0.600000 at point 3 is not >= the previous 0.900000");
   b = bytes;
-  putFloat(b, kFirstCdfValue + 4 * 4, std::nanf(""));
-  expectProblem(b, "instead of 0 to 1");
+  putFloat(b, kFirstCdfValue + 1 * 4, std::nanf(""));
+  expectProblem(b, "CDF value nan at point 2");
   b = bytes;
-  putFloat(b, kFirstCdfValue + 1 * 4, -std::numeric_limits<float>::infinity());
-  expectProblem(b, "is not >= the previous");
+  putFloat(b, kFirstCdfValue, -std::numeric_limits<float>::infinity());
+  expectProblem(b, "is not >= the previous 0.0");
   b = bytes;
-  b[kFirstCdfValue - 8] = std::byte{4};  // CDF value count
-  expectProblem(b, "4 CDF values for 1 uniform CDFs of 4 cells");
+  putFloat(b, kFirstCdfValue + 2 * 4, 1.5f);
+  expectProblem(b, "CDF value 1.500000 exceeds 1");
+  b = bytes;
+  b[kFirstCdfValue - 8] = std::byte{2};  // CDF value count
+  expectProblem(b, "2 CDF values for 1 uniform CDFs of 4 cells");
   b = bytes;
   b[kFirstCdfValue - 1] = std::byte{0x7f};  // a count far beyond the bytes left: no allocation
   expectProblem(b, "entries of 4 bytes");

@@ -116,7 +116,7 @@ class Cascade {
   // validates everything (shapes, options, offsets, vertex indices, monotone finite CDFs from 0
   // to 1, slice integrals), so whatever it accepts samples inside the domain like a built table;
   // anything else throws SerializationError (byte_io.h). kSerialVersion changes with the layout.
-  static constexpr uint32_t kSerialVersion = 1;
+  static constexpr uint32_t kSerialVersion = 2;  // 2: interior CDF points only
   void write(ByteWriter& out) const;
   static Cascade read(ByteReader& in);
   std::vector<std::byte> serialize() const;
