@@ -221,7 +221,9 @@ Cascade Cascade::read(ByteReader& in) {
     if (l.cdf.size() > UINT32_MAX) in.fail(where + ": more than 2^32 CDF values");
     if (l.method == DimensionMethod::Uniform) {
       // Every 1D CDF keeps all cells − 1 inner grid vertices and has one child per cell.
-      if (l.cdf.size() != nodes * (std::size_t{cells} - 1)) {
+      // (Divided rather than multiplied: a corrupt count must not overflow.)
+      const std::size_t inner = std::size_t{cells} - 1;
+      if (inner == 0 ? !l.cdf.empty() : l.cdf.size() % inner != 0 || l.cdf.size() / inner != nodes) {
         in.fail(where + ": " + std::to_string(l.cdf.size()) + " CDF values for " + std::to_string(nodes) +
                 " uniform CDFs of " + std::to_string(cells) + " cells");
       }
