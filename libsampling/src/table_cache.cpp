@@ -1,4 +1,5 @@
 #include "acdf/sampling/table_cache.h"
+#include "acdf/sampling/temporary_files.h"
 
 #include <unistd.h>
 
@@ -168,6 +169,7 @@ CacheRead TableCache::load(const CacheKey& key) const {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return {CacheStatus::Miss, {}, {}};
   auto reject = [&](const std::string& problem) { return CacheRead{CacheStatus::Rejected, {}, path.string() + ": " + problem}; };
+  if (!std::filesystem::is_regular_file(path, ec)) return reject("not a regular file");
 
   // One read of the whole file. A concurrent store renames a new file over the name; the open
   // stream keeps reading the old one, so the size stays right.
@@ -228,6 +230,7 @@ bool TableCache::store(const CacheKey& key, std::span<const std::byte> payload) 
 
   const std::filesystem::path path = fileOf(key);
   const std::filesystem::path temporary = path.string() + temporarySuffix();
+  const TemporaryFileGuard guard(temporary.string());  // a unique name: removed if a signal kills us
   {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     if (!file) return failed("cannot write " + temporary.string());

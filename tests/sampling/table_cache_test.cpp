@@ -214,6 +214,11 @@ TEST_F(TableCacheTest, RejectsTruncatedChangedWrongVersionAndWrongKeyFiles) {
   ASSERT_TRUE(c.store(other, payload));
   fs::copy_file(c.fileOf(other), path, fs::copy_options::overwrite_existing);
   expectRejected(readFile(path), "holds the table of key " + other.hex());
+  fs::remove(path);
+  fs::create_directory(path);
+  const CacheRead directory = c.load(kKey);
+  EXPECT_EQ(directory.status, CacheStatus::Rejected);
+  EXPECT_NE(directory.problem.find("not a regular file"), std::string::npos) << directory.problem;
   EXPECT_TRUE(warnings_.empty());  // load reports through its status; getOrBuild warns
 }
 
