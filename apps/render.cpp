@@ -37,6 +37,7 @@ struct RenderArgs {
   std::string mis, bsdfSampling, envSampling;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
+  bool noCache = false;
   bool json = false;
 };
 
@@ -102,7 +103,9 @@ int runRender(const RenderArgs& args) {
   if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
 
   const auto setupStart = Clock::now();
-  TableProvider tables;
+  // Cache problems are warnings (a rejected file is rebuilt, a failed store only costs time).
+  auto warn = [](const std::string& message) { std::fprintf(stderr, "acdf: warning: %s\n", oneLine(message).c_str()); };
+  TableProvider tables(args.noCache ? TableCache::disabled() : TableCache::atDefaultLocation(warn));
   Scene scene;
   try {
     scene = loadScene(args.scene, overrides, tables);
@@ -144,7 +147,7 @@ int runRender(const RenderArgs& args) {
     j["mis"] = toString(scene.settings.mis);
     j["env_sampling"] = toString(scene.environment->strategy());
     j["tables_built"] = tables.tablesBuilt();
-    j["tables_from_cache"] = nlohmann::json::array();
+    j["tables_from_cache"] = tables.tablesFromCache();
     j["exr"] = args.output;
     j["png"] = png.empty() ? nlohmann::json() : nlohmann::json(png);
     std::puts(j.dump(2).c_str());
@@ -153,8 +156,9 @@ int runRender(const RenderArgs& args) {
     out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
                        film.height(), stats.spp, stats.seconds, setupMs);
     out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
-    out += fmt::format("tables    {} built\n", tables.tablesBuilt().size());
-    for (const std::string& t : tables.tablesBuilt()) out += fmt::format("          {}\n", t);
+    out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(), tables.tablesFromCache().size());
+    for (const std::string& t : tables.tablesBuilt()) out += fmt::format("          built       {}\n", t);
+    for (const std::string& t : tables.tablesFromCache()) out += fmt::format("          from cache  {}\n", t);
     out += fmt::format("wrote     {}{}\n", args.output, png.empty() ? "" : " and " + png);
     std::fputs(out.c_str(), stdout);
   }
@@ -173,6 +177,8 @@ Command addRender(CLI::App& parent) {
       "  --mis            power | balance | bsdf-only | light-only\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
+      "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
+      "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
       "tables_from_cache, exr, png (and scene, width, height, rays, mis, env_sampling).\n"
       "\n"
@@ -189,6 +195,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--env-sampling", args->envSampling, "uniform-sphere | uniform | alias | adaptive | compensated | ...");
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
+  app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
   app->add_flag("--json", args->json, "Print a JSON summary");
   return Command{app, [args] { return runRender(*args); }};
 }

@@ -24,18 +24,6 @@ class ScopedTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// Every option that changes a table, so equal keys mean equal tables.
-std::string simplifyKey(const SimplifyOptions& o) {
-  return fmt::format("simplify{}/{}/{}/{}/{}", static_cast<int>(o.method), static_cast<int>(o.metric), o.epsilon,
-                     o.maxPoints, o.weightBound);
-}
-
-std::string tableKey(const TabulatedBrdfOptions& o) {
-  return fmt::format("{} {}x{}x{}x{} ss{} w{} mirror{} {} tol{}", o.name(), o.thetaOutCells, o.phiOutCells,
-                     o.thetaHalfCells, o.phiHalfCells, o.supersampling, o.cosineWeight, o.mirror, simplifyKey(o.simplify),
-                     static_cast<int>(o.tolerance));
-}
-
 }  // namespace
 
 std::string_view toString(BrdfSampling sampling) {
@@ -89,12 +77,24 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
                                                               BrdfSampling sampling, TabulatedBrdfOptions table) {
   if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(*brdf, interpolation);
   table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
-  const std::string key = fmt::format("{} [{}] interp{}", brdfKey, tableKey(table), static_cast<int>(interpolation));
-  auto& slot = brdfSamplers_[key];
+  ScopedTimer timer(milliseconds_);
+  // The cache key covers the BRDF's values and every option that shapes the table; the defensive
+  // mixture weight is applied at sample time, so it only tells samplers apart.
+  const CacheKey tableKey = TabulatedBrdfSampler::tableKey(*brdf, interpolation, table);
+  auto& slot = brdfSamplers_[fmt::format("{} w={:a}", tableKey.hex(), table.cosineWeight)];
   if (!slot) {
-    ScopedTimer timer(milliseconds_);
-    slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table);
-    built_.push_back(fmt::format("brdf {} {}", table.name(), brdfKey));
+    const std::string what = fmt::format("brdf {} {}", table.name(), brdfKey);
+    Cached<Cascade> cascade = cache_.getOrBuild(tableKey, what, [&] {
+      return TabulatedBrdfSampler::buildCascade(*brdf, interpolation, table);
+    });
+    try {
+      slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table, std::move(cascade.value));
+    } catch (const SerializationError&) {
+      // A cached table of another shape under this key (a hash collision): never trusted.
+      slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table);
+      cascade.fromCache = false;
+    }
+    record(what, cascade.fromCache);
   }
   return slot;
 }
@@ -102,16 +102,18 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
 std::shared_ptr<const EnvironmentLight> TableProvider::environmentLight(const std::shared_ptr<const EnvironmentMap>& map,
                                                                         const std::string& mapKey,
                                                                         const EnvironmentLightOptions& options) {
-  // The light also carries the rotation and scale, which the table does not depend on, but a
-  // light is one object: key them too.
+  ScopedTimer timer(milliseconds_);
+  // The light also carries the rotation and scale, which its table does not depend on (they are
+  // not in the cache key), but a light is one object: they tell lights apart here.
   const Vec3d x = options.worldFromMap.apply({1, 0, 0}), y = options.worldFromMap.apply({0, 1, 0});
-  const std::string key = fmt::format("{} {} {} scale{} rot{},{},{},{},{},{}", mapKey, toString(options.strategy),
-                                      simplifyKey(options.simplify), options.scale, x.x, x.y, x.z, y.x, y.y, y.z);
-  auto& slot = lights_[key];
+  auto& slot = lights_[fmt::format("{} scale={:a} x=({:a},{:a},{:a}) y=({:a},{:a},{:a})",
+                                   EnvironmentLight::tableKey(*map, options).hex(), options.scale, x.x, x.y, x.z, y.x,
+                                   y.y, y.z)];
   if (!slot) {
-    ScopedTimer timer(milliseconds_);
-    slot = std::make_shared<const EnvironmentLight>(map, options);
-    built_.push_back(fmt::format("envmap {} {}", toString(options.strategy), mapKey));
+    const std::string what = fmt::format("envmap {} {}", toString(options.strategy), mapKey);
+    Cached<EnvironmentLight> light = EnvironmentLight::cached(cache_, map, options, what);
+    slot = std::make_shared<const EnvironmentLight>(std::move(light.value));
+    record(what, light.fromCache);
   }
   return slot;
 }

@@ -107,7 +107,7 @@ TEST(MeasuredFurnace, MatchesBruteForceDirectionalAlbedo) {
                                    {"table", {{"layout", "isotropic"}}}};
   const uint32_t size = 16;
   const nlohmann::json scene = furnaceScene(material, Color(1.0), size, 1);
-  TableProvider tables;
+  TableProvider tables(TableCache::disabled());
   const Scene loaded = loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test.json", {}, tables);
   const auto brdf = tables.merlPreset("rough-aluminium");
 

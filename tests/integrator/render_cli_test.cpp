@@ -2,7 +2,9 @@
 // failures a user meets — bad scene files (with the JSON path of the problem), missing data
 // files, unwritable outputs — each exit 2 with one line on stderr and no output file left.
 
+#include <cstdlib>
 #include <filesystem>
+#include <vector>
 #include <string>
 
 #include <unistd.h>
@@ -32,6 +34,12 @@ nlohmann::json tinyScene() {
 
 class RenderCli : public apptest::TempDirTest {
  protected:
+  // The table cache in the test's directory, never the user's.
+  void SetUp() override {
+    apptest::TempDirTest::SetUp();
+    ::setenv("XDG_CACHE_HOME", path("cache").c_str(), 1);
+  }
+
   std::string writeScene(const nlohmann::json& scene, const std::string& name = "scene.json") {
     apptest::writeFile(path(name), scene.dump(2));
     return path(name);
@@ -40,7 +48,7 @@ class RenderCli : public apptest::TempDirTest {
   void expectNoOutputs() {
     for (const auto& entry : fs::directory_iterator(dir_)) {
       const std::string name = entry.path().filename().string();
-      EXPECT_TRUE(name.ends_with(".json") || name.ends_with(".binary") || name == "readonly" || name == "stdout.txt" ||
+      EXPECT_TRUE(name.ends_with(".json") || name.ends_with(".binary") || name == "readonly" || name == "cache" || name == "stdout.txt" ||
                   name == "stderr.txt")
           << "left behind: " << name;
     }
@@ -72,6 +80,45 @@ TEST_F(RenderCli, BuildsOnlyTheChosenEnvironmentTable) {
   const auto built = nlohmann::json::parse(r.out)["tables_built"];
   ASSERT_EQ(built.size(), 1u);
   EXPECT_EQ(built[0].get<std::string>().rfind("envmap alias ", 0), 0u) << built;
+}
+
+TEST_F(RenderCli, CachesTablesAndRebuildsACorruptFile) {
+  const std::string scene = writeScene(tinyScene());
+  auto run = [&](std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"render", scene, "-o", path("a.exr"), "--json", "--env-sampling", "adaptive"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return runAcdf(args, dir_);
+  };
+  auto tables = [](const apptest::RunResult& r, const char* key) { return nlohmann::json::parse(r.out)[key].size(); };
+
+  const auto first = run();
+  ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
+  EXPECT_EQ(tables(first, "tables_built"), 1u);
+  EXPECT_EQ(tables(first, "tables_from_cache"), 0u);
+
+  const auto second = run();
+  ASSERT_EQ(second.exitCode, 0) << apptest::describe(second);
+  EXPECT_EQ(tables(second, "tables_built"), 0u);
+  EXPECT_EQ(tables(second, "tables_from_cache"), 1u);
+
+  // Flip a byte in the middle of every cached file: detected, warned about, rebuilt.
+  for (const auto& entry : fs::recursive_directory_iterator(path("cache"))) {
+    if (!entry.is_regular_file()) continue;
+    std::string bytes = apptest::readFile(entry.path().string());
+    bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);
+    apptest::writeFile(entry.path().string(), bytes);
+  }
+  const auto third = run();
+  ASSERT_EQ(third.exitCode, 0) << apptest::describe(third);
+  EXPECT_EQ(tables(third, "tables_built"), 1u);
+  EXPECT_NE(third.err.find("warning"), std::string::npos) << third.err;
+  EXPECT_NE(third.err.find("rebuilding"), std::string::npos) << third.err;
+
+  // --no-cache reads nothing (the file is valid again after the rebuild).
+  const auto bypass = run({"--no-cache"});
+  ASSERT_EQ(bypass.exitCode, 0) << apptest::describe(bypass);
+  EXPECT_EQ(tables(bypass, "tables_built"), 1u);
+  EXPECT_EQ(tables(bypass, "tables_from_cache"), 0u);
 }
 
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {

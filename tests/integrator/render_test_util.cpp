@@ -7,7 +7,7 @@ namespace acdf::rendertest {
 Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& overrides) {
   // One provider for the whole test program: scenes that share a material or a map share its
   // tables, as they would within one scene.
-  static TableProvider tables;
+  static TableProvider tables(TableCache::disabled());
   const Scene loaded = loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
   Rendered r{makeFilm(loaded), {}};
   r.stats = render(loaded, r.film);

@@ -1,9 +1,11 @@
 #pragma once
 // The one place the renderer gets its inputs and sampling tables from: MERL files, environment
 // maps, BRDF sampling tables and environment-light tables. Each is made on first request and
-// shared by later ones (two spheres of one material get one table), and each build is recorded,
-// so a render can say what it built and how long its set-up took. The scene loader asks only
-// for what its shapes and chosen strategies use.
+// shared by later ones (two spheres of one material get one table). Tables come from the on-disk
+// TableCache when it holds them (docs/table-cache.md; a corrupt or stale file is rebuilt with a
+// warning) and are stored there once built; each is recorded as built or read from the cache,
+// so a render can say which and how long its set-up took. The scene loader asks only for what
+// its shapes and chosen strategies use.
 
 #include <filesystem>
 #include <map>
@@ -17,6 +19,7 @@
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/environment_map.h"
+#include "acdf/sampling/table_cache.h"
 
 namespace acdf {
 
@@ -27,6 +30,9 @@ BrdfSampling parseBrdfSampling(std::string_view name);
 
 class TableProvider {
  public:
+  // TableCache::disabled() builds everything (--no-cache).
+  explicit TableProvider(TableCache cache) : cache_(std::move(cache)) {}
+
   // Loaded once per path. Throw BrdfFileError / ImageFileError.
   std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path);
   std::shared_ptr<const EnvironmentMap> environmentMap(const std::filesystem::path& path);
@@ -44,16 +50,21 @@ class TableProvider {
                                                            const std::string& mapKey,
                                                            const EnvironmentLightOptions& options);
 
-  // Names of the tables built so far, in order, and how long all requests took (ms).
+  // Names of the tables built, and read from the cache, so far, in order; how long all requests
+  // took (ms).
   const std::vector<std::string>& tablesBuilt() const { return built_; }
+  const std::vector<std::string>& tablesFromCache() const { return fromCache_; }
   double milliseconds() const { return milliseconds_; }
 
  private:
+  void record(const std::string& table, bool fromCache) { (fromCache ? fromCache_ : built_).push_back(table); }
+
+  TableCache cache_;
   std::map<std::string, std::shared_ptr<const MerlBrdf>> merls_;
   std::map<std::string, std::shared_ptr<const EnvironmentMap>> maps_;
   std::map<std::string, std::shared_ptr<const BrdfSampler>> brdfSamplers_;
   std::map<std::string, std::shared_ptr<const EnvironmentLight>> lights_;
-  std::vector<std::string> built_;
+  std::vector<std::string> built_, fromCache_;
   double milliseconds_ = 0;
 };
 
