@@ -11,6 +11,8 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "acdf/sampling/temporary_files.h"
+
 namespace acdf {
 
 namespace fs = std::filesystem;
@@ -123,6 +125,7 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
     throw ImageFileError(path, withDetail(what, detail));
   };
   if (!output->open(temp, spec)) fail("cannot create the temporary file " + temp);
+  const TemporaryFileGuard guard(temp);  // removed if a signal kills us mid-write
   if (!output->write_image(type, pixels)) fail("cannot write the temporary file " + temp);
   if (!output->close()) fail("cannot write the temporary file " + temp);
   std::error_code ec;
