@@ -17,7 +17,7 @@ BENCH_ARGS ?=
 DEMO_INPUT ?= data/envmaps/sunset_1024x512.exr
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := engine merl image npy
+FUZZ_TARGETS := engine cascade merl image npy
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 
