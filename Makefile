@@ -1,5 +1,6 @@
 # Entry points for building, testing, benchmarking and the demo. See README.md.
-#   make demo       compression report of the bundled sunset environment map
+#   make demo       render scenes/demo.json (MIS, adaptive tables), then the compression report of the
+#                   sunset map and the paper's Table 1 rows for the demo's three measured materials
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
 #   make bench      run every build/bin/bench_* program, JSON into bench/results/
@@ -15,9 +16,14 @@ RESULTS_DIR ?= bench/results
 # Extra flags for every benchmark program, e.g. BENCH_ARGS=--benchmark_min_time=0.1
 BENCH_ARGS ?=
 DEMO_INPUT ?= data/envmaps/sunset_1024x512.exr
+# The demo's measured materials, generated from the bundled neural fits (35 MB each, not in git).
+# scenes/demo.json refers to them as ../build/demo/*.binary, so they live there whatever BUILD_DIR.
+DEMO_DIR := build/demo
+DEMO_BRDFS := nickel blue-metallic-paint specular-blue-phenolic
+DEMO_BRDF_SAMPLES ?= 1024
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := engine cascade merl image npy
+FUZZ_TARGETS := engine merl image npy
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 
@@ -60,7 +66,15 @@ test-asan: deps
 
 demo: deps
 	$(MAKE) build
+	@mkdir -p $(DEMO_DIR)
+	@set -e; for m in $(DEMO_BRDFS); do \
+	  [ -f $(DEMO_DIR)/$$m.binary ] || $(BUILD_DIR)/bin/acdf merl-gen --nbrdf $$m -o $(DEMO_DIR)/$$m.binary; \
+	done
+	$(BUILD_DIR)/bin/acdf render scenes/demo.json -o $(DEMO_DIR)/demo.exr
 	$(BUILD_DIR)/bin/acdf cdf-stats $(DEMO_INPUT)
+	@set -e; for m in $(DEMO_BRDFS); do \
+	  $(BUILD_DIR)/bin/acdf brdf-stats $(DEMO_DIR)/$$m.binary --samples $(DEMO_BRDF_SAMPLES); \
+	done
 
 bench: deps
 	$(MAKE) build
