@@ -2,6 +2,12 @@
 // partial file on failure), `acdf envmap-stats` (the documented keys; bad maps exit 2 with one
 // line) and `acdf chi2 --envmap` (every sampler passes on a generated map; exit codes).
 
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <filesystem>
 #include <limits>
 #include <set>
@@ -55,6 +61,28 @@ TEST_F(EnvmapCli, EnvGenWritesTheMapItDescribes) {
   std::size_t files = 0;
   for (const auto& entry : fs::directory_iterator(dir_)) files += entry.path().filename().string().find("noon") == 0;
   EXPECT_EQ(files, 1u) << "a temporary file was left next to the output";
+}
+
+// A signal that kills env-gen while it writes (SIGXFSZ past a 16 KB file-size limit; Ctrl-C takes
+// the same path) leaves neither the map nor its temporary (acdf/sampling/temporary_files.h; a
+// partial "*.tmp-…" was left before).
+TEST_F(EnvmapCli, EnvGenKilledMidWriteLeavesNoFile) {
+  const std::string exe = acdfExe(), file = path("killed.exr");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlimit limit{16 << 10, 16 << 10};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, STDOUT_FILENO);
+    dup2(devnull, STDERR_FILENO);
+    execl(exe.c_str(), "acdf", "env-gen", "--width", "512", "-o", file.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGXFSZ) << "status " << status;
+  EXPECT_TRUE(std::filesystem::is_empty(dir_)) << "a file was left behind";
 }
 
 TEST_F(EnvmapCli, EnvGenBadArgumentsExitTwoWithoutOutput) {
