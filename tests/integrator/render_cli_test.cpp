@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/envmap/image_file.h"
 #include "app_test_util.h"
 
 namespace acdf {
@@ -119,6 +120,20 @@ TEST_F(RenderCli, CachesTablesAndRebuildsACorruptFile) {
   ASSERT_EQ(bypass.exitCode, 0) << apptest::describe(bypass);
   EXPECT_EQ(tables(bypass, "tables_built"), 1u);
   EXPECT_EQ(tables(bypass, "tables_from_cache"), 0u);
+}
+
+TEST_F(RenderCli, TimeBudgetRendersProgressivePassesLikeSpp) {
+  const std::string scene = writeScene(tinyScene());
+  const auto timed = runAcdf({"render", scene, "-o", path("timed.exr"), "--json", "--time", "0.3"}, dir_);
+  ASSERT_EQ(timed.exitCode, 0) << apptest::describe(timed);
+  const auto j = nlohmann::json::parse(timed.out);
+  EXPECT_GE(j["seconds"].get<double>(), 0.3);
+  const auto spp = j["spp"].get<uint32_t>();
+  ASSERT_GE(spp, 1u);
+  // Sample s of a pixel has its own random stream: spp passes of one sample equal one --spp pass.
+  const auto fixed = runAcdf({"render", scene, "-o", path("fixed.exr"), "--spp", std::to_string(spp)}, dir_);
+  ASSERT_EQ(fixed.exitCode, 0) << apptest::describe(fixed);
+  EXPECT_EQ(readImage(path("timed.exr")).pixels, readImage(path("fixed.exr")).pixels);
 }
 
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
