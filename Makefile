@@ -23,7 +23,7 @@ DEMO_BRDFS := nickel blue-metallic-paint specular-blue-phenolic
 DEMO_BRDF_SAMPLES ?= 1024
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := engine merl image npy
+FUZZ_TARGETS := engine cascade merl image npy scene
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 
