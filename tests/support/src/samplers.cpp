@@ -182,4 +182,25 @@ ChiSquareReport runChiSquare(const Sampler& sampler, const ChiSquareOptions& opt
   return runChiSquare(sampler.axes, sampler.sample, sampler.pdf, options);
 }
 
+::testing::AssertionResult cellProbabilitiesAreExact(const Sampler& sampler, std::span<const float> values) {
+  const std::vector<double> q = sampler.cellProbabilities();
+  const std::vector<double> exact = exactCellProbabilities(values);
+  const std::vector<double> fromPdf = pdfCellProbabilities(sampler.axes, sampler.pdf);
+  if (q.size() != exact.size()) {
+    return ::testing::AssertionFailure() << q.size() << " cell probabilities for " << exact.size() << " cells";
+  }
+  double total = 0.0;
+  for (double p : q) total += p;
+  if (std::fabs(total - 1.0) > 1e-6) return ::testing::AssertionFailure() << "cell probabilities sum to " << total;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    if (std::fabs(q[i] - exact[i]) > 1e-6 * exact[i]) {
+      return ::testing::AssertionFailure() << "cell " << i << ": " << q[i] << ", exact " << exact[i];
+    }
+    if (std::fabs(fromPdf[i] - q[i]) > 1e-6 * q[i]) {
+      return ::testing::AssertionFailure() << "cell " << i << ": pdf implies " << fromPdf[i] << ", table " << q[i];
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
 }  // namespace acdf::test_support

@@ -65,4 +65,9 @@ ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples = 100'000,
 // Runs the chi-square harness on a Sampler.
 ChiSquareReport runChiSquare(const Sampler& sampler, const ChiSquareOptions& options);
 
+// For EXPECT_TRUE: the sampler's cell probabilities (which must sum to 1) and those its pdf
+// implies both equal value / Σ values, within a relative 1e-6 (for distributions that keep every
+// cell exact: uniform tables, alias grids, hierarchical warps).
+::testing::AssertionResult cellProbabilitiesAreExact(const Sampler& sampler, std::span<const float> values);
+
 }  // namespace acdf::test_support
