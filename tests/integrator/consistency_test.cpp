@@ -56,7 +56,7 @@ std::string smoothSky() {
 nlohmann::json skyScene(const std::string& sampling) {
   return {
       {"camera", {{"eye", {0, 1.6, 4.5}}, {"target", {0, 0.7, 0}}, {"fov", 40}, {"width", 20}, {"height", 12}}},
-      {"render", {{"spp", rendertest::kSanitized ? 24 : 96}, {"seed", 3}, {"max_depth", 4}}},
+      {"render", {{"spp", 96}, {"seed", 3}, {"max_depth", 4}}},
       {"environment", {{"type", "map"}, {"file", smoothSky()}, {"sampling", "adaptive"}}},
       {"materials",
        {{"metal", {{"type", "measured"}, {"preset", "gold"}, {"sampling", sampling}, {"table", {{"layout", "isotropic"}}}}},

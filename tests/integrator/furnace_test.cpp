@@ -46,7 +46,7 @@ TEST_P(DiffuseFurnace, RendersAlbedoTimesRadiance) {
   SceneOverrides overrides;
   overrides.mis = parseMisMode(GetParam().mis);
   overrides.envSampling = parseEnvironmentStrategy(GetParam().env);
-  const auto r = renderScene(furnaceScene(material, radiance, 12, rendertest::kSanitized ? 16 : 48), overrides);
+  const auto r = renderScene(furnaceScene(material, radiance, 12, 48), overrides);
 
   const Color expected = albedo * radiance;
   // Each pixel within 4.5 standard errors (a few hundred pixels: 3σ would fail by chance), the
