@@ -2,6 +2,8 @@
 // failures a user meets — bad scene files (with the JSON path of the problem), missing data
 // files, unwritable outputs — each exit 2 with one line on stderr and no output file left.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
@@ -72,7 +74,16 @@ TEST_F(RenderCli, RendersWithJsonSummary) {
   EXPECT_EQ(j["env_sampling"], "uniform-sphere");
   EXPECT_TRUE(j["tables_built"].empty()) << "a diffuse sphere under uniform-sphere sampling needs no table";
   EXPECT_TRUE(fs::is_regular_file(path("out/image.exr")));
-  EXPECT_TRUE(fs::is_regular_file(path("out/image.png")));
+  const Image exr = readImage(path("out/image.exr")), png = readImage(path("out/image.png"));
+  EXPECT_EQ(exr.width, 8u);
+  EXPECT_EQ(exr.height, 6u);
+  ASSERT_EQ(png.pixels.size(), exr.pixels.size());
+  // The preview is the sRGB encoding of the clamped linear values, to 8 bits.
+  for (std::size_t i = 0; i < exr.pixels.size(); ++i) {
+    const double v = std::clamp(exr.pixels[i], 0.0f, 1.0f);
+    const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    EXPECT_NEAR(png.pixels[i], encoded, 0.5 / 255 + 1e-6) << i;
+  }
 }
 
 TEST_F(RenderCli, BuildsOnlyTheChosenEnvironmentTable) {
