@@ -107,7 +107,7 @@ class Node {
   // A file path, relative ones against the scene's directory.
   fs::path file(const fs::path& baseDir) const {
     const fs::path p = string();
-    return p.is_absolute() ? p : baseDir / p;
+    return (p.is_absolute() ? p : baseDir / p).lexically_normal();
   }
   // The same, which must exist (the loaders report finer problems, naming the file).
   fs::path existingFile(const fs::path& baseDir) const {
