@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "errors.h"
+#include "acdf/sampling/regular_file.h"
 
 namespace acdf::app {
 
@@ -14,12 +15,8 @@ namespace fs = std::filesystem;
 
 std::uintmax_t checkInputFile(const std::string& path) {
   if (path.empty()) throw InputError(path, "empty file name");
+  if (const auto problem = regularFileProblem(path)) throw InputError(path, *problem);
   std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) throw InputError(path, "no such file");
-  if (ec) throw InputError(path, "cannot access file (" + ec.message() + ")");
-  if (status.type() == fs::file_type::directory) throw InputError(path, "is a directory, not a file");
-  if (status.type() != fs::file_type::regular) throw InputError(path, "not a regular file");
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw InputError(path, "cannot read file size (" + ec.message() + ")");
   if (size == 0) throw InputError(path, "file is empty");

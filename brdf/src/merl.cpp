@@ -16,8 +16,8 @@
 #include <random>
 #include <system_error>
 
+#include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/temporary_files.h"
-#include "input_file.h"
 
 namespace acdf {
 
@@ -153,7 +153,7 @@ std::size_t MerlBrdf::convertChannel(int c, const unsigned char* bytes) {
 
 MerlBrdf MerlBrdf::load(const fs::path& path) {
   const std::string name = path.string();
-  detail::requireRegularFile(path);
+  if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
 
   std::ifstream in(path, std::ios::binary);
   if (!in) throw BrdfFileError(name, "cannot open file (" + errnoText() + ")");

@@ -12,7 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "input_file.h"
+#include "acdf/sampling/regular_file.h"
 
 namespace acdf {
 
@@ -25,7 +25,7 @@ constexpr double kHalfPi = std::numbers::pi / 2;
 
 json readJson(const fs::path& path) {
   const std::string name = path.string();
-  detail::requireRegularFile(path);
+  if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw BrdfFileError(name, "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/temporary_files.h"
 
 namespace acdf {
@@ -30,19 +31,10 @@ std::string withDetail(const std::string& what, const std::string& detail) {
   return detail.empty() ? what : what + " (" + detail + ")";
 }
 
-void requireRegularFile(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) throw ImageFileError(path, "no such file");
-  if (ec) throw ImageFileError(path, "cannot access file (" + ec.message() + ")");
-  if (status.type() == fs::file_type::directory) throw ImageFileError(path, "is a directory, not a file");
-  if (status.type() != fs::file_type::regular) throw ImageFileError(path, "not a regular file");
-}
-
 }  // namespace
 
 Image readImage(const std::string& path, const ImageReadOptions& options) {
-  requireRegularFile(path);
+  if (const auto problem = regularFileProblem(path)) throw ImageFileError(path, *problem);
   auto input = OIIO::ImageInput::open(path);
   if (!input) throw ImageFileError(path, withDetail("not an image OpenImageIO can read", takeGlobalError()));
   // Errors from here on are attached to `input`; fetch them before it is destroyed.
