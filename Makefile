@@ -122,17 +122,19 @@ stress: deps
 	@mkdir -p $(RESULTS_DIR)
 	$(BUILD_DIR)/bin/acdf_stress $(STRESS_ARGS)
 
-# Only the multithreaded tests (ctest label "concurrency") are built and run under TSan.
+# Only the multithreaded tests (ctest label "concurrency": the shared-table tests and the renderer's
+# in-process tests) are built and run under TSan.
+TSAN_TARGETS := test_concurrency test_integrator_furnace test_integrator_consistency test_integrator_determinism
 configure-tsan:
 	cmake -S . -B $(TSAN_DIR) $(call generator_for,$(TSAN_DIR)) \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACDF_SANITIZE=thread
 
 build-tsan: configure-tsan
-	cmake --build $(TSAN_DIR) -j $(JOBS) --target test_concurrency
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TARGETS)
 
 test-tsan: deps
 	$(MAKE) build-tsan
-	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tests/concurrency/tsan.supp \
 	  ctest --test-dir $(TSAN_DIR) -L concurrency --output-on-failure -j $(JOBS)
 
 clean:

@@ -7,6 +7,11 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
+#ifdef ACDF_THREAD_SANITIZER
+#include <thread>
+
+#include <tbb/task_arena.h>
+#endif
 
 #include "acdf/integrator/path_integrator.h"
 #include "acdf/sampling/rng.h"
@@ -26,6 +31,25 @@ uint64_t mix(uint64_t x) {
 struct Tile {
   uint32_t x0, y0, x1, y1;  // in film pixels
 };
+
+// Runs renderTile(t) for every t < tiles, on TBB's workers. Under ThreadSanitizer the same calls
+// run on plain std::threads that take tile indices from an atomic counter, as many as the current
+// task arena allows: libtbb is not instrumented, so TSan cannot see its scheduler's
+// synchronisation and reports its reuse of task memory as races, which would bury real ones.
+template <class RenderTile>
+void forEachTile(std::size_t tiles, const RenderTile& renderTile) {
+#ifdef ACDF_THREAD_SANITIZER
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t t = next++; t < tiles; t = next++) renderTile(t);
+  };
+  std::vector<std::jthread> helpers;
+  for (int i = 1; i < tbb::this_task_arena::max_concurrency(); ++i) helpers.emplace_back(work);
+  work();
+#else
+  tbb::parallel_for(std::size_t{0}, tiles, renderTile);
+#endif
+}
 
 std::vector<Tile> makeTiles(const Film& film, uint32_t size) {
   std::vector<Tile> tiles;
@@ -55,7 +79,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
   // Samples [first, last) of every pixel, tile by tile.
   auto renderPass = [&](uint32_t first, uint32_t last, double doneBefore, double passShare) {
     tilesDone = 0;
-    tbb::parallel_for(std::size_t{0}, tiles.size(), [&](std::size_t t) {
+    forEachTile(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
       uint64_t tileRays = 0;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)

@@ -2,7 +2,18 @@
 
 #include <cmath>
 
+#ifdef ACDF_THREAD_SANITIZER
+#include <tbb/global_control.h>
+#endif
+
 namespace acdf::rendertest {
+
+#ifdef ACDF_THREAD_SANITIZER
+// Under ThreadSanitizer the tables are built on the calling thread, since libtbb is not
+// instrumented (see forEachTile in renderer.cpp); the renderer's tiles still run on several
+// threads, as many as the task arena allows.
+const tbb::global_control serialTableBuilds(tbb::global_control::max_allowed_parallelism, 1);
+#endif
 
 Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& overrides) {
   // One provider for the whole test program: scenes that share a material or a map share its

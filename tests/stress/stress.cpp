@@ -42,6 +42,7 @@
 #include "acdf/sampling/alias_table_1d.h"
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/chi_square.h"
+#include "acdf/sampling/hierarchical_warp_2d.h"
 #include "acdf/sampling/piecewise_constant_1d.h"
 #include "acdf/sampling/rng.h"
 
@@ -233,7 +234,7 @@ Row measure(const std::string& distribution, const std::string& input, Build bui
   } catch (const std::invalid_argument& e) {
     row.note = std::string("rejected: ") + e.what();
   }
-  std::printf("  %-24s %-24s %9.3g samples  %s\n", distribution.c_str(), input.c_str(),
+  std::printf("  %-29s %-24s %9.3g samples  %s\n", distribution.c_str(), input.c_str(),
               static_cast<double>(row.stats.samples), row.note.c_str());
   std::fflush(stdout);
   return row;
@@ -252,6 +253,8 @@ std::vector<Row> stressDistributions(const std::vector<Input>& inputs, uint64_t 
                            [&](const auto& d) { return stress1D(d, samples); }));
     rows.push_back(measure("AliasGrid", in.name, [&] { return std::make_unique<AliasGrid>(in.values, axes); },
                            [&](const auto& d) { return stress2D(d, axes, samples); }));
+    rows.push_back(measure("HierarchicalWarp2D", in.name, [&] { return std::make_unique<HierarchicalWarp2D>(in.values, axes); },
+                           [&](const auto& d) { return stress2D(d, axes, samples); }));
     for (auto method : {DimensionMethod::Adaptive, DimensionMethod::Uniform}) {
       const bool adaptive = method == DimensionMethod::Adaptive;
       rows.push_back(measure(adaptive ? "Cascade 2D adaptive" : "Cascade 2D uniform", in.name,
@@ -267,7 +270,7 @@ std::vector<Row> stressDistributions(const std::vector<Input>& inputs, uint64_t 
     for (std::size_t i = 0; i < in.values.size(); ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = in.values[i];
     const auto map = std::make_shared<const EnvironmentMap>(in.width, in.height, std::move(rgb));
     for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                          EnvironmentSampling::Compensated}) {
+                          EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
       rows.push_back(measure("EnvironmentLight " + std::string(toString(strategy)), in.name,
                              [&] { return std::make_unique<EnvironmentLight>(map, EnvironmentLightOptions{.strategy = strategy}); },
                              [&](const auto& d) { return stressLight(d, samples); }));
@@ -425,11 +428,11 @@ int main(int argc, char** argv) {
               seconds() - distributionSeconds);
 
   bool ok = true;
-  std::printf("\n%-26s %-24s %10s %7s %7s %7s %9s %12s %8s\n", "distribution", "input", "samples", "nonfin",
+  std::printf("\n%-29s %-24s %10s %7s %7s %7s %9s %12s %8s\n", "distribution", "input", "samples", "nonfin",
               "outside", "badpdf", "mismatch", "worst rel", "build s");
   for (const Row& r : rows) {
     ok = ok && r.stats.ok();
-    std::printf("%-26s %-24s %10.3g %7llu %7llu %7llu %9llu %12.3g %8.2f %s\n", r.distribution.c_str(), r.input.c_str(),
+    std::printf("%-29s %-24s %10.3g %7llu %7llu %7llu %9llu %12.3g %8.2f %s\n", r.distribution.c_str(), r.input.c_str(),
                 static_cast<double>(r.stats.samples), static_cast<unsigned long long>(r.stats.nonFinite),
                 static_cast<unsigned long long>(r.stats.outside), static_cast<unsigned long long>(r.stats.badPdf),
                 static_cast<unsigned long long>(r.stats.mismatches), r.stats.worstMismatch, r.buildSeconds,
