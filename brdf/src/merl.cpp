@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <system_error>
 
@@ -264,18 +265,22 @@ void writeAtomically(const std::string& name, const unsigned char* data, std::si
   // The temporary sits next to the target so the rename stays within one file system (and is
   // atomic). O_EXCL: never write into somebody else's file; mode 0666 lets the umask decide,
   // as for any newly created file.
+  // The guard (removal if a signal kills us mid-write) is taken before the file exists, so no
+  // signal finds it unguarded; it is dropped again for a name that turns out to be taken.
   std::random_device random;
   std::string temp;
+  std::optional<TemporaryFileGuard> guard;
   int fd = -1;
   for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(random()));
     temp = name + suffix;
+    guard.emplace(temp);
     fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) guard.reset();
     if (fd < 0 && errno != EEXIST) break;
   }
   if (fd < 0) throw BrdfFileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
-  const TemporaryFileGuard guard(temp);  // removed if a signal kills us mid-write
 
   const auto fail = [&](const std::string& problem) {
     const std::string reason = problem + " (" + errnoText() + ")";

@@ -215,6 +215,64 @@ TEST_F(ReadImage, BrokenFilesAreErrorsNamingTheFile) {
   }
 }
 
+// CRC-32 of PNG chunks (ISO 3309), bit by bit.
+uint32_t pngCrc(const std::string& bytes) {
+  uint32_t crc = 0xffffffffu;
+  for (const unsigned char byte : bytes) {
+    crc ^= byte;
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+void putBigEndian(std::string& bytes, std::size_t at, uint32_t value) {
+  for (int i = 0; i < 4; ++i) bytes[at + i] = static_cast<char>(value >> (24 - 8 * i));
+}
+
+TEST_F(ReadImage, HugeClaimedSizeIsRefusedBeforeAllocating) {
+  // An 8 × 8 PNG whose header (with a valid CRC) then claims 30000 × 30000 pixels: 10.8 GB as
+  // float, from a file of about 300 bytes. It used to be allocated before the read failed.
+  const std::string small = path("small.png");
+  {
+    auto out = OIIO::ImageOutput::create(small);
+    ASSERT_TRUE(out && out->open(small, OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8)));
+    const std::vector<unsigned char> pixels(8 * 8 * 3, 128);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    ASSERT_TRUE(out->close());
+  }
+  std::string bytes = acdf::apptest::readFile(small);
+  const std::size_t ihdr = bytes.find("IHDR");
+  ASSERT_NE(ihdr, std::string::npos);
+  putBigEndian(bytes, ihdr + 4, 30000);
+  putBigEndian(bytes, ihdr + 8, 30000);
+  putBigEndian(bytes, ihdr + 17, pngCrc(bytes.substr(ihdr, 4 + 13)));
+  const std::string huge = path("huge.png");
+  acdf::apptest::writeFile(huge, bytes);
+  try {
+    (void)readImage(huge);
+    FAIL() << "no error for " << huge;
+  } catch (const ImageFileError& e) {
+    EXPECT_EQ(e.file(), huge);
+    EXPECT_NE(e.problem().find("claims 30000 x 30000 pixels"), std::string::npos) << e.problem();
+    EXPECT_NE(e.problem().find("corrupt"), std::string::npos) << e.problem();
+  }
+
+  // The limit leaves room for real files that compress well: a constant 4096 × 2048 DWAB map
+  // decodes to about 12000 times its size.
+  const std::string constant = path("constant.exr");
+  {
+    OIIO::ImageSpec spec(4096, 2048, 3, OIIO::TypeDesc::HALF);
+    spec.attribute("compression", "dwab");
+    auto out = OIIO::ImageOutput::create(constant);
+    ASSERT_TRUE(out && out->open(constant, spec));
+    const std::vector<float> pixels(std::size_t{4096} * 2048 * 3, 0.5f);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    ASSERT_TRUE(out->close());
+  }
+  EXPECT_GT(4096.0 * 2048 * 3 * sizeof(float) / static_cast<double>(fs::file_size(constant)), 5000.0);
+  EXPECT_EQ(readImage(constant).width, 4096u);
+}
+
 TEST_F(ReadImage, WriteExrRoundTripsAndLeavesNoTemporary) {
   std::vector<float> rgb(5 * 3 * 3);
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.1f * float(i);
