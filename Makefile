@@ -3,7 +3,9 @@
 #                   sunset map and the paper's Table 1 rows for the demo's three measured materials
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
-#   make bench      run every build/bin/bench_* program, JSON into bench/results/
+#   make bench      run every build/bin/bench_* program, JSON into bench/results/; then acdf bench-error
+#                   on scenes/demo.json into bench/results/error/ (BENCH_ERROR_ARGS) and its section
+#                   of docs/performance.md with the plots in docs/bench-error/
 #   make fuzz       libFuzzer targets (clang, build-fuzz/), each for FUZZ_SECONDS
 #   make stress     numerical stress program (1e8 samples per distribution; STRESS_ARGS)
 #   make test-tsan  ThreadSanitizer build (build-tsan/) + the multithreaded tests
@@ -16,6 +18,13 @@ RESULTS_DIR ?= bench/results
 # Extra flags for every benchmark program, e.g. BENCH_ARGS=--benchmark_min_time=0.1
 BENCH_ARGS ?=
 DEMO_INPUT ?= data/envmaps/sunset_1024x512.exr
+# make bench's error-against-time run (acdf bench-error on scenes/demo.json): three MIS modes
+# (balance behaves like power), budgets up to 8 s, about 15 minutes on 2 cores. A stopped run
+# resumes. The full matrix (all four MIS modes, 1-16 s, about 35 minutes): BENCH_ERROR_ARGS=
+# (docs/performance.md, "Error against time").
+BENCH_ERROR_DIR ?= $(RESULTS_DIR)/error
+BENCH_ERROR_ARGS ?= --budgets 1,2,4,8 --mis power,bsdf-only,light-only --reference-spp 1024
+BENCH_ERROR_COMMAND = $(BUILD_DIR)/bin/acdf bench-error scenes/demo.json --out $(BENCH_ERROR_DIR) $(BENCH_ERROR_ARGS)
 # The demo's measured materials, generated from the bundled neural fits (35 MB each, not in git).
 # scenes/demo.json refers to them as ../build/demo/*.binary, so they live there whatever BUILD_DIR.
 DEMO_DIR := build/demo
@@ -35,7 +44,7 @@ generator_for = $(if $(wildcard $(1)/CMakeCache.txt),,$(GENERATOR))
 SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 \
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build test configure-asan build-asan test-asan demo bench clean \
+.PHONY: all deps configure build test configure-asan build-asan test-asan demo demo-materials bench clean \
         configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan
 
 all: build
@@ -64,12 +73,16 @@ test-asan: deps
 	$(MAKE) build-asan
 	$(SANITIZER_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS)
 
-demo: deps
-	$(MAKE) build
+# The demo's measured materials (scenes/demo.json), generated once; needs $(BUILD_DIR)/bin/acdf.
+demo-materials:
 	@mkdir -p $(DEMO_DIR)
 	@set -e; for m in $(DEMO_BRDFS); do \
 	  [ -f $(DEMO_DIR)/$$m.binary ] || $(BUILD_DIR)/bin/acdf merl-gen --nbrdf $$m -o $(DEMO_DIR)/$$m.binary; \
 	done
+
+demo: deps
+	$(MAKE) build
+	$(MAKE) demo-materials
 	$(BUILD_DIR)/bin/acdf render scenes/demo.json -o $(DEMO_DIR)/demo.exr
 	$(BUILD_DIR)/bin/acdf cdf-stats $(DEMO_INPUT)
 	@set -e; for m in $(DEMO_BRDFS); do \
@@ -87,6 +100,10 @@ bench: deps
 	  "$$prog" --benchmark_out="$(RESULTS_DIR)/$$name.json" --benchmark_out_format=json $(BENCH_ARGS); \
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
+	$(MAKE) demo-materials
+	$(BENCH_ERROR_COMMAND)
+	/usr/bin/python3 bench/error_report.py docs $(BENCH_ERROR_DIR)/results.json docs/performance.md docs/bench-error \
+	  --command "$(BENCH_ERROR_COMMAND)"
 
 # Each target runs FUZZ_SECONDS on a working corpus in $(FUZZ_DIR)/corpus/<target>, seeded from
 # fuzz/corpus/<target> (read only); a crash is saved under $(FUZZ_DIR)/artifacts/<target>/ and

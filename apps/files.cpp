@@ -4,10 +4,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <system_error>
+
+#include <fmt/format.h>
 
 #include "errors.h"
 #include "acdf/sampling/regular_file.h"
+#include "acdf/sampling/temporary_files.h"
 
 namespace acdf::app {
 
@@ -33,6 +37,27 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (static_cast<std::uintmax_t>(in.gcount()) != size) throw InputError(path, "read error (file changed while reading?)");
   return bytes;
+}
+
+void writeTextFileAtomically(const std::string& path, std::string_view text) {
+  std::random_device random;
+  const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
+  const TemporaryFileGuard guard(temp);  // removed if a signal kills us mid-write
+  std::error_code ec;
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (out) out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.close();
+    if (!out) {
+      fs::remove(temp, ec);
+      throw InputError(path, "cannot write the temporary file " + temp);
+    }
+  }
+  fs::rename(temp, path, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw InputError(path, "cannot rename the temporary file into place");
+  }
 }
 
 }  // namespace acdf::app

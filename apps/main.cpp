@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_error.h"
 #include "brdf_stats.h"
 #include "cdf_stats.h"
 #include "chi2.h"
@@ -49,6 +50,7 @@ int run(int argc, char** argv) {
   commands.push_back(acdf::app::addEnvmapStats(app));
   commands.push_back(acdf::app::addChi2(app));
   commands.push_back(acdf::app::addRender(app));
+  commands.push_back(acdf::app::addBenchError(app));
 
   try {
     app.parse(argc, argv);

@@ -1,14 +1,10 @@
 #include "render.h"
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
-
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -19,6 +15,7 @@
 #include "acdf/integrator/scene.h"
 #include "errors.h"
 #include "options.h"
+#include "scene_cli.h"
 
 namespace acdf::app {
 
@@ -41,52 +38,12 @@ struct RenderArgs {
   bool json = false;
 };
 
-// Fails before rendering, not after, when an output cannot be written there.
-void checkOutputPath(const std::string& path) {
-  const fs::path p(path);
-  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(path, "the output directory does not exist");
-  if (fs::is_directory(p, ec)) throw InputError(path, "is a directory");
-  if (access(dir.c_str(), W_OK) != 0) throw InputError(path, "the output directory is not writable");
-}
-
-// A progress bar with an estimate of the time left, redrawn at most ten times a second.
-class ProgressBar {
- public:
-  void update(double fraction) {
-    const auto now = Clock::now();
-    if (fraction < 1.0 && now - lastDraw_ < std::chrono::milliseconds(100)) return;
-    lastDraw_ = now;
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * kWidth);
-    const std::string eta = fraction > 0 ? fmt::format("ETA {:.0f} s", elapsed * (1.0 - fraction) / fraction) : "";
-    std::fprintf(stderr, "\r[%s%s] %3.0f%% %-12s", std::string(filled, '#').c_str(),
-                 std::string(kWidth - filled, '.').c_str(), 100.0 * fraction, eta.c_str());
-    std::fflush(stderr);
-  }
-  ~ProgressBar() { std::fputs("\n", stderr); }
-
- private:
-  static constexpr int kWidth = 40;
-  Clock::time_point start_ = Clock::now(), lastDraw_{};
-};
-
-template <class Parse>
-auto parseOption(const std::string& option, const std::string& value, Parse parse) {
-  try {
-    return parse(value);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("render: {}: {}", option, e.what()));
-  }
-}
-
 int runRender(const RenderArgs& args) {
   SceneOverrides overrides;
-  if (!args.mis.empty()) overrides.mis = parseOption("--mis", args.mis, parseMisMode);
-  if (!args.bsdfSampling.empty()) overrides.bsdfSampling = parseOption("--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
+  if (!args.mis.empty()) overrides.mis = parseOption("render", "--mis", args.mis, parseMisMode);
+  if (!args.bsdfSampling.empty()) overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
   if (!args.envSampling.empty())
-    overrides.envSampling = parseOption("--env-sampling", args.envSampling, parseEnvironmentStrategy);
+    overrides.envSampling = parseOption("render", "--env-sampling", args.envSampling, parseEnvironmentStrategy);
   overrides.spp = args.spp;
   overrides.seed = args.seed;
   if (!args.crop.empty()) {
@@ -103,27 +60,12 @@ int runRender(const RenderArgs& args) {
   if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
 
   const auto setupStart = Clock::now();
-  // Cache problems are warnings (a rejected file is rebuilt, a failed store only costs time).
-  auto warn = [](const std::string& message) { std::fprintf(stderr, "acdf: warning: %s\n", oneLine(message).c_str()); };
-  TableProvider tables(args.noCache ? TableCache::disabled() : TableCache::atDefaultLocation(warn));
-  Scene scene;
-  try {
-    scene = loadScene(args.scene, overrides, tables);
-  } catch (const SceneError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  TableProvider tables(commandTableCache(args.noCache));
+  const Scene scene = loadCommandScene(args.scene, overrides, tables);
   const double setupMs = millisecondsSince(setupStart);
 
   Film film = makeFilm(scene);
-  RenderOptions options;
-  options.seconds = args.seconds;
-  std::optional<ProgressBar> bar;
-  if (isatty(fileno(stderr))) {
-    bar.emplace();
-    options.progress = [&bar](double fraction) { bar->update(fraction); };
-  }
-  const RenderStats stats = render(scene, film, options);
-  bar.reset();
+  const RenderStats stats = renderWithProgress(scene, film, args.seconds);
 
   try {
     film.write(args.output, png);

@@ -8,6 +8,7 @@
 //   the EnvironmentSampling strategies (uniform, alias, adaptive, compensated, ...): the
 //   EnvironmentLight's table, which the caller builds (TableProvider) only when chosen.
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,6 +44,8 @@ class Environment {
   double pdf(const Vec3d& w) const;
 
   const EnvironmentStrategy& strategy() const { return strategy_; }
+  // Bytes of the sampling table (0 for uniform-sphere sampling).
+  std::size_t tableBytes() const { return light_ ? light_->tableBytes() : 0; }
   // True when the strategy may give pdf 0 where the radiance is not 0 (compensated): usable
   // under MIS only.
   bool needsMis() const { return strategy_ == EnvironmentSampling::Compensated && !light_->compensationFellBack(); }

@@ -51,6 +51,7 @@ class MeasuredMaterial final : public Material {
   Color eval(const Vec3d& wo, const Vec3d& wi) const override;
   MaterialSample sample(const Vec3d& wo, float u0, float u1) const override;
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
+  const BrdfSampler& sampler() const { return *sampler_; }
 
  private:
   std::shared_ptr<const MerlBrdf> brdf_;

@@ -1,0 +1,611 @@
+#include "bench_error.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "acdf/envmap/image_file.h"
+#include "acdf/integrator/material.h"
+#include "acdf/integrator/renderer.h"
+#include "acdf/integrator/scene.h"
+#include "acdf/sampling/table_cache.h"
+#include "errors.h"
+#include "files.h"
+#include "options.h"
+#include "scene_cli.h"
+
+#ifndef ACDF_BENCH_ERROR_SCRIPT
+#define ACDF_BENCH_ERROR_SCRIPT "bench/error_report.py"
+#endif
+
+namespace acdf::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// Exit status when every row is in results.csv / results.json but the plots could not be drawn.
+constexpr int kExitPlotFailed = 3;
+// The offset of relMSE's denominator: keeps black reference pixels from dominating the mean.
+constexpr double kRelMseOffset = 0.01;
+// A pixel whose relative difference (√ of its relMSE term) reaches this is drawn full red.
+constexpr double kFullRedDifference = 0.5;
+
+struct BenchErrorArgs {
+  std::string scene, reference, out = "bench-error";
+  std::vector<double> budgets;      // seconds
+  std::vector<uint32_t> sppBudgets;
+  std::vector<std::string> bsdf, env, mis;
+  uint32_t referenceSpp = 1024;
+  uint32_t threads = 0;
+  bool noCache = false, noPlot = false;
+  std::string plotScript = ACDF_BENCH_ERROR_SCRIPT, python = "/usr/bin/python3";
+};
+
+// One strategy combination.
+struct Strategy {
+  BrdfSampling bsdf;
+  EnvironmentStrategy env;
+  MisMode mis;
+
+  std::string label() const { return fmt::format("{} × {} × {}", toString(bsdf), toString(env), toString(mis)); }
+  // File-name form, e.g. "adaptive_hierarchical_power".
+  std::string id() const { return fmt::format("{}_{}_{}", toString(bsdf), toString(env), toString(mis)); }
+};
+
+struct Skipped {
+  Strategy strategy;
+  std::string reason;
+};
+
+struct ErrorFigures {
+  double relMse = 0, rmse = 0;
+};
+
+// relMSE = mean over pixels and channels of (I − R)² / (R² + 0.01); RMSE = √(mean of (I − R)²).
+ErrorFigures compare(const Image& image, const Image& reference) {
+  double relSum = 0, sqSum = 0;
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const double r = reference.pixels[i], d = double(image.pixels[i]) - r;
+    relSum += d * d / (r * r + kRelMseOffset);
+    sqSum += d * d;
+  }
+  const double n = static_cast<double>(image.pixels.size());
+  return {relSum / n, std::sqrt(sqSum / n)};
+}
+
+// Red where `a` differs from `b` relative to the reference (the √ of the pixel's relMSE term,
+// full red at kFullRedDifference), over a dim grey copy of the reference for orientation.
+Image differenceImage(const Image& a, const Image& b, const Image& reference) {
+  Image out;
+  out.width = reference.width;
+  out.height = reference.height;
+  out.channels = 3;
+  out.pixels.resize(reference.pixels.size());
+  for (std::size_t p = 0; p < reference.pixels.size(); p += 3) {
+    double term = 0, luminance = 0;
+    constexpr double kWeights[3] = {0.2126, 0.7152, 0.0722};
+    for (int c = 0; c < 3; ++c) {
+      const double r = reference.pixels[p + c], d = double(a.pixels[p + c]) - b.pixels[p + c];
+      term += d * d / (r * r + kRelMseOffset) / 3;
+      luminance += kWeights[c] * r;
+    }
+    const float t = static_cast<float>(std::min(1.0, std::sqrt(term) / kFullRedDifference));
+    const float grey = static_cast<float>(0.2 * std::clamp(luminance, 0.0, 1.0));
+    out.pixels[p] = grey + t * (1 - grey);
+    out.pixels[p + 1] = out.pixels[p + 2] = grey * (1 - t);
+  }
+  return out;
+}
+
+struct TableMemory {
+  std::size_t brdf = 0, environment = 0;
+};
+
+// The sampling tables a scene renders with (a sampler two materials share counts once).
+TableMemory tableMemory(const Scene& scene) {
+  TableMemory memory;
+  std::set<const BrdfSampler*> samplers;
+  for (const auto& material : scene.materials)
+    if (const auto* measured = dynamic_cast<const MeasuredMaterial*>(material.get()))
+      if (samplers.insert(&measured->sampler()).second) memory.brdf += measured->sampler().bytes();
+  memory.environment = scene.environment->tableBytes();
+  return memory;
+}
+
+std::string hexHash(const ContentHash& hash) { return hash.digest().hex(); }
+
+std::string readText(const std::string& path) {
+  const std::vector<unsigned char> bytes = readFileBytes(path);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+std::optional<Json> readJsonFile(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return std::nullopt;
+  std::ifstream in(path);
+  Json j = Json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) return std::nullopt;
+  return j;
+}
+
+Image readImageFile(const std::string& path) {
+  try {
+    return readImage(path);
+  } catch (const ImageFileError& e) {
+    throw InputError(e.file(), e.problem());
+  }
+}
+
+void writeImage(const std::string& path, const Image& image, bool png) {
+  try {
+    png ? writeSrgbPng(path, image) : writeExr(path, image);
+  } catch (const ImageFileError& e) {
+    throw InputError(e.file(), e.problem());
+  }
+}
+
+template <class T, class Parse>
+std::vector<T> parseList(const std::vector<std::string>& names, const std::string& option, Parse parse,
+                         std::vector<T> all) {
+  if (names.empty()) return all;
+  std::vector<T> out;
+  for (const std::string& name : names) {
+    const T value = parseOption("bench-error", option, name, parse);
+    if (std::find(out.begin(), out.end(), value) == out.end()) out.push_back(value);
+  }
+  return out;
+}
+
+// The combinations to render, and those left out because another one renders the same image.
+std::pair<std::vector<Strategy>, std::vector<Skipped>> planStrategies(const std::vector<BrdfSampling>& bsdfs,
+                                                                      const std::vector<EnvironmentStrategy>& envs,
+                                                                      const std::vector<MisMode>& mises,
+                                                                      bool sceneHasMeasured) {
+  std::vector<Strategy> plan;
+  std::vector<Skipped> skipped;
+  for (MisMode mis : mises)
+    for (BrdfSampling bsdf : bsdfs)
+      for (const EnvironmentStrategy& env : envs) {
+        const Strategy s{bsdf, env, mis};
+        if (!sceneHasMeasured && bsdf != bsdfs.front())
+          skipped.push_back({s, fmt::format("no measured material: the same image as {} BRDF sampling", toString(bsdfs.front()))});
+        else if (mis == MisMode::BsdfOnly && env != envs.front())
+          skipped.push_back({s, fmt::format("bsdf-only never samples the environment: the same image as {}", toString(envs.front()))});
+        else if (mis == MisMode::LightOnly && env == EnvironmentSampling::Compensated)
+          skipped.push_back({s, "light-only cannot use compensated sampling (pdf 0 where the map has light)"});
+        else
+          plan.push_back(s);
+      }
+  return {plan, skipped};
+}
+
+// Row key for resuming: the strategy and the budget.
+std::string rowKey(const std::string& bsdf, const std::string& env, const std::string& mis, double budget) {
+  return fmt::format("{}|{}|{}|{:a}", bsdf, env, mis, budget);
+}
+std::string rowKey(const Json& row) {
+  return rowKey(row.value("bsdf_sampling", ""), row.value("env_sampling", ""), row.value("mis", ""), row.value("budget", 0.0));
+}
+
+const char* const kCsvColumns[] = {"bsdf_sampling", "env_sampling", "mis", "budget_kind", "budget", "seed", "seconds",
+                                   "spp", "relmse", "rmse", "brdf_table_bytes", "env_table_bytes", "table_bytes",
+                                   "table_ms", "tables_built", "tables_from_cache"};
+
+std::string csvCell(const Json& v) {
+  if (v.is_string()) return v.get<std::string>();  // strategy names: no commas or quotes
+  if (v.is_number_float()) return fmt::format("{:.9g}", v.get<double>());
+  return v.dump();
+}
+
+std::string toCsv(const Json& rows) {
+  std::string out;
+  for (const char* c : kCsvColumns) out += std::string(out.empty() ? "" : ",") + c;
+  out += "\n";
+  for (const Json& row : rows) {
+    std::string line;
+    for (const char* c : kCsvColumns) line += std::string(line.empty() ? "" : ",") + csvCell(row.at(c));
+    out += line + "\n";
+  }
+  return out;
+}
+
+// Runs `python script plot results.json DIR`; returns an empty string on success, else why not.
+std::string runPlotScript(const BenchErrorArgs& args, const fs::path& dir) {
+  const std::string results = (dir / "results.json").string(), out = dir.string();
+  std::vector<const char*> argv = {args.python.c_str(), args.plotScript.c_str(), "plot", results.c_str(), out.c_str(), nullptr};
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = fork();
+  if (pid < 0) return "cannot start a process";
+  if (pid == 0) {
+    execv(argv[0], const_cast<char* const*>(argv.data()));
+    std::fprintf(stderr, "acdf: cannot run %s\n", args.python.c_str());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return "cannot wait for the plot script";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return "cannot run " + args.python;
+  return WIFEXITED(status) ? fmt::format("{} {} exited with status {}", args.python, args.plotScript, WEXITSTATUS(status))
+                           : fmt::format("{} {} was killed by signal {}", args.python, args.plotScript, WTERMSIG(status));
+}
+
+class BenchError {
+ public:
+  explicit BenchError(const BenchErrorArgs& args) : args_(args), dir_(args.out) {}
+
+  int run() {
+    validate();
+    std::optional<tbb::global_control> threads;
+    if (args_.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args_.threads);
+
+    // The scene with its own strategies: its resolution, whether BRDF sampling matters, and the
+    // reference render if there is none to reuse. Loading it validates the scene (exit 2).
+    tables_.emplace(commandTableCache(args_.noCache));
+    Scene scene = loadCommandScene(args_.scene, {}, *tables_);
+    const Film film = makeFilm(scene);
+    width_ = film.width();
+    height_ = film.height();
+    const bool hasMeasured = std::any_of(scene.materials.begin(), scene.materials.end(), [](const auto& m) {
+      return dynamic_cast<const MeasuredMaterial*>(m.get()) != nullptr;
+    });
+    std::tie(plan_, skipped_) = planStrategies(bsdfs_, envs_, mises_, hasMeasured);
+    if (!args_.reference.empty()) loadGivenReference();
+    prepareOutputDirectory();
+    if (args_.reference.empty()) renderOrReuseReference(scene);
+
+    resume();
+    renderRows();
+    const std::size_t differenceImages = writeDifferenceImages();
+
+    std::string summary;
+    summary += fmt::format("bench-error {}: {} strategy combinations x {} budgets ({}), {} left out as identical\n",
+                           args_.scene, plan_.size(), budgets_.size(), budgetKind(), skipped_.size());
+    for (const Skipped& s : skipped_) summary += fmt::format("  left out  {}: {}\n", s.strategy.label(), s.reason);
+    summary += fmt::format("reference   {} ({})\n", referenceDescription_, referenceOrigin_);
+    summary += fmt::format("rows        {} rendered, {} kept from an earlier run\n", rendered_, kept_);
+    summary += fmt::format("wrote       {}, {}, {} difference images in {}\n", (dir_ / "results.csv").string(),
+                           (dir_ / "results.json").string(), differenceImages, (dir_ / "diff").string());
+    std::fputs(summary.c_str(), stdout);
+    if (args_.noPlot) return std::fflush(stdout) == 0 ? 0 : 1;
+    const std::string plotProblem = runPlotScript(args_, dir_);
+    if (!plotProblem.empty()) {
+      std::fprintf(stderr, "acdf: bench-error: plotting failed (%s); results.csv and results.json in %s are complete\n",
+                   oneLine(plotProblem).c_str(), dir_.string().c_str());
+      return kExitPlotFailed;
+    }
+    std::printf("plots       %s, %s\n", (dir_ / "error_vs_time.png").c_str(), (dir_ / "memory_vs_error.png").c_str());
+    return std::fflush(stdout) == 0 ? 0 : 1;
+  }
+
+ private:
+  // Everything about the command line that can be checked before anything is written.
+  void validate() {
+    bsdfs_ = parseList<BrdfSampling>(args_.bsdf, "--bsdf-sampling", parseBrdfSampling,
+                                     {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive});
+    envs_ = parseList<EnvironmentStrategy>(
+        args_.env, "--env-sampling", parseEnvironmentStrategy,
+        {std::nullopt, EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
+         EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical});
+    mises_ = parseList<MisMode>(args_.mis, "--mis", parseMisMode,
+                                {MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly});
+    if (!args_.sppBudgets.empty()) {
+      for (uint32_t spp : args_.sppBudgets) budgets_.push_back(spp);
+    } else {
+      budgets_ = args_.budgets.empty() ? std::vector<double>{1, 2, 4, 8, 16} : args_.budgets;
+      for (double b : budgets_)
+        if (!(b > 0) || !std::isfinite(b)) throw UsageError(fmt::format("bench-error: --budgets: {} is not a positive number of seconds", b));
+    }
+    std::sort(budgets_.begin(), budgets_.end());
+    budgets_.erase(std::unique(budgets_.begin(), budgets_.end()), budgets_.end());
+    sceneHash_ = hexHash(ContentHash().text(readText(args_.scene)));
+  }
+
+  const char* budgetKind() const { return args_.sppBudgets.empty() ? "seconds" : "spp"; }
+
+  // --out: an existing writable directory, or one we can create. Created only after every
+  // check passed, so bad input leaves nothing behind.
+  void prepareOutputDirectory() {
+    std::error_code ec;
+    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec)) throw InputError(dir_.string(), "--out is not a directory");
+    if (fs::is_directory(dir_, ec)) {
+      if (access(dir_.c_str(), W_OK) != 0) throw InputError(dir_.string(), "the output directory is not writable");
+    } else {
+      const fs::path parent = dir_.parent_path().empty() ? fs::path(".") : dir_.parent_path();
+      if (!fs::is_directory(parent, ec)) throw InputError(dir_.string(), "its parent directory does not exist");
+      if (access(parent.c_str(), W_OK) != 0) throw InputError(dir_.string(), "cannot create the output directory (parent not writable)");
+      if (!fs::create_directory(dir_, ec) && ec) throw InputError(dir_.string(), "cannot create the output directory (" + ec.message() + ")");
+    }
+    fs::create_directories(dir_ / "images", ec);
+    if (!ec) fs::create_directories(dir_ / "diff", ec);
+    if (ec) throw InputError(dir_.string(), "cannot create its images/ and diff/ directories (" + ec.message() + ")");
+  }
+
+  void checkReferenceShape(const Image& image, const std::string& file) const {
+    if (image.width != width_ || image.height != height_)
+      throw InputError(file, fmt::format("the reference is {}x{} but {} renders {}x{}", image.width, image.height,
+                                         args_.scene, width_, height_));
+    if (image.channels != 3) throw InputError(file, "the reference must have RGB channels");
+  }
+
+  void loadGivenReference() {
+    reference_ = readImageFile(args_.reference);
+    checkReferenceShape(reference_, args_.reference);
+    referenceDescription_ = args_.reference;
+    referenceOrigin_ = "given";
+    referenceInfo_ = Json{{"file", fs::absolute(args_.reference).string()}};
+    finishReference();
+  }
+
+  // DIR/reference.exr with DIR/reference.json saying what it is; reused only when the scene's
+  // text, the sample count and the resolution match.
+  void renderOrReuseReference(Scene& scene) {
+    const fs::path exr = dir_ / "reference.exr", info = dir_ / "reference.json";
+    Json wanted{{"scene", args_.scene}, {"scene_hash", sceneHash_}, {"spp", args_.referenceSpp}, {"width", width_},
+                {"height", height_}, {"seed", scene.settings.seed}, {"bsdf_sampling", "scene"},
+                {"env_sampling", toString(scene.environment->strategy())}, {"mis", toString(scene.settings.mis)}};
+    referenceDescription_ = exr.string();
+    if (const auto stored = readJsonFile(info)) {
+      const bool same = stored->value("scene_hash", "") == sceneHash_ && stored->value("spp", 0u) == args_.referenceSpp &&
+                        stored->value("width", 0u) == width_ && stored->value("height", 0u) == height_;
+      std::error_code ec;
+      if (same && fs::is_regular_file(exr, ec)) {
+        try {
+          reference_ = readImage(exr.string());
+          checkReferenceShape(reference_, exr.string());
+          referenceOrigin_ = fmt::format("{} spp, reused", args_.referenceSpp);
+          referenceInfo_ = *stored;
+          finishReference();
+          return;
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "acdf: warning: %s: rendering the reference again\n", oneLine(e.what()).c_str());
+        }
+      }
+    }
+    std::fprintf(stderr, "reference: %s, %u spp\n", args_.scene.c_str(), args_.referenceSpp);
+    scene.settings.spp = args_.referenceSpp;
+    const RenderStats stats = renderImage(scene, std::nullopt);
+    wanted["seconds"] = stats.seconds;
+    referenceOrigin_ = fmt::format("{} spp, rendered in {:.1f} s", args_.referenceSpp, stats.seconds);
+    writeImage(exr.string(), reference_ = lastImage_, false);
+    writeTextFileAtomically(info.string(), wanted.dump(2) + "\n");
+    referenceInfo_ = wanted;
+    finishReference();
+  }
+
+  void finishReference() {
+    referenceHash_ = hexHash(ContentHash().values(std::span<const float>(reference_.pixels)));
+    referenceInfo_["pixels_hash"] = referenceHash_;
+  }
+
+  // Renders into lastImage_.
+  RenderStats renderImage(const Scene& scene, std::optional<double> seconds) {
+    Film film = makeFilm(scene);
+    const RenderStats stats = renderWithProgress(scene, film, seconds);
+    lastImage_ = film.image();
+    return stats;
+  }
+
+  Json settings() const {
+    return Json{{"scene", args_.scene},
+                {"scene_hash", sceneHash_},
+                {"reference", referenceInfo_},
+                {"reference_hash", referenceHash_},
+                {"budget_kind", budgetKind()},
+                {"threads", args_.threads},
+                {"relmse", "mean over pixels and channels of (I - R)^2 / (R^2 + 0.01)"},
+                {"rmse", "sqrt(mean over pixels and channels of (I - R)^2)"}};
+  }
+
+  // Rows of an earlier run with the same scene, reference, budget kind and threads are kept.
+  void resume() {
+    const fs::path path = dir_ / "results.json";
+    const auto earlier = readJsonFile(path);
+    if (!earlier) return;
+    const Json now = settings();
+    const Json& then = (*earlier)["settings"];
+    const bool same = then.is_object() && then.value("scene_hash", "") == now["scene_hash"] &&
+                      then.value("reference_hash", "") == now["reference_hash"] &&
+                      then.value("budget_kind", "") == now["budget_kind"] && then.value("threads", 0u) == args_.threads;
+    if (!same || !(*earlier)["rows"].is_array()) {
+      std::fprintf(stderr, "bench-error: %s is from other settings (scene, reference, budget kind or threads): starting afresh\n",
+                   path.c_str());
+      return;
+    }
+    for (const Json& row : (*earlier)["rows"])
+      if (row.is_object() && done_.insert(rowKey(row)).second) rows_.push_back(row);
+    kept_ = rows_.size();
+  }
+
+  uint64_t seedFor(const Strategy& s, double budget) const {
+    return ContentHash().text(s.id()).number(std::bit_cast<uint64_t>(budget)).digest().low;
+  }
+
+  void renderRows() {
+    const std::size_t total = plan_.size() * budgets_.size();
+    std::size_t index = 0;
+    for (const Strategy& s : plan_) {
+      const auto pending = [&](double budget) {
+        return !done_.contains(rowKey(std::string(toString(s.bsdf)), toString(s.env), std::string(toString(s.mis)), budget));
+      };
+      if (std::none_of(budgets_.begin(), budgets_.end(), pending)) {
+        index += budgets_.size();
+        std::fprintf(stderr, "[%zu/%zu] %s: kept from an earlier run\n", index, total, s.label().c_str());
+        continue;
+      }
+      SceneOverrides overrides;
+      overrides.bsdfSampling = s.bsdf;
+      overrides.envSampling = s.env;
+      overrides.mis = s.mis;
+      const std::size_t builtBefore = tables_->tablesBuilt().size(), cachedBefore = tables_->tablesFromCache().size();
+      const auto setupStart = Clock::now();
+      Scene scene = loadCommandScene(args_.scene, overrides, *tables_);
+      const double tableMs = millisecondsSince(setupStart);
+      const TableMemory memory = tableMemory(scene);
+      for (double budget : budgets_) {
+        ++index;
+        if (!pending(budget)) continue;
+        scene.settings.seed = seedFor(s, budget);
+        std::optional<double> seconds;
+        if (args_.sppBudgets.empty()) seconds = budget;
+        else scene.settings.spp = static_cast<uint32_t>(budget);
+        const RenderStats stats = renderImage(scene, seconds);
+        const ErrorFigures error = compare(lastImage_, reference_);
+        // The image of the largest budget feeds the difference images; written before its row,
+        // so a row on disk always has its image.
+        if (budget == budgets_.back()) writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
+        Json row{{"bsdf_sampling", toString(s.bsdf)}, {"env_sampling", toString(s.env)}, {"mis", toString(s.mis)},
+                 {"budget_kind", budgetKind()}, {"budget", budget}, {"seed", scene.settings.seed},
+                 {"seconds", stats.seconds}, {"spp", stats.spp}, {"relmse", error.relMse}, {"rmse", error.rmse},
+                 {"brdf_table_bytes", memory.brdf}, {"env_table_bytes", memory.environment},
+                 {"table_bytes", memory.brdf + memory.environment}, {"table_ms", tableMs},
+                 {"tables_built", tables_->tablesBuilt().size() - builtBefore},
+                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore}};
+        done_.insert(rowKey(row));
+        rows_.push_back(std::move(row));
+        ++rendered_;
+        writeResults();
+        std::fprintf(stderr, "[%zu/%zu] %s, %g %s: %u spp, relMSE %.3g, RMSE %.3g\n", index, total, s.label().c_str(),
+                     budget, args_.sppBudgets.empty() ? "s" : "spp", stats.spp, error.relMse, error.rmse);
+      }
+    }
+    if (rendered_ == 0) writeResults();  // the settings of this run, even when nothing was new
+  }
+
+  void writeResults() const {
+    Json skipped = Json::array();
+    for (const Skipped& s : skipped_)
+      skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)}, {"env_sampling", toString(s.strategy.env)},
+                         {"mis", toString(s.strategy.mis)}, {"reason", s.reason}});
+    Json rows = Json::array();
+    for (const Json& r : rows_) rows.push_back(r);
+    Json j{{"settings", settings()}, {"skipped", skipped}, {"rows", rows}};
+    writeTextFileAtomically((dir_ / "results.csv").string(), toCsv(rows));
+    writeTextFileAtomically((dir_ / "results.json").string(), j.dump(2) + "\n");
+  }
+
+  // diff/<strategy>.png against the reference, and diff/<axis>-adaptive-vs-uniform_<rest>.png
+  // between the adaptive and the uniform table of one axis (the paper's Table 2), each from the
+  // images of the largest budget.
+  std::size_t writeDifferenceImages() const {
+    std::map<std::string, Image> images;
+    for (const Strategy& s : plan_) {
+      const fs::path file = dir_ / "images" / (s.id() + ".exr");
+      std::error_code ec;
+      if (!fs::is_regular_file(file, ec)) continue;
+      Image image = readImageFile(file.string());
+      if (image.width != width_ || image.height != height_ || image.channels != 3) continue;
+      images.emplace(s.id(), std::move(image));
+    }
+    std::size_t written = 0;
+    const auto write = [&](const std::string& name, const Image& a, const Image& b) {
+      writeImage((dir_ / "diff" / (name + ".png")).string(), differenceImage(a, b, reference_), true);
+      ++written;
+    };
+    for (const auto& [id, image] : images) write(id, image, reference_);
+    for (const Strategy& s : plan_) {
+      if (s.env == EnvironmentSampling::Adaptive) {
+        const Strategy uniform{s.bsdf, EnvironmentSampling::Uniform, s.mis};
+        if (images.contains(s.id()) && images.contains(uniform.id()))
+          write(fmt::format("env-adaptive-vs-uniform_{}_{}", toString(s.bsdf), toString(s.mis)), images.at(s.id()),
+                images.at(uniform.id()));
+      }
+      if (s.bsdf == BrdfSampling::Adaptive) {
+        const Strategy uniform{BrdfSampling::Uniform, s.env, s.mis};
+        if (images.contains(s.id()) && images.contains(uniform.id()))
+          write(fmt::format("bsdf-adaptive-vs-uniform_{}_{}", toString(s.env), toString(s.mis)), images.at(s.id()),
+                images.at(uniform.id()));
+      }
+    }
+    return written;
+  }
+
+  const BenchErrorArgs& args_;
+  fs::path dir_;
+  // One provider for the run: the scene's inputs (MERL files, maps) are read once, and a
+  // combination's set-up time is that of its own tables.
+  std::optional<TableProvider> tables_;
+  std::vector<BrdfSampling> bsdfs_;
+  std::vector<EnvironmentStrategy> envs_;
+  std::vector<MisMode> mises_;
+  std::vector<double> budgets_;
+  std::vector<Strategy> plan_;
+  std::vector<Skipped> skipped_;
+  std::string sceneHash_, referenceHash_, referenceDescription_, referenceOrigin_;
+  Json referenceInfo_;
+  uint32_t width_ = 0, height_ = 0;
+  Image reference_, lastImage_;
+  std::set<std::string> done_;
+  std::vector<Json> rows_;
+  std::size_t rendered_ = 0, kept_ = 0;
+};
+
+}  // namespace
+
+Command addBenchError(CLI::App& parent) {
+  auto args = std::make_shared<BenchErrorArgs>();
+  CLI::App* app = parent.add_subcommand(
+      "bench-error", "Error against render time for every sampling strategy combination, against a reference.");
+  app->footer(
+      "Renders SCENE with every combination of the strategy lists (default: all of them) for every budget,\n"
+      "each with its own seed, and measures the error against a reference: relMSE = mean over pixels and\n"
+      "channels of (I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2). The tables are built (or read\n"
+      "from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
+      "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
+      "the first --env-sampling, BRDF strategies other than the first when no material is measured, and\n"
+      "light-only with compensated sampling (not allowed).\n"
+      "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
+      "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
+      "DIR gets results.csv and results.json (rewritten after every row: a stopped run resumes, skipping\n"
+      "finished rows, when the scene, reference, budget kind and threads are the same), images/ (the renders\n"
+      "of the largest budget), diff/ (false colour: red where a render differs from the reference, and where\n"
+      "the adaptive table's render differs from the uniform table's), and the plots of --plot-script.\n"
+      "\n"
+      "Exit status: 0 success, 2 bad scene / reference / output directory or command line, 3 the plots\n"
+      "failed (the results are complete), 1 internal error.");
+  app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
+  app->add_option("--reference", args->reference, "Reference image (linear EXR of the scene's resolution)");
+  app->add_option("--reference-spp", args->referenceSpp, "Samples per pixel of a rendered reference")
+      ->check(CLI::Range(1u, 1u << 20));
+  auto* budgets = app->add_option("--budgets", args->budgets, "Render-time budgets in seconds (default 1,2,4,8,16)")
+                      ->delimiter(',');
+  app->add_option("--spp-budgets", args->sppBudgets, "Sample-count budgets instead (deterministic)")
+      ->delimiter(',')
+      ->check(CLI::Range(1u, 1u << 20))
+      ->excludes(budgets);
+  app->add_option("-o,--out", args->out, "Output directory (default bench-error)");
+  app->add_option("--bsdf-sampling", args->bsdf, "BRDF strategies, e.g. uniform,adaptive (default: all)")->delimiter(',');
+  app->add_option("--env-sampling", args->env, "Environment strategies (default: all)")->delimiter(',');
+  app->add_option("--mis", args->mis, "MIS modes, e.g. power,bsdf-only (default: all)")->delimiter(',');
+  app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
+  app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
+  app->add_flag("--no-plot", args->noPlot, "Do not run the plot script");
+  app->add_option("--plot-script", args->plotScript, "The plot script (default: bench/error_report.py of the source tree)");
+  app->add_option("--python", args->python, "Python with matplotlib (default /usr/bin/python3)");
+  return Command{app, [args] { return BenchError(*args).run(); }};
+}
+
+}  // namespace acdf::app

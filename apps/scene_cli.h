@@ -1,0 +1,45 @@
+#pragma once
+// What `acdf render` and `acdf bench-error` share: the output-path check made before rendering,
+// the render with a terminal progress bar, the table cache with its warnings on stderr, and scene
+// loading with a SceneError reported as an InputError (exit 2).
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "acdf/integrator/renderer.h"
+#include "acdf/integrator/scene.h"
+#include "acdf/sampling/table_cache.h"
+#include "errors.h"
+#include "options.h"
+
+namespace acdf::app {
+
+// Throws InputError unless a file can be written at `path` (its directory exists and is
+// writable, and `path` is not a directory): fails before rendering, not after.
+void checkOutputPath(const std::string& path);
+
+// The on-disk table cache (disabled: --no-cache). Cache problems are warnings on stderr: a
+// rejected file is rebuilt, a failed store only costs time.
+TableCache commandTableCache(bool disabled);
+
+// loadScene(), with a SceneError thrown as InputError.
+Scene loadCommandScene(const std::string& file, const SceneOverrides& overrides, TableProvider& tables);
+
+// render(), for `seconds` (else the scene's sample count), with a progress bar when stderr is a
+// terminal.
+RenderStats renderWithProgress(const Scene& scene, Film& film, std::optional<double> seconds);
+
+// parse(value), with std::invalid_argument turned into "<command>: <option>: <problem>".
+template <class Parse>
+auto parseOption(const std::string& command, const std::string& option, const std::string& value, Parse parse) {
+  try {
+    return parse(value);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("{}: {}: {}", command, option, e.what()));
+  }
+}
+
+}  // namespace acdf::app

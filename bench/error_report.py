@@ -1,0 +1,213 @@
+#!/usr/bin/python3
+"""Plots and markdown for the results of `acdf bench-error` (results.json).
+
+usage: bench/error_report.py plot RESULTS.json OUT_DIR
+         error_vs_time.png (log-log relMSE against render time, one curve per strategy
+         combination, a panel per MIS mode) and memory_vs_error.png (table memory against the
+         relMSE of the largest budget), into OUT_DIR.
+       bench/error_report.py docs RESULTS.json DOC.md IMAGE_DIR [--command TEXT]
+         copies the plots and the adaptive-vs-uniform difference images next to RESULTS.json into
+         IMAGE_DIR and rewrites the part of DOC.md between <!-- bench-error: begin --> and
+         <!-- bench-error: end --> (appended when absent): the machine, the command, the settings
+         and the table of every combination at the largest budget. Idempotent.
+
+Needs Debian's python3-matplotlib (scripts/install-deps) for `plot`; run it with /usr/bin/python3,
+since a pyenv python may shadow it without matplotlib.
+"""
+
+import json
+import os
+import platform
+import shutil
+import sys
+
+BEGIN = "<!-- bench-error: begin -->"
+END = "<!-- bench-error: end -->"
+MIS_ORDER = ["power", "balance", "light-only", "bsdf-only"]
+ENV_ORDER = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"]
+BSDF_STYLE = {"cosine": ":", "uniform": "--", "adaptive": "-"}
+
+
+def load(path):
+    with open(path) as f:
+        data = json.load(f)
+    if not isinstance(data.get("rows"), list) or "settings" not in data:
+        raise ValueError(f"{path}: not the results.json of acdf bench-error")
+    return data
+
+
+def strategy(row):
+    return (row["bsdf_sampling"], row["env_sampling"], row["mis"])
+
+
+def by_strategy(rows):
+    curves = {}
+    for r in rows:
+        curves.setdefault(strategy(r), []).append(r)
+    for points in curves.values():
+        points.sort(key=lambda r: r["budget"])
+    return curves
+
+
+def sort_key(s):
+    bsdf, env, mis = s
+    return (MIS_ORDER.index(mis) if mis in MIS_ORDER else 9, ENV_ORDER.index(env) if env in ENV_ORDER else 9, bsdf)
+
+
+def plot(results, out_dir):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        sys.exit(f"error_report.py: matplotlib is missing ({e}); install python3-matplotlib "
+                 "(scripts/install-deps) and run with /usr/bin/python3")
+    data = load(results)
+    rows = data["rows"]
+    if not rows:
+        sys.exit(f"error_report.py: {results} has no rows to plot")
+    curves = by_strategy(rows)
+    kind = data["settings"].get("budget_kind", "seconds")
+    colors = {env: plt.get_cmap("tab10")(i) for i, env in enumerate(ENV_ORDER)}
+    mises = sorted({s[2] for s in curves}, key=lambda m: MIS_ORDER.index(m) if m in MIS_ORDER else 9)
+
+    fig, axes = plt.subplots(1, len(mises), figsize=(5.2 * len(mises), 4.6), squeeze=False, sharey=True)
+    for ax, mis in zip(axes[0], mises):
+        for s in sorted((s for s in curves if s[2] == mis), key=sort_key):
+            points = curves[s]
+            xs = [p["seconds"] if kind == "seconds" else p["spp"] for p in points]
+            ax.loglog(xs, [p["relmse"] for p in points], BSDF_STYLE.get(s[0], "-"), marker="o", markersize=3,
+                      color=colors.get(s[1], "black"), label=f"{s[0]} × {s[1]}")
+        ax.set_title(f"MIS: {mis}")
+        ax.set_xlabel("render time (s)" if kind == "seconds" else "samples per pixel")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6, title="BRDF × environment", title_fontsize=7)
+    axes[0][0].set_ylabel("relMSE against the reference")
+    fig.suptitle(f"{data['settings']['scene']}: error against {'time' if kind == 'seconds' else 'samples'}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "error_vs_time.png"), dpi=90)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    markers = {"power": "o", "balance": "s", "light-only": "^", "bsdf-only": "x"}
+    for s in sorted(curves, key=sort_key):
+        last = curves[s][-1]
+        ax.scatter([max(last["table_bytes"], 1) / 2**20], [last["relmse"]], color=colors.get(s[1], "black"),
+                   marker=markers.get(s[2], "o"), label=f"{s[0]} × {s[1]} × {s[2]}")
+    ax.set_xscale("symlog", linthresh=0.01)
+    ax.set_yscale("log")
+    ax.set_xlabel("table memory, BRDF + environment (MiB; 0 = no table)")
+    ax.set_ylabel(f"relMSE at the largest budget ({curves[next(iter(curves))][-1]['budget']:g} {kind})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=5, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1))
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "memory_vs_error.png"), dpi=90)
+    plt.close(fig)
+
+
+def machine():
+    model = ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
+    except OSError:
+        pass
+    load = os.getloadavg() if hasattr(os, "getloadavg") else None
+    return (f"{os.cpu_count()} CPUs ({model or platform.processor()}), {platform.system()} {platform.release()}"
+            + (f"; load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} when this section was written"
+               if load else ""))
+
+
+def fmt_bytes(x):
+    for unit, scale in (("MiB", 2**20), ("KiB", 2**10)):
+        if x >= scale:
+            return f"{x / scale:.2f} {unit}"
+    return f"{x:.0f} B"
+
+
+def markdown(data, results, image_dir, doc_dir, command):
+    settings = data["settings"]
+    kind = settings.get("budget_kind", "seconds")
+    curves = by_strategy(data["rows"])
+    budgets = sorted({r["budget"] for r in data["rows"]})
+    ref = settings.get("reference", {})
+    rel = lambda p: os.path.relpath(p, doc_dir)
+    out = [BEGIN, "",
+           "_Generated by `bench/error_report.py docs` from "
+           f"`{os.path.relpath(results)}`; do not edit by hand._", "",
+           f"- Machine: {machine()}.",
+           f"- Command: `{command}`." if command else "- Command: not recorded.",
+           f"- Scene `{settings['scene']}`; reference "
+           + (f"`{ref['file']}`" if "file" in ref else f"{ref.get('spp', '?')} spp with the scene's own strategies "
+              f"({ref.get('env_sampling', '?')} environment, {ref.get('mis', '?')} MIS)")
+           + f", {ref.get('width', '?')}×{ref.get('height', '?')}.",
+           f"- Budgets: {', '.join(f'{b:g}' for b in budgets)} ({kind}); {len(curves)} strategy combinations, "
+           f"{len(data['rows'])} rows; {len(data.get('skipped', []))} combinations left out as identical by "
+           "construction (listed in results.json).",
+           f"- relMSE = {settings.get('relmse')}; RMSE = {settings.get('rmse')}.", ""]
+    for name, title in (("error_vs_time.png", "Error against time"), ("memory_vs_error.png", "Table memory against error")):
+        if os.path.exists(os.path.join(image_dir, name)):
+            out += [f"![{title}]({rel(os.path.join(image_dir, name))})", ""]
+    out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; efficiency = 1 / (relMSE × time):", ""]
+    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "RMSE", "efficiency", "table memory",
+              "table set-up (ms)"]
+    table_rows = []
+    for s, points in curves.items():
+        p = points[-1]
+        eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
+        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"], f"{p['relmse']:.3g}",
+                                         f"{p['rmse']:.3g}", f"{eff:.3g}", fmt_bytes(p["table_bytes"]),
+                                         f"{p['table_ms']:.0f}"]))
+    table_rows.sort(key=lambda t: t[0])
+    out.append("| " + " | ".join(header) + " |")
+    out.append("|" + "|".join("---" for _ in header) + "|")
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for _, r in table_rows]
+    diffs = sorted(f for f in os.listdir(image_dir) if f.endswith("_adaptive_power.png"))
+    if diffs:
+        out += ["", "Difference images at the largest budget, power MIS (red where the adaptive table's render "
+                "differs from the uniform table's on one axis, the other axis adaptive, relative to the reference; "
+                "full red at 50 %; all pairs are in the output directory's diff/):", ""]
+        out += [f"![{d[:-4]}]({rel(os.path.join(image_dir, d))})" for d in diffs]
+    out += ["", END]
+    return "\n".join(out)
+
+
+def docs(results, doc, image_dir, command):
+    data = load(results)
+    if not data["rows"]:
+        sys.exit(f"error_report.py: {results} has no rows")
+    src = os.path.dirname(os.path.abspath(results))
+    os.makedirs(image_dir, exist_ok=True)
+    for name in ("error_vs_time.png", "memory_vs_error.png"):
+        if os.path.exists(os.path.join(src, name)):
+            shutil.copyfile(os.path.join(src, name), os.path.join(image_dir, name))
+    # The paper's Table 2 pair under power MIS: the adaptive table against the uniform one on one
+    # axis, the other axis adaptive (two PNGs, to keep the docs small; DIR/diff has all).
+    diff_dir = os.path.join(src, "diff")
+    for name in ("env-adaptive-vs-uniform_adaptive_power.png", "bsdf-adaptive-vs-uniform_adaptive_power.png"):
+        if os.path.exists(os.path.join(diff_dir, name)):
+            shutil.copyfile(os.path.join(diff_dir, name), os.path.join(image_dir, name))
+    section = markdown(data, results, image_dir, os.path.dirname(os.path.abspath(doc)), command)
+    with open(doc) as f:
+        text = f.read()
+    if BEGIN in text and END in text:
+        text = text[:text.index(BEGIN)] + section + text[text.index(END) + len(END):]
+    else:
+        text = text.rstrip("\n") + "\n\n## Error against time (`acdf bench-error`)\n\n" + section + "\n"
+    tmp = doc + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, doc)
+
+
+def main(argv):
+    if len(argv) == 4 and argv[1] == "plot":
+        plot(argv[2], argv[3])
+    elif len(argv) in (5, 7) and argv[1] == "docs" and (len(argv) == 5 or argv[5] == "--command"):
+        docs(argv[2], argv[3], argv[4], argv[6] if len(argv) == 7 else "")
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main(sys.argv)

@@ -1,0 +1,318 @@
+// `acdf bench-error` end to end on a 32×16 scene (a tabulated gold sphere on a diffuse floor under a
+// smooth 64×32 sky the test writes) with sample-count budgets, so every figure is deterministic:
+// a row for every strategy combination, error falling with the sample count, CSV and JSON that
+// agree, resuming without rendering finished rows, reusing the reference only while it matches,
+// and the bad-input contract (exit 2, one line, nothing written).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acdf/envmap/image_file.h"
+#include "app_test_util.h"
+
+namespace acdf {
+namespace {
+
+namespace fs = std::filesystem;
+using apptest::expectOneLineFailure;
+using apptest::RunResult;
+
+#ifdef ACDF_SANITIZED_BUILD
+constexpr const char* kReferenceSpp = "256";
+#else
+constexpr const char* kReferenceSpp = "1024";
+#endif
+
+const std::vector<std::string> kBsdf = {"cosine", "uniform", "adaptive"};
+const std::vector<std::string> kEnv = {"uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"};
+const std::vector<std::string> kMis = {"power", "balance", "bsdf-only", "light-only"};
+
+using Combination = std::tuple<std::string, std::string, std::string>;  // bsdf, env, mis
+
+class BenchErrorCli : public apptest::TempDirTest {
+ protected:
+  void SetUp() override {
+    apptest::TempDirTest::SetUp();
+    ::setenv("XDG_CACHE_HOME", path("cache").c_str(), 1);  // the test's table cache, not the user's
+    writeSky(path("sky.exr"), 64, 32);
+    writeScene(1);
+  }
+
+  // A smooth sky with a soft bright patch: the strategies differ, without the fireflies of a sun
+  // that would make a single seed's error jump about.
+  static void writeSky(const std::string& file, uint32_t width, uint32_t height) {
+    Image sky;
+    sky.width = width;
+    sky.height = height;
+    sky.channels = 3;
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        const double dx = (x + 0.5) / width - 0.3, dy = (y + 0.5) / height - 0.3;
+        const double patch = 4.0 * std::exp(-(dx * dx + dy * dy) / 0.01);
+        sky.pixels.insert(sky.pixels.end(), {float(0.3 + patch), float(0.35 + 0.8 * patch), float(0.45 + 0.5 * patch)});
+      }
+    writeExr(file, sky);
+  }
+
+  void writeScene(int seed) {
+    const nlohmann::json scene = {
+        {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", 32}, {"height", 16}}},
+        {"render", {{"spp", 4}, {"seed", seed}, {"max_depth", 4}}},
+        {"environment", {{"type", "map"}, {"file", path("sky.exr")}, {"sampling", "adaptive"}}},
+        {"materials",
+         {{"gold", {{"type", "measured"}, {"preset", "gold"}, {"sampling", "adaptive"}, {"table", {{"layout", "isotropic"}}}}},
+          {"floor", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+        {"shapes",
+         {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "gold"}},
+          {{"type", "quad"}, {"corner", {-5, 0, -5}}, {"edge_u", {0, 0, 10}}, {"edge_v", {10, 0, 0}}, {"material", "floor"}}}},
+    };
+    apptest::writeFile(path("scene.json"), scene.dump(2));
+  }
+
+  RunResult benchError(std::vector<std::string> extra, const std::string& out = "out") {
+    std::vector<std::string> args = {"bench-error", path("scene.json"), "--out", path(out), "--reference-spp", kReferenceSpp};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return apptest::runAcdf(args, dir_);
+  }
+
+  nlohmann::json results(const std::string& out = "out") { return nlohmann::json::parse(apptest::readFile(path(out + "/results.json"))); }
+
+  // The "rows N rendered, M kept" line of the summary.
+  static std::pair<int, int> rowCounts(const RunResult& r) {
+    const auto at = r.out.find("\nrows ");
+    if (at == std::string::npos) return {-1, -1};
+    int rendered = -1, kept = -1;
+    std::sscanf(r.out.c_str() + at, "\nrows %d rendered, %d kept", &rendered, &kept);
+    return {rendered, kept};
+  }
+};
+
+std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::vector<std::string> cells;
+    std::istringstream fields(line);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRendersNothing) {
+  const RunResult first = benchError({"--spp-budgets", "1,8,64", "--no-plot"});
+  ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
+
+  // The combinations: all of them, minus those identical by construction.
+  std::set<Combination> expected;
+  for (const auto& m : kMis)
+    for (const auto& b : kBsdf)
+      for (const auto& e : kEnv)
+        if (!(m == "bsdf-only" && e != "uniform-sphere") && !(m == "light-only" && e == "compensated")) expected.insert({b, e, m});
+  ASSERT_EQ(expected.size(), 54u);
+
+  const nlohmann::json j = results();
+  EXPECT_EQ(j["skipped"].size(), 72u - 54u);
+  const auto& rows = j["rows"];
+  ASSERT_EQ(rows.size(), 3 * expected.size());
+  std::map<Combination, std::map<double, nlohmann::json>> byCombination;
+  std::set<uint64_t> seeds;
+  for (const auto& row : rows) {
+    byCombination[{row["bsdf_sampling"], row["env_sampling"], row["mis"]}][row["budget"].get<double>()] = row;
+    seeds.insert(row["seed"].get<uint64_t>());
+    EXPECT_EQ(row["spp"].get<double>(), row["budget"].get<double>());
+    EXPECT_EQ(row["table_bytes"], row["brdf_table_bytes"].get<uint64_t>() + row["env_table_bytes"].get<uint64_t>());
+    EXPECT_GT(row["relmse"].get<double>(), 0);
+    EXPECT_GT(row["rmse"].get<double>(), 0);
+  }
+  EXPECT_EQ(seeds.size(), rows.size()) << "every row renders with its own seed";
+  ASSERT_EQ(byCombination.size(), expected.size());
+  for (const auto& [combination, budgets] : byCombination) {
+    const auto& [bsdf, env, mis] = combination;
+    EXPECT_TRUE(expected.contains(combination)) << bsdf << " " << env << " " << mis;
+    ASSERT_EQ(budgets.size(), 3u);
+    const double e1 = budgets.at(1)["relmse"], e8 = budgets.at(8)["relmse"], e64 = budgets.at(64)["relmse"];
+    EXPECT_LT(e64, e8) << bsdf << " " << env << " " << mis;
+    EXPECT_LT(e8, e1) << bsdf << " " << env << " " << mis;
+    // Table memory: none without tables; the adaptive BRDF table is the smaller one.
+    const auto bytes = [&](const std::string& b, const std::string& e) {
+      return byCombination.at({b, e, mis}).at(64)["brdf_table_bytes"].get<uint64_t>();
+    };
+    EXPECT_EQ(budgets.at(64)["brdf_table_bytes"].get<uint64_t>() == 0, bsdf == "cosine");
+    EXPECT_EQ(budgets.at(64)["env_table_bytes"].get<uint64_t>() == 0, env == "uniform-sphere");
+    if (bsdf == "adaptive") {
+      EXPECT_LT(bytes("adaptive", env), bytes("uniform", env));
+    }
+    EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + ".exr")));
+    EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + ".png")));
+  }
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance.png")));
+
+  // results.csv: the same rows, the same figures.
+  const auto csv = parseCsv(apptest::readFile(path("out/results.csv")));
+  ASSERT_EQ(csv.size(), rows.size() + 1);
+  const std::vector<std::string>& header = csv[0];
+  ASSERT_EQ(header.size(), 16u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(csv[i + 1].size(), header.size());
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      const nlohmann::json& value = rows[i].at(header[c]);
+      if (value.is_string()) EXPECT_EQ(csv[i + 1][c], value.get<std::string>()) << header[c];
+      else EXPECT_NEAR(std::stod(csv[i + 1][c]), value.get<double>(), 1e-7 * std::abs(value.get<double>())) << header[c];
+    }
+  }
+
+  // Nothing new to render: every row is kept, the reference reused.
+  const RunResult second = benchError({"--spp-budgets", "1,8,64", "--no-plot"});
+  ASSERT_EQ(second.exitCode, 0) << apptest::describe(second);
+  EXPECT_EQ(rowCounts(first), std::make_pair(162, 0));
+  EXPECT_EQ(rowCounts(second), std::make_pair(0, 162));
+  EXPECT_NE(second.out.find("reused"), std::string::npos) << second.out;
+  EXPECT_EQ(results()["rows"], rows);
+}
+
+TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
+  const std::vector<std::string> small = {"--spp-budgets", "1,4", "--no-plot", "--bsdf-sampling", "adaptive",
+                                          "--env-sampling", "uniform,adaptive", "--mis", "power"};
+  const RunResult first = benchError(small);
+  ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
+  EXPECT_EQ(rowCounts(first), std::make_pair(4, 0));
+  const nlohmann::json complete = results();
+
+  // A run stopped after its second row: the rows on disk are those finished.
+  nlohmann::json stopped = complete;
+  stopped["rows"].erase(stopped["rows"].begin() + 2, stopped["rows"].end());
+  apptest::writeFile(path("out/results.json"), stopped.dump(2));
+  const RunResult resumed = benchError(small);
+  ASSERT_EQ(resumed.exitCode, 0) << apptest::describe(resumed);
+  EXPECT_EQ(rowCounts(resumed), std::make_pair(2, 2));
+  const nlohmann::json resumedResults = results();
+  const nlohmann::json& again = resumedResults["rows"];
+  ASSERT_EQ(again.size(), complete["rows"].size());
+  for (std::size_t i = 0; i < again.size(); ++i)
+    for (const char* key : {"bsdf_sampling", "env_sampling", "budget", "seed", "spp", "relmse", "rmse", "table_bytes"})
+      EXPECT_EQ(again[i][key], complete["rows"][i][key]) << "row " << i << " " << key << ": the same seed, the same row";
+
+  // A wider matrix keeps the rows it shares with the earlier one.
+  std::vector<std::string> wider = small;
+  wider.back() = "power,balance";
+  const RunResult more = benchError(wider);
+  ASSERT_EQ(more.exitCode, 0) << apptest::describe(more);
+  EXPECT_EQ(rowCounts(more), std::make_pair(4, 4));
+}
+
+TEST_F(BenchErrorCli, ReferenceIsReusedOnlyWhileItMatches) {
+  const std::vector<std::string> small = {"--spp-budgets", "1,4", "--no-plot", "--bsdf-sampling", "cosine",
+                                          "--env-sampling", "adaptive", "--mis", "power"};
+  ASSERT_EQ(benchError(small).exitCode, 0);
+  const nlohmann::json info = nlohmann::json::parse(apptest::readFile(path("out/reference.json")));
+  EXPECT_EQ(info["spp"], std::stoi(kReferenceSpp));
+  EXPECT_EQ(info["width"], 32);
+  EXPECT_EQ(info["height"], 16);
+  EXPECT_EQ(info["scene_hash"].get<std::string>().size(), 32u);
+
+  // Another scene text: a new reference, and the earlier rows no longer count.
+  writeScene(2);
+  const RunResult changed = benchError(small);
+  ASSERT_EQ(changed.exitCode, 0) << apptest::describe(changed);
+  EXPECT_NE(changed.out.find("rendered in"), std::string::npos) << changed.out;
+  EXPECT_EQ(rowCounts(changed), std::make_pair(2, 0));
+  EXPECT_NE(nlohmann::json::parse(apptest::readFile(path("out/reference.json")))["scene_hash"], info["scene_hash"]);
+
+  // A given reference of the right size is used as it is.
+  fs::copy_file(path("out/reference.exr"), path("given.exr"));
+  const RunResult given = benchError({"--spp-budgets", "1", "--no-plot", "--bsdf-sampling", "cosine", "--env-sampling",
+                                      "adaptive", "--mis", "power", "--reference", path("given.exr")},
+                                     "given-out");
+  ASSERT_EQ(given.exitCode, 0) << apptest::describe(given);
+  EXPECT_NE(given.out.find("(given)"), std::string::npos) << given.out;
+  EXPECT_FALSE(fs::exists(path("given-out/reference.exr")));
+
+  // One of another size: exit 2, nothing written.
+  writeSky(path("small.exr"), 8, 8);
+  const RunResult mismatch = benchError({"--spp-budgets", "1", "--reference", path("small.exr")}, "mismatch-out");
+  expectOneLineFailure(mismatch, "acdf: " + path("small.exr") + ": ", "the reference is 8x8 but");
+  EXPECT_FALSE(fs::exists(path("mismatch-out")));
+}
+
+TEST_F(BenchErrorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
+  const RunResult missing = apptest::runAcdf({"bench-error", path("nope.json"), "--out", path("out")}, dir_);
+  expectOneLineFailure(missing, "acdf: " + path("nope.json") + ": ", "no such file");
+  EXPECT_FALSE(fs::exists(path("out")));
+
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"--budgets", "0"}, {"--budgets", "1,-2"}, {"--budgets", "abc"}, {"--spp-budgets", "0"},
+           {"--budgets", "1", "--spp-budgets", "2"}, {"--env-sampling", "sunny"}, {"--mis", "both"}}) {
+    const RunResult r = benchError(bad);
+    EXPECT_EQ(r.exitCode, 2) << bad[0] << " " << bad[1] << ": " << apptest::describe(r);
+    EXPECT_EQ(r.errLines().size(), 1u) << apptest::describe(r);
+    EXPECT_FALSE(fs::exists(path("out")));
+  }
+
+  apptest::writeFile(path("a-file"), "x");
+  expectOneLineFailure(benchError({"--spp-budgets", "1"}, "a-file"), "acdf: " + path("a-file") + ": ", "not a directory");
+  expectOneLineFailure(benchError({"--spp-budgets", "1"}, "no/such/dir"), "acdf: " + path("no/such/dir") + ": ",
+                       "parent directory does not exist");
+  EXPECT_FALSE(fs::exists(path("no")));
+  if (::geteuid() != 0) {  // root writes anywhere
+    fs::create_directory(path("readonly"));
+    fs::permissions(path("readonly"), fs::perms::owner_read | fs::perms::owner_exec);
+    expectOneLineFailure(benchError({"--spp-budgets", "1"}, "readonly/out"), "acdf: " + path("readonly/out") + ": ",
+                         "not writable");
+    fs::permissions(path("readonly"), fs::perms::owner_all);
+  }
+}
+
+TEST_F(BenchErrorCli, APlotFailureKeepsTheResultsAndSaysWhy) {
+  const RunResult r = benchError({"--spp-budgets", "1", "--bsdf-sampling", "cosine", "--env-sampling", "adaptive",
+                                  "--mis", "power", "--python", path("no-python")});
+  EXPECT_EQ(r.exitCode, 3) << apptest::describe(r);
+  EXPECT_NE(r.err.find("plotting failed (cannot run " + path("no-python") + ")"), std::string::npos) << r.err;
+  EXPECT_EQ(results()["rows"].size(), 1u);
+}
+
+bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
+
+TEST_F(BenchErrorCli, PlotsAndTheDocsSectionAreWritten) {
+  if (!haveMatplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib (apt-get install python3-matplotlib)";
+  const RunResult r = benchError({"--spp-budgets", "1,4", "--bsdf-sampling", "uniform,adaptive", "--env-sampling",
+                                  "uniform,adaptive", "--mis", "power,bsdf-only"});
+  ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
+  for (const char* png : {"out/error_vs_time.png", "out/memory_vs_error.png"}) {
+    ASSERT_TRUE(fs::is_regular_file(path(png))) << png;
+    EXPECT_EQ(apptest::readFile(path(png)).substr(1, 3), "PNG") << png;
+  }
+
+  // The docs section: between its markers, the same after a second run.
+  apptest::writeFile(path("doc.md"), "# Doc\n\nbefore\n<!-- bench-error: begin -->\nold\n<!-- bench-error: end -->\nafter\n");
+  const std::string command = "/usr/bin/python3 " + apptest::sourceDir() + "/bench/error_report.py docs " +
+                              path("out/results.json") + " " + path("doc.md") + " " + path("images") +
+                              " --command 'acdf bench-error ...' >/dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const std::string once = apptest::readFile(path("doc.md"));
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(apptest::readFile(path("doc.md")), once);
+  EXPECT_EQ(once.find("old"), std::string::npos);
+  EXPECT_NE(once.find("before\n<!-- bench-error: begin -->"), std::string::npos);
+  EXPECT_NE(once.find("<!-- bench-error: end -->\nafter"), std::string::npos);
+  EXPECT_NE(once.find("| adaptive | adaptive | power |"), std::string::npos) << once;
+  EXPECT_NE(once.find("](images/error_vs_time.png)"), std::string::npos) << once;
+  EXPECT_TRUE(fs::is_regular_file(path("images/env-adaptive-vs-uniform_adaptive_power.png")));
+}
+
+}  // namespace
+}  // namespace acdf
