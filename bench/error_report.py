@@ -112,10 +112,9 @@ def machine():
             model = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
     except OSError:
         pass
-    load = os.getloadavg() if hasattr(os, "getloadavg") else None
-    return (f"{os.cpu_count()} CPUs ({model or platform.processor()}), {platform.system()} {platform.release()}"
-            + (f"; load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} when this section was written"
-               if load else ""))
+    # No load average: the section must not change when regenerated from the same results (the
+    # load during the run belongs in the prose around it).
+    return f"{os.cpu_count()} CPUs ({model or platform.processor()}), {platform.system()} {platform.release()}"
 
 
 def fmt_bytes(x):
