@@ -38,6 +38,14 @@ std::string withDetail(const std::string& what, const std::string& detail) {
 // on a 1-bit palette PNG gives 99000:1. 2^18 leaves a margin of 2.6 above that.
 constexpr double kMaxDecodedBytesPerFileByte = 1 << 18;
 
+// OpenImageIO 2.4 converts pixels to float through a buffer of whole scanlines in the file's own
+// format, at least 256 of them even for a shorter image (ImageInput::read_scanlines), or one row
+// of tiles: a 557-byte EXR claiming 16777218 × 1 pixels made it allocate 8.6 GB (found by
+// fuzz_image). That buffer is kept under 1 GiB: 256 scanlines of 65536 pixels × 16 float
+// channels fit.
+constexpr double kMaxConversionBufferBytes = double(1 << 30);
+constexpr int kScanlinesPerConversion = 256;
+
 }  // namespace
 
 Image readImage(const std::string& path, const ImageReadOptions& options) {
@@ -65,6 +73,12 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
   image.fileChannels = static_cast<uint32_t>(spec.nchannels);
   image.channels = spec.nchannels >= 3 ? 3 : 1;
   image.format = input->format_name();
+  const int bufferedRows = spec.tile_width > 0 ? spec.tile_height : kScanlinesPerConversion;
+  const double conversionBytes = static_cast<double>(spec.scanline_bytes(true)) * std::max(bufferedRows, 1);
+  if (conversionBytes > kMaxConversionBufferBytes)
+    fail(fmt::format("the header claims rows of {} pixels x {} channels, too wide to read ({:.3g} GB per {} rows); "
+                     "the file is corrupt",
+                     spec.width, spec.nchannels, conversionBytes * 1e-9, std::max(bufferedRows, 1)));
   const std::size_t values = std::size_t{image.width} * image.height * image.channels;
   const double decodedBytes = static_cast<double>(values) * sizeof(float);
   const auto fileBytes = fs::file_size(path);

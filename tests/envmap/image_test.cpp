@@ -273,6 +273,38 @@ TEST_F(ReadImage, HugeClaimedSizeIsRefusedBeforeAllocating) {
   EXPECT_EQ(readImage(constant).width, 4096u);
 }
 
+TEST_F(ReadImage, HugeScanlineIsRefusedBeforeOpenImageIOBuffersIt) {
+  // A 2 × 2 half EXR (ZIP: one chunk) whose data window then claims one row of 16777218 pixels:
+  // still one chunk, so OpenEXR opens it, and OpenImageIO would convert it through a buffer of
+  // 256 such rows (8.6 GB). Found by fuzz_image.
+  const std::string small = path("small.exr");
+  {
+    OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::HALF);
+    spec.channelnames = {"Y"};
+    spec.attribute("compression", "zip");
+    auto out = OIIO::ImageOutput::create(small);
+    ASSERT_TRUE(out && out->open(small, spec));
+    const std::vector<float> pixels(4, 0.5f);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    ASSERT_TRUE(out->close());
+  }
+  std::string bytes = acdf::apptest::readFile(small);
+  const std::string attribute("dataWindow\0box2i\0", 17);
+  const std::size_t window = bytes.find(attribute);
+  ASSERT_NE(window, std::string::npos);
+  const int32_t box[4] = {0, 0, 16777217, 0};  // xMin, yMin, xMax, yMax (inclusive), little-endian
+  bytes.replace(window + attribute.size() + 4, sizeof box, reinterpret_cast<const char*>(box), sizeof box);
+  const std::string wide = path("wide.exr");
+  acdf::apptest::writeFile(wide, bytes);
+  try {
+    (void)readImage(wide);
+    FAIL() << "no error for " << wide;
+  } catch (const ImageFileError& e) {
+    EXPECT_EQ(e.file(), wide);
+    EXPECT_NE(e.problem().find("rows of 16777218 pixels x 1 channels, too wide"), std::string::npos) << e.problem();
+  }
+}
+
 TEST_F(ReadImage, WriteExrRoundTripsAndLeavesNoTemporary) {
   std::vector<float> rgb(5 * 3 * 3);
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.1f * float(i);
