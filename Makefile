@@ -32,6 +32,8 @@ DEMO_BRDFS := nickel blue-metallic-paint specular-blue-phenolic
 DEMO_BRDF_SAMPLES ?= 1024
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
+# libFuzzer's random seed: fixed, so a CI run can be replayed; FUZZ_SEED=0 picks a new one each run.
+FUZZ_SEED ?= 1
 FUZZ_TARGETS := engine cascade merl image npy scene
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
@@ -125,7 +127,7 @@ fuzz: deps
 	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/artifacts/$$t; \
 	  log=$(FUZZ_DIR)/artifacts/$$t/last-run.log; \
 	  echo "== fuzz_$$t for $(FUZZ_SECONDS) s"; \
-	  if ! $(FUZZ_ENV) $(FUZZ_DIR)/bin/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
+	  if ! $(FUZZ_ENV) $(FUZZ_DIR)/bin/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -seed=$(FUZZ_SEED) -rss_limit_mb=4096 \
 	      -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/artifacts/$$t/ \
 	      $(FUZZ_DIR)/corpus/$$t fuzz/corpus/$$t >$$log 2>&1; then \
 	    tail -n 60 $$log; echo "fuzz_$$t FAILED (log: $$log)" >&2; exit 1; \
