@@ -3,9 +3,10 @@
 #                   sunset map and the paper's Table 1 rows for the demo's three measured materials
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
-#   make bench      run every build/bin/bench_* program, JSON into bench/results/; then acdf bench-error
-#                   on scenes/demo.json into bench/results/error/ (BENCH_ERROR_ARGS) and its section
-#                   of docs/performance.md with the plots in docs/bench-error/
+#   make bench      run every build/bin/bench_* program, JSON into bench/results/, and their tables in
+#                   docs/performance.md; the paper's Table 1 rows in docs/paper-reproduction.md; then
+#                   acdf bench-error on scenes/demo.json into bench/results/error/ (BENCH_ERROR_ARGS)
+#                   and its section of docs/performance.md with the plots in docs/bench-error/
 #   make fuzz       libFuzzer targets (clang, build-fuzz/), each for FUZZ_SECONDS
 #   make stress     numerical stress program (1e8 samples per distribution; STRESS_ARGS)
 #   make test-tsan  ThreadSanitizer build (build-tsan/) + the multithreaded tests
@@ -102,7 +103,10 @@ bench: deps
 	  "$$prog" --benchmark_out="$(RESULTS_DIR)/$$name.json" --benchmark_out_format=json $(BENCH_ARGS); \
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
+	/usr/bin/python3 bench/report.py --update docs/performance.md --command "make bench" $(RESULTS_DIR)/bench_*.json
 	$(MAKE) demo-materials
+	/usr/bin/python3 bench/paper_reproduction.py --acdf $(BUILD_DIR)/bin/acdf --materials $(DEMO_DIR) \
+	  --update docs/paper-reproduction.md
 	$(BENCH_ERROR_COMMAND)
 	/usr/bin/python3 bench/error_report.py docs $(BENCH_ERROR_DIR)/results.json docs/performance.md docs/bench-error \
 	  --command "$(BENCH_ERROR_COMMAND)"

@@ -17,9 +17,10 @@ import argparse
 import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
+
+from doc_sections import machine, replace_sections, table
 
 MATERIALS = [  # (our file name, the paper's name)
     ("nickel", "nickel"),
@@ -128,30 +129,12 @@ def envmap_table(args):
                   "efficiency adaptive ÷ uniform (timed)"], rows)
 
 
-def table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
 def status(args):
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    load = "%.1f" % os.getloadavg()[0]
-    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
-               platform.processor())
     return ("Generated %s at commit `%s` by `bench/paper_reproduction.py --samples %d --repeats %d` (run by `make "
-            "bench`) on %d × %s, load average %s when it finished. Variances, bytes and resolutions are "
+            "bench`) on %s, load average %.1f when it finished. Variances, bytes and resolutions are "
             "deterministic; times, and so the timed efficiencies, are the fastest of the repeats."
-            % (datetime.date.today().isoformat(), commit, args.samples, args.repeats, os.cpu_count(), cpu, load))
-
-
-def replace_between(text, marker, body):
-    begin, end = "<!-- %s: begin -->" % marker, "<!-- %s: end -->" % marker
-    if begin not in text or end not in text:
-        sys.exit("paper_reproduction: the page has no %s ... %s markers" % (begin, end))
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    return head + begin + "\n" + body + "\n" + end + tail
+            % (datetime.date.today().isoformat(), commit, args.samples, args.repeats, machine(), os.getloadavg()[0]))
 
 
 def main():
@@ -175,13 +158,7 @@ def main():
         for marker, body in sections.items():
             print("## %s\n\n%s\n" % (marker, body))
         return
-    text = open(args.update).read()
-    for marker, body in sections.items():
-        text = replace_between(text, marker, body)
-    temporary = args.update + ".tmp"
-    with open(temporary, "w") as f:
-        f.write(text)
-    os.replace(temporary, args.update)
+    replace_sections(args.update, sections)
     print("paper_reproduction: updated %s" % args.update, file=sys.stderr)
 
 

@@ -1,40 +1,55 @@
 #!/usr/bin/env python3
-"""Turns the JSON of bench_sampling_1d / bench_sampling_2d into the markdown tables of
-docs/performance.md.
+"""Turns the JSON of the Google Benchmark programs (bench/results/bench_*.json) into markdown:
+the analysed tables of bench_sampling_1d and bench_sampling_2d, and for every other program a
+table of each benchmark's time and counters.
 
-usage: bench/report.py [results.json ...]   (default: bench/results/*.json)
+usage: bench/report.py [--update DOC.md] [--command TEXT] [results.json ...]
+       (default: bench/results/bench_*.json; without --update the markdown goes to stdout;
+       with it, the part of DOC.md between <!-- make-bench: begin --> and <!-- make-bench: end -->
+       is rewritten, with the run's date, machine, load average and the command)
 
-Times are wall-clock (real_time); for repeated benchmarks the median repetition is used.
-Ratios vs uniform come from the same JSON, i.e. the same run; the "interleaved" ratios come from
-the h2h* benchmarks, which time all samplers alternately under the same machine noise.
+Times are wall-clock (real_time) unless a column says CPU; for repeated benchmarks the median
+repetition is used. Ratios vs uniform come from the same JSON, i.e. the same run; the
+"interleaved" ratios come from the h2h* benchmarks, which time all samplers alternately under the
+same machine noise.
 """
 
+import argparse
 import glob
 import json
 import os
 import sys
 
+from doc_sections import fmt_bytes, machine, replace_sections, table
+
 UNIT_NS = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
 
 
-def load(paths):
+def load_file(path):
+    """The benchmarks of one JSON file by name (median aggregate of repeated ones) and its context."""
     runs = {}
-    context = None
-    for path in paths:
-        with open(path) as f:
-            data = json.load(f)
-        context = context or data.get("context")
-        for b in data["benchmarks"]:
-            # Drop the "/min_time:0.100/repeats:3/iterations:100" parts Google Benchmark appends.
-            name = "/".join(p for p in b.get("run_name", b["name"]).split("/") if ":" not in p)
-            if b.get("run_type") == "aggregate":
-                if b.get("aggregate_name") != "median":
-                    continue
-            elif name in runs and runs[name].get("run_type") == "aggregate":
+    with open(path) as f:
+        data = json.load(f)
+    for b in data["benchmarks"]:
+        # Drop the "/min_time:0.100/repeats:3/iterations:100" parts Google Benchmark appends.
+        name = "/".join(p for p in b.get("run_name", b["name"]).split("/") if ":" not in p)
+        if b.get("run_type") == "aggregate":
+            if b.get("aggregate_name") != "median":
                 continue
-            elif b.get("repetitions", 1) > 1:
-                continue  # a single repetition; the median aggregate is used instead
-            runs[name] = b
+        elif name in runs and runs[name].get("run_type") == "aggregate":
+            continue
+        elif b.get("repetitions", 1) > 1:
+            continue  # a single repetition; the median aggregate is used instead
+        runs[name] = b
+    return runs, data.get("context")
+
+
+def load(paths):
+    runs, context = {}, None
+    for path in paths:
+        file_runs, file_context = load_file(path)
+        runs.update(file_runs)
+        context = context or file_context
     return runs, context
 
 
@@ -49,23 +64,8 @@ def cpu_ns(b):
     return b["cpu_time"] * UNIT_NS[b.get("time_unit", "ns")]
 
 
-def fmt_bytes(x):
-    if x < 0:
-        return "n/a"
-    for unit, scale in (("MiB", 2**20), ("KiB", 2**10)):
-        if x >= scale:
-            return f"{x / scale:.2f} {unit}"
-    return f"{x:.0f} B"
-
-
 def g(x, digits=3):
     return f"{x:.{digits}g}"
-
-
-def table(header, rows):
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-    return "\n".join(out)
 
 
 def interleaved_table(runs, prefix, sizes, size_header):
@@ -169,17 +169,60 @@ def report_2d(runs):
     return "\n".join(out) + "\n"
 
 
+# Fields of Google Benchmark's JSON that are not user counters.
+STANDARD_FIELDS = {"name", "family_index", "per_family_instance_index", "run_name", "run_type", "repetitions",
+                   "repetition_index", "threads", "iterations", "real_time", "cpu_time", "time_unit",
+                   "aggregate_name", "aggregate_unit", "label", "error_occurred", "error_message"}
+
+
+def report_generic(program, runs):
+    """Any program's benchmarks: wall and CPU time per iteration and its counters."""
+    rows = []
+    for name, b in runs.items():
+        counters = ", ".join(f"{k} {g(v, 4)}" for k, v in b.items()
+                             if k not in STANDARD_FIELDS and isinstance(v, (int, float)))
+        rows.append([f"`{name}`", g(ns(b) / 1e6, 4), g(cpu_ns(b) / 1e6, 4), counters])
+    return "\n".join([f"### {program}", "",
+                       table(["benchmark", "wall ms", "CPU ms (benchmark thread)", "counters"], rows), ""])
+
+
+def report(paths):
+    """Markdown for every result file: the analysed 1D/2D tables, then one table per program."""
+    out = []
+    sampling = [p for p in paths if os.path.basename(p).startswith("bench_sampling_")]
+    if sampling:
+        runs, _ = load(sampling)
+        out += [report_1d(runs), report_2d(runs)]
+    for path in paths:
+        if path in sampling:
+            continue
+        runs, _ = load_file(path)
+        out.append(report_generic(os.path.basename(path)[:-len(".json")], runs))
+    return "\n".join(part for part in out if part)
+
+
+def run_line(paths, command):
+    _, context = load_file(paths[0])
+    context = context or {}
+    load_avg = " / ".join(f"{x:.2f}" for x in context.get("load_avg", []))
+    return (f"Run {context.get('date', '?')} on {machine()}; load average {load_avg or '?'} (1 / 5 / 15 min) when "
+            f"`{os.path.basename(paths[0])}` started. Command: `{command}`.")
+
+
 def main():
-    paths = sys.argv[1:] or sorted(glob.glob(os.path.join(os.path.dirname(__file__), "results", "*.json")))
+    parser = argparse.ArgumentParser(description="markdown tables from Google Benchmark JSON")
+    parser.add_argument("results", nargs="*")
+    parser.add_argument("--update", metavar="DOC")
+    parser.add_argument("--command", default="make bench")
+    args = parser.parse_args()
+    paths = args.results or sorted(glob.glob(os.path.join(os.path.dirname(__file__), "results", "bench_*.json")))
     if not paths:
         sys.exit("report.py: no JSON results given or found in bench/results/")
-    runs, context = load(paths)
-    if context:
-        load_avg = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
-        print(f"Run: {context.get('date')}, {context.get('num_cpus')} CPUs @ {context.get('mhz_per_cpu')} MHz, "
-              f"load average at start {load_avg}\n")
-    print(report_1d(runs))
-    print(report_2d(runs))
+    body = "\n".join([run_line(paths, args.command), "", report(paths)])
+    if args.update:
+        replace_sections(args.update, {"make-bench": "\n_Generated by `bench/report.py`; do not edit by hand._\n\n" + body})
+    else:
+        print(body)
 
 
 if __name__ == "__main__":
