@@ -16,7 +16,7 @@
 #include <string>
 
 #include "acdf/brdf/merl.h"
-#include "acdf/brdf/rgb.h"
+#include "acdf/sampling/rgb.h"
 #include "acdf/sampling/sphere.h"
 
 namespace acdf {

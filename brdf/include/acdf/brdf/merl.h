@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "acdf/brdf/coordinates.h"
-#include "acdf/brdf/rgb.h"
+#include "acdf/sampling/rgb.h"
 
 namespace acdf {
 

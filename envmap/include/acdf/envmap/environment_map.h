@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "acdf/brdf/rgb.h"
+#include "acdf/sampling/rgb.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/envmap/lat_long.h"
 

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "acdf/brdf/rgb.h"
+#include "acdf/sampling/rgb.h"
 
 namespace acdf {
 
