@@ -13,7 +13,6 @@
 #include <limits>
 #include <memory>
 #include <numbers>
-#include <optional>
 #include <random>
 #include <system_error>
 
@@ -269,16 +268,19 @@ void writeAtomically(const std::string& name, const unsigned char* data, std::si
   // signal finds it unguarded; it is dropped again for a name that turns out to be taken.
   std::random_device random;
   std::string temp;
-  std::optional<TemporaryFileGuard> guard;
+  std::unique_ptr<TemporaryFileGuard> guard;
   int fd = -1;
   for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(random()));
     temp = name + suffix;
-    guard.emplace(temp);
+    guard = std::make_unique<TemporaryFileGuard>(temp);
     fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) guard.reset();
-    if (fd < 0 && errno != EEXIST) break;
+    if (fd >= 0) break;
+    const int openError = errno;
+    guard.reset();
+    errno = openError;  // for the message below
+    if (openError != EEXIST) break;
   }
   if (fd < 0) throw BrdfFileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
 
