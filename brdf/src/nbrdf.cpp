@@ -34,7 +34,7 @@ json readJson(const fs::path& path) {
     json j = json::parse(text);
     if (!j.is_object()) throw BrdfFileError(name, "not a neural BRDF weights file: the top level is not a JSON object");
     return j;
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond double (out_of_range 406)
     throw BrdfFileError(name, std::string("invalid JSON (") + e.what() + ")");
   }
 }

@@ -424,7 +424,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   Json json;
   try {
     json = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // a syntax error, or a number beyond double (out_of_range 406)
     throw SceneError(name, std::string("invalid JSON: ") + e.what());
   }
   const Node root(json, "$", name);

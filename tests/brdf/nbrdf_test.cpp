@@ -86,6 +86,7 @@ TEST_F(NeuralBrdfTest, FileErrors) {
   expectError(dir_.string(), "nickel", "directory");
   expectError(write("bad.json", "{\"nickel\": {\"layers\": [1, 2,"), "nickel", "invalid JSON");
   expectError(write("empty.json", ""), "nickel", "invalid JSON");
+  expectError(write("overflow.json", "{\"nickel\": 1e999}"), "nickel", "number overflow");
   expectError(write("array.json", "[1, 2, 3]"), "nickel", "not a JSON object");
 }
 

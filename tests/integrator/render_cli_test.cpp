@@ -167,6 +167,11 @@ TEST_F(RenderCli, InvalidJson) {
   apptest::writeFile(path("scene.json"), "{\"camera\": ");
   expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
                        "invalid JSON");
+  // A number beyond double is nlohmann's out_of_range, not a parse_error (found by fuzz_scene; it
+  // was reported as an internal error, exit 1).
+  apptest::writeFile(path("scene.json"), "{\"camera\": {\"width\": 4833333333333333333333333333E3333}}");
+  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "number overflow");
 }
 
 TEST_F(RenderCli, MissingSceneFile) {
