@@ -215,6 +215,15 @@ TEST_F(ReadImage, BrokenFilesAreErrorsNamingTheFile) {
   }
 }
 
+// Writes `spec` with every channel value = `value` (converted from float by OpenImageIO).
+void writeConstantImage(const std::string& file, const OIIO::ImageSpec& spec, float value) {
+  auto out = OIIO::ImageOutput::create(file);
+  ASSERT_TRUE(out && out->open(file, spec)) << OIIO::geterror();
+  const std::vector<float> pixels(std::size_t(spec.width) * spec.height * spec.nchannels, value);
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) << out->geterror();
+  ASSERT_TRUE(out->close());
+}
+
 // CRC-32 of PNG chunks (ISO 3309), bit by bit.
 uint32_t pngCrc(const std::string& bytes) {
   uint32_t crc = 0xffffffffu;
@@ -233,13 +242,7 @@ TEST_F(ReadImage, HugeClaimedSizeIsRefusedBeforeAllocating) {
   // An 8 × 8 PNG whose header (with a valid CRC) then claims 30000 × 30000 pixels: 10.8 GB as
   // float, from a file of about 300 bytes. It used to be allocated before the read failed.
   const std::string small = path("small.png");
-  {
-    auto out = OIIO::ImageOutput::create(small);
-    ASSERT_TRUE(out && out->open(small, OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8)));
-    const std::vector<unsigned char> pixels(8 * 8 * 3, 128);
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
-    ASSERT_TRUE(out->close());
-  }
+  writeConstantImage(small, OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8), 0.5f);
   std::string bytes = acdf::apptest::readFile(small);
   const std::size_t ihdr = bytes.find("IHDR");
   ASSERT_NE(ihdr, std::string::npos);
@@ -260,15 +263,9 @@ TEST_F(ReadImage, HugeClaimedSizeIsRefusedBeforeAllocating) {
   // The limit leaves room for real files that compress well: a constant 4096 × 2048 DWAB map
   // decodes to about 12000 times its size.
   const std::string constant = path("constant.exr");
-  {
-    OIIO::ImageSpec spec(4096, 2048, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "dwab");
-    auto out = OIIO::ImageOutput::create(constant);
-    ASSERT_TRUE(out && out->open(constant, spec));
-    const std::vector<float> pixels(std::size_t{4096} * 2048 * 3, 0.5f);
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    ASSERT_TRUE(out->close());
-  }
+  OIIO::ImageSpec dwab(4096, 2048, 3, OIIO::TypeDesc::HALF);
+  dwab.attribute("compression", "dwab");
+  writeConstantImage(constant, dwab, 0.5f);
   EXPECT_GT(4096.0 * 2048 * 3 * sizeof(float) / static_cast<double>(fs::file_size(constant)), 5000.0);
   EXPECT_EQ(readImage(constant).width, 4096u);
 }
@@ -278,16 +275,10 @@ TEST_F(ReadImage, HugeScanlineIsRefusedBeforeOpenImageIOBuffersIt) {
   // still one chunk, so OpenEXR opens it, and OpenImageIO would convert it through a buffer of
   // 256 such rows (8.6 GB). Found by fuzz_image.
   const std::string small = path("small.exr");
-  {
-    OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::HALF);
-    spec.channelnames = {"Y"};
-    spec.attribute("compression", "zip");
-    auto out = OIIO::ImageOutput::create(small);
-    ASSERT_TRUE(out && out->open(small, spec));
-    const std::vector<float> pixels(4, 0.5f);
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    ASSERT_TRUE(out->close());
-  }
+  OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::HALF);
+  spec.channelnames = {"Y"};
+  spec.attribute("compression", "zip");
+  writeConstantImage(small, spec, 0.5f);
   std::string bytes = acdf::apptest::readFile(small);
   const std::string attribute("dataWindow\0box2i\0", 17);
   const std::size_t window = bytes.find(attribute);
