@@ -181,9 +181,16 @@ def report_generic(program, runs):
     for name, b in runs.items():
         counters = ", ".join(f"{k} {g(v, 4)}" for k, v in b.items()
                              if k not in STANDARD_FIELDS and isinstance(v, (int, float)))
-        rows.append([f"`{name}`", g(ns(b) / 1e6, 4), g(cpu_ns(b) / 1e6, 4), counters])
+        rows.append([f"`{name}`", fmt_time(ns(b)), fmt_time(cpu_ns(b)), counters])
     return "\n".join([f"### {program}", "",
-                       table(["benchmark", "wall ms", "CPU ms (benchmark thread)", "counters"], rows), ""])
+                       table(["benchmark", "wall time", "CPU time (benchmark thread)", "counters"], rows), ""])
+
+
+def fmt_time(nanoseconds):
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("µs", 1e3)):
+        if nanoseconds >= scale:
+            return f"{nanoseconds / scale:.4g} {unit}"
+    return f"{nanoseconds:.4g} ns"
 
 
 def report(paths):
