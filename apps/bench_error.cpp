@@ -19,10 +19,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/material.h"
@@ -54,7 +54,7 @@ constexpr double kFullRedDifference = 0.5;
 
 struct BenchErrorArgs {
   std::string scene, reference, out = "bench-error";
-  std::vector<double> budgets;      // seconds
+  std::vector<double> budgets;  // seconds
   std::vector<uint32_t> sppBudgets;
   std::vector<std::string> bsdf, env, mis;
   uint32_t referenceSpp = 1024;
@@ -190,9 +190,11 @@ std::pair<std::vector<Strategy>, std::vector<Skipped>> planStrategies(const std:
       for (const EnvironmentStrategy& env : envs) {
         const Strategy s{bsdf, env, mis};
         if (!sceneHasMeasured && bsdf != bsdfs.front())
-          skipped.push_back({s, fmt::format("no measured material: the same image as {} BRDF sampling", toString(bsdfs.front()))});
+          skipped.push_back(
+              {s, fmt::format("no measured material: the same image as {} BRDF sampling", toString(bsdfs.front()))});
         else if (mis == MisMode::BsdfOnly && env != envs.front())
-          skipped.push_back({s, fmt::format("bsdf-only never samples the environment: the same image as {}", toString(envs.front()))});
+          skipped.push_back({s, fmt::format("bsdf-only never samples the environment: the same image as {}",
+                                            toString(envs.front()))});
         else if (mis == MisMode::LightOnly && env == EnvironmentSampling::Compensated)
           skipped.push_back({s, "light-only cannot use compensated sampling (pdf 0 where the map has light)"});
         else
@@ -206,12 +208,14 @@ std::string rowKey(const std::string& bsdf, const std::string& env, const std::s
   return fmt::format("{}|{}|{}|{:a}", bsdf, env, mis, budget);
 }
 std::string rowKey(const Json& row) {
-  return rowKey(row.value("bsdf_sampling", ""), row.value("env_sampling", ""), row.value("mis", ""), row.value("budget", 0.0));
+  return rowKey(row.value("bsdf_sampling", ""), row.value("env_sampling", ""), row.value("mis", ""),
+                row.value("budget", 0.0));
 }
 
-const char* const kCsvColumns[] = {"bsdf_sampling", "env_sampling", "mis", "budget_kind", "budget", "seed", "seconds",
-                                   "spp", "relmse", "rmse", "brdf_table_bytes", "env_table_bytes", "table_bytes",
-                                   "table_ms", "tables_built", "tables_from_cache"};
+const char* const kCsvColumns[] = {
+    "bsdf_sampling", "env_sampling",     "mis",  "budget_kind",      "budget",          "seed",        "seconds",
+    "spp",           "relmse",           "rmse", "brdf_table_bytes", "env_table_bytes", "table_bytes", "table_ms",
+    "tables_built",  "tables_from_cache"};
 
 std::string csvCell(const Json& v) {
   if (v.is_string()) return v.get<std::string>();  // strategy names: no commas or quotes
@@ -234,7 +238,8 @@ std::string toCsv(const Json& rows) {
 // Runs `python script plot results.json DIR`; returns an empty string on success, else why not.
 std::string runPlotScript(const BenchErrorArgs& args, const fs::path& dir) {
   const std::string results = (dir / "results.json").string(), out = dir.string();
-  std::vector<const char*> argv = {args.python.c_str(), args.plotScript.c_str(), "plot", results.c_str(), out.c_str(), nullptr};
+  std::vector<const char*> argv = {
+      args.python.c_str(), args.plotScript.c_str(), "plot", results.c_str(), out.c_str(), nullptr};
   std::fflush(stdout);
   std::fflush(stderr);
   const pid_t pid = fork();
@@ -249,8 +254,9 @@ std::string runPlotScript(const BenchErrorArgs& args, const fs::path& dir) {
     if (errno != EINTR) return "cannot wait for the plot script";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return "cannot run " + args.python;
-  return WIFEXITED(status) ? fmt::format("{} {} exited with status {}", args.python, args.plotScript, WEXITSTATUS(status))
-                           : fmt::format("{} {} was killed by signal {}", args.python, args.plotScript, WTERMSIG(status));
+  return WIFEXITED(status)
+             ? fmt::format("{} {} exited with status {}", args.python, args.plotScript, WEXITSTATUS(status))
+             : fmt::format("{} {} was killed by signal {}", args.python, args.plotScript, WTERMSIG(status));
 }
 
 class BenchError {
@@ -317,7 +323,8 @@ class BenchError {
     } else {
       budgets_ = args_.budgets.empty() ? std::vector<double>{1, 2, 4, 8, 16} : args_.budgets;
       for (double b : budgets_)
-        if (!(b > 0) || !std::isfinite(b)) throw UsageError(fmt::format("bench-error: --budgets: {} is not a positive number of seconds", b));
+        if (!(b > 0) || !std::isfinite(b))
+          throw UsageError(fmt::format("bench-error: --budgets: {} is not a positive number of seconds", b));
     }
     std::sort(budgets_.begin(), budgets_.end());
     budgets_.erase(std::unique(budgets_.begin(), budgets_.end()), budgets_.end());
@@ -330,14 +337,17 @@ class BenchError {
   // check passed, so bad input leaves nothing behind.
   void prepareOutputDirectory() {
     std::error_code ec;
-    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec)) throw InputError(dir_.string(), "--out is not a directory");
+    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
+      throw InputError(dir_.string(), "--out is not a directory");
     if (fs::is_directory(dir_, ec)) {
       if (access(dir_.c_str(), W_OK) != 0) throw InputError(dir_.string(), "the output directory is not writable");
     } else {
       const fs::path parent = dir_.parent_path().empty() ? fs::path(".") : dir_.parent_path();
       if (!fs::is_directory(parent, ec)) throw InputError(dir_.string(), "its parent directory does not exist");
-      if (access(parent.c_str(), W_OK) != 0) throw InputError(dir_.string(), "cannot create the output directory (parent not writable)");
-      if (!fs::create_directory(dir_, ec) && ec) throw InputError(dir_.string(), "cannot create the output directory (" + ec.message() + ")");
+      if (access(parent.c_str(), W_OK) != 0)
+        throw InputError(dir_.string(), "cannot create the output directory (parent not writable)");
+      if (!fs::create_directory(dir_, ec) && ec)
+        throw InputError(dir_.string(), "cannot create the output directory (" + ec.message() + ")");
     }
     fs::create_directories(dir_ / "images", ec);
     if (!ec) fs::create_directories(dir_ / "diff", ec);
@@ -364,13 +374,20 @@ class BenchError {
   // text, the sample count and the resolution match.
   void renderOrReuseReference(Scene& scene) {
     const fs::path exr = dir_ / "reference.exr", info = dir_ / "reference.json";
-    Json wanted{{"scene", args_.scene}, {"scene_hash", sceneHash_}, {"spp", args_.referenceSpp}, {"width", width_},
-                {"height", height_}, {"seed", scene.settings.seed}, {"bsdf_sampling", "scene"},
-                {"env_sampling", toString(scene.environment->strategy())}, {"mis", toString(scene.settings.mis)}};
+    Json wanted{{"scene", args_.scene},
+                {"scene_hash", sceneHash_},
+                {"spp", args_.referenceSpp},
+                {"width", width_},
+                {"height", height_},
+                {"seed", scene.settings.seed},
+                {"bsdf_sampling", "scene"},
+                {"env_sampling", toString(scene.environment->strategy())},
+                {"mis", toString(scene.settings.mis)}};
     referenceDescription_ = exr.string();
     if (const auto stored = readJsonFile(info)) {
-      const bool same = stored->value("scene_hash", "") == sceneHash_ && stored->value("spp", 0u) == args_.referenceSpp &&
-                        stored->value("width", 0u) == width_ && stored->value("height", 0u) == height_;
+      const bool same = stored->value("scene_hash", "") == sceneHash_ &&
+                        stored->value("spp", 0u) == args_.referenceSpp && stored->value("width", 0u) == width_ &&
+                        stored->value("height", 0u) == height_;
       std::error_code ec;
       if (same && fs::is_regular_file(exr, ec)) {
         try {
@@ -431,8 +448,10 @@ class BenchError {
                       then.value("reference_hash", "") == now["reference_hash"] &&
                       then.value("budget_kind", "") == now["budget_kind"] && then.value("threads", 0u) == args_.threads;
     if (!same || !(*earlier)["rows"].is_array()) {
-      std::fprintf(stderr, "bench-error: %s is from other settings (scene, reference, budget kind or threads): starting afresh\n",
-                   path.c_str());
+      std::fprintf(
+          stderr,
+          "bench-error: %s is from other settings (scene, reference, budget kind or threads): starting afresh\n",
+          path.c_str());
       return;
     }
     for (const Json& row : (*earlier)["rows"])
@@ -449,7 +468,8 @@ class BenchError {
     std::size_t index = 0;
     for (const Strategy& s : plan_) {
       const auto pending = [&](double budget) {
-        return !done_.contains(rowKey(std::string(toString(s.bsdf)), toString(s.env), std::string(toString(s.mis)), budget));
+        return !done_.contains(
+            rowKey(std::string(toString(s.bsdf)), toString(s.env), std::string(toString(s.mis)), budget));
       };
       if (std::none_of(budgets_.begin(), budgets_.end(), pending)) {
         index += budgets_.size();
@@ -470,18 +490,29 @@ class BenchError {
         if (!pending(budget)) continue;
         scene.settings.seed = seedFor(s, budget);
         std::optional<double> seconds;
-        if (args_.sppBudgets.empty()) seconds = budget;
-        else scene.settings.spp = static_cast<uint32_t>(budget);
+        if (args_.sppBudgets.empty())
+          seconds = budget;
+        else
+          scene.settings.spp = static_cast<uint32_t>(budget);
         const RenderStats stats = renderImage(scene, seconds);
         const ErrorFigures error = compare(lastImage_, reference_);
         // The image of the largest budget feeds the difference images; written before its row,
         // so a row on disk always has its image.
         if (budget == budgets_.back()) writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
-        Json row{{"bsdf_sampling", toString(s.bsdf)}, {"env_sampling", toString(s.env)}, {"mis", toString(s.mis)},
-                 {"budget_kind", budgetKind()}, {"budget", budget}, {"seed", scene.settings.seed},
-                 {"seconds", stats.seconds}, {"spp", stats.spp}, {"relmse", error.relMse}, {"rmse", error.rmse},
-                 {"brdf_table_bytes", memory.brdf}, {"env_table_bytes", memory.environment},
-                 {"table_bytes", memory.brdf + memory.environment}, {"table_ms", tableMs},
+        Json row{{"bsdf_sampling", toString(s.bsdf)},
+                 {"env_sampling", toString(s.env)},
+                 {"mis", toString(s.mis)},
+                 {"budget_kind", budgetKind()},
+                 {"budget", budget},
+                 {"seed", scene.settings.seed},
+                 {"seconds", stats.seconds},
+                 {"spp", stats.spp},
+                 {"relmse", error.relMse},
+                 {"rmse", error.rmse},
+                 {"brdf_table_bytes", memory.brdf},
+                 {"env_table_bytes", memory.environment},
+                 {"table_bytes", memory.brdf + memory.environment},
+                 {"table_ms", tableMs},
                  {"tables_built", tables_->tablesBuilt().size() - builtBefore},
                  {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore}};
         done_.insert(rowKey(row));
@@ -498,8 +529,10 @@ class BenchError {
   void writeResults() const {
     Json skipped = Json::array();
     for (const Skipped& s : skipped_)
-      skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)}, {"env_sampling", toString(s.strategy.env)},
-                         {"mis", toString(s.strategy.mis)}, {"reason", s.reason}});
+      skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)},
+                         {"env_sampling", toString(s.strategy.env)},
+                         {"mis", toString(s.strategy.mis)},
+                         {"reason", s.reason}});
     Json rows = Json::array();
     for (const Json& r : rows_) rows.push_back(r);
     Json j{{"settings", settings()}, {"skipped", skipped}, {"rows", rows}};
@@ -597,13 +630,15 @@ Command addBenchError(CLI::App& parent) {
       ->check(CLI::Range(1u, 1u << 20))
       ->excludes(budgets);
   app->add_option("-o,--out", args->out, "Output directory (default bench-error)");
-  app->add_option("--bsdf-sampling", args->bsdf, "BRDF strategies, e.g. uniform,adaptive (default: all)")->delimiter(',');
+  app->add_option("--bsdf-sampling", args->bsdf, "BRDF strategies, e.g. uniform,adaptive (default: all)")
+      ->delimiter(',');
   app->add_option("--env-sampling", args->env, "Environment strategies (default: all)")->delimiter(',');
   app->add_option("--mis", args->mis, "MIS modes, e.g. power,bsdf-only (default: all)")->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
   app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
   app->add_flag("--no-plot", args->noPlot, "Do not run the plot script");
-  app->add_option("--plot-script", args->plotScript, "The plot script (default: bench/error_report.py of the source tree)");
+  app->add_option("--plot-script", args->plotScript,
+                  "The plot script (default: bench/error_report.py of the source tree)");
   app->add_option("--python", args->python, "Python with matplotlib (default /usr/bin/python3)");
   return Command{app, [args] { return BenchError(*args).run(); }};
 }

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/brdf_sampler.h"
@@ -148,20 +148,21 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     std::printf("\n%-10s %-30s %12s %16s\n", "table", "resolution (avg per dim)", "size", "tabulate+CDF ms");
     for (const SamplerRow* row : {&rows[1], &rows[2]})
       std::printf("%-10s %-30s %12s %16s\n", row->name.c_str(),
-                  joinResolution(row->table->table().averageIntervals()).c_str(), humanBytes(row->table->bytes()).c_str(),
+                  joinResolution(row->table->table().averageIntervals()).c_str(),
+                  humanBytes(row->table->bytes()).c_str(),
                   fmt::format("{:.0f} + {:.0f}", row->table->tabulationMs(), row->table->buildMs()).c_str());
     std::printf("compression %.1f : 1\n", compression);
-    std::printf("\nreflected radiance under a uniform white sky, %u outgoing directions (theta_o <= %.0f deg) x %u "
-                "samples\n",
-                directions, maxThetaDegrees, estimator.samplesPerDirection);
+    std::printf(
+        "\nreflected radiance under a uniform white sky, %u outgoing directions (theta_o <= %.0f deg) x %u "
+        "samples\n",
+        directions, maxThetaDegrees, estimator.samplesPerDirection);
     std::printf("%-10s %12s %12s %12s %12s %14s %12s\n", "sampler", "mean", "variance", "max weight", "ns/sample",
                 "efficiency", "eff / unif");
     const double uniformEfficiency = rows[1].estimate.efficiency();
     for (const SamplerRow& row : rows)
       std::printf("%-10s %12.5g %12.5g %12.3g %12.1f %14.4g %12.3g\n", row.name.c_str(), row.estimate.mean,
                   row.estimate.variance, row.estimate.maxRelativeWeight, row.estimate.nsPerSample(),
-                  row.estimate.efficiency(),
-                  row.estimate.efficiency() / uniformEfficiency);
+                  row.estimate.efficiency(), row.estimate.efficiency() / uniformEfficiency);
   }
   if (std::fflush(stdout) != 0) return 1;
   return 0;
@@ -177,7 +178,8 @@ std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args
       app.add_option("--res", args.resolution,
                      "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, iso theta_o x theta_h x "
                      "phi (default: the library's)"),
-      app.add_option("--epsilon", args.epsilon, "Adaptive simplification tolerance (>= 0): the largest chi2-divergence an interval may add")
+      app.add_option("--epsilon", args.epsilon,
+                     "Adaptive simplification tolerance (>= 0): the largest chi2-divergence an interval may add")
           ->capture_default_str(),
       app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
           ->check(CLI::IsMember({"nearest", "trilinear"}))

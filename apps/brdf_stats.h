@@ -17,7 +17,7 @@
 namespace CLI {
 class App;
 class Option;
-}
+}  // namespace CLI
 
 namespace acdf::app {
 
@@ -43,7 +43,8 @@ MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args);
 
 // A tabulated sampler of `brdf`; options the sampler rejects (an odd φ count for a mirrored
 // isotropic table, say) become UsageError.
-std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(const MerlBrdf& brdf, const BrdfTableArgs& args, DimensionMethod method);
+std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(const MerlBrdf& brdf, const BrdfTableArgs& args,
+                                                           DimensionMethod method);
 
 // MerlBrdf::load with its errors as InputError ("<file>: <problem>", exit 2).
 MerlBrdf loadMerlBrdf(const std::string& path);

@@ -2,10 +2,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <span>
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "acdf/sampling/alias_grid.h"
@@ -191,24 +191,22 @@ void printTable(const Report& r) {
     out += s;
     out += '\n';
   };
-  line(fmt::format("input              {} ({}, {} cells, axes [0,1) each)", g.path,
-                   fmt::join(g.dims, " x "), r.cells));
+  line(fmt::format("input              {} ({}, {} cells, axes [0,1) each)", g.path, fmt::join(g.dims, " x "), r.cells));
   if (g.kind == InputGrid::Kind::Image)
     line(fmt::format("negative clamped   {} pixel luminances set to 0 ({} pixels have a negative channel)",
                      g.negativeClamped, g.negativeChannelPixels));
   if (r.uniformFallback) line("uniform fallback   yes: the input is all zero, every distribution is uniform");
   line(fmt::format("options            epsilon {:g}, simplifier {}, metric {}, weight bound {:g}, max points {}",
                    r.options.epsilon, r.options.method == Simplifier::GreedyRefinement ? "greedy" : "dp",
-                   toString(r.options.metric),
-                   r.options.weightBound, r.options.maxPoints == 0 ? std::string("none")
-                                                                  : std::to_string(r.options.maxPoints)));
+                   toString(r.options.metric), r.options.weightBound,
+                   r.options.maxPoints == 0 ? std::string("none") : std::to_string(r.options.maxPoints)));
   line("");
   line(fmt::format("{:<18} {:>14} {:>14} {:>14}", "", "uniform", "alias", "adaptive"));
   line(fmt::format("{:<18} {:>14} {:>14} {:>14}", "bytes", r.uniform.bytes, r.alias.bytes, r.adaptive.bytes));
   line(fmt::format("{:<18} {:>14.2f} {:>14.2f} {:>14.2f}", "build ms", r.uniform.buildMs, r.alias.buildMs,
                    r.adaptive.buildMs));
-  line(fmt::format("{:<18} {:>14.1f} {:>14.1f} {:>14.1f}", "ns per sample", r.uniform.nsPerSample,
-                   r.alias.nsPerSample, r.adaptive.nsPerSample));
+  line(fmt::format("{:<18} {:>14.1f} {:>14.1f} {:>14.1f}", "ns per sample", r.uniform.nsPerSample, r.alias.nsPerSample,
+                   r.adaptive.nsPerSample));
   line(fmt::format("{:<18} {:>14.1f} {:>14.1f} {:>14.1f}", "ns per pdf", r.uniform.nsPerPdf, r.alias.nsPerPdf,
                    r.adaptive.nsPerPdf));
   line("");
@@ -341,11 +339,9 @@ Command addCdfStats(CLI::App& parent) {
       "Exit status: 0 success, 2 bad input file or command line, 1 internal error.");
 
   app->add_option("INPUT", args->input, "Input .npy array or image file")->required();
-  app->add_option("--epsilon", args->epsilon, "Largest CDF error the simplifier leaves (>= 0)")
-      ->capture_default_str();
+  app->add_option("--epsilon", args->epsilon, "Largest CDF error the simplifier leaves (>= 0)")->capture_default_str();
   args->maxPointsOption =
-      app->add_option("--max-points", args->maxPoints,
-                      "Point budget per 1D CDF (>= 2); implies --simplifier greedy")
+      app->add_option("--max-points", args->maxPoints, "Point budget per 1D CDF (>= 2); implies --simplifier greedy")
           ->transform(nonNegativeInteger());
   app->add_option("--weight-bound", args->weightBound,
                   "Weight bound rho: no grid cell gets less than 1/rho of its exact probability, so sample\n"

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "acdf/envmap/image_file.h"
 #include "acdf/envmap/sun_sky.h"
@@ -31,10 +31,11 @@ std::string describe(const SunSkyParameters& p) {
   if (p.sunIntensity == 0 || p.sunRadiusDeg == 0)
     return fmt::format("no sun; zenith ({:g}, {:g}, {:g}), horizon ({:g}, {:g}, {:g})", p.zenith.r, p.zenith.g,
                        p.zenith.b, p.horizon.r, p.horizon.g, p.horizon.b);
-  return fmt::format("sun {:g} deg high at azimuth {:g} deg, radius {:g} deg, intensity {:g} x colour ({:g}, {:g}, "
-                     "{:g}); zenith ({:g}, {:g}, {:g}), horizon ({:g}, {:g}, {:g})",
-                     p.sunElevationDeg, p.sunAzimuthDeg, p.sunRadiusDeg, p.sunIntensity, p.sunColor.r, p.sunColor.g,
-                     p.sunColor.b, p.zenith.r, p.zenith.g, p.zenith.b, p.horizon.r, p.horizon.g, p.horizon.b);
+  return fmt::format(
+      "sun {:g} deg high at azimuth {:g} deg, radius {:g} deg, intensity {:g} x colour ({:g}, {:g}, "
+      "{:g}); zenith ({:g}, {:g}, {:g}), horizon ({:g}, {:g}, {:g})",
+      p.sunElevationDeg, p.sunAzimuthDeg, p.sunRadiusDeg, p.sunIntensity, p.sunColor.r, p.sunColor.g, p.sunColor.b,
+      p.zenith.r, p.zenith.g, p.zenith.b, p.horizon.r, p.horizon.g, p.horizon.b);
 }
 
 int runEnvGen(const EnvGenArgs& args) {
@@ -63,8 +64,8 @@ int runEnvGen(const EnvGenArgs& args) {
   } catch (const ImageFileError& e) {
     throw InputError(e.file(), e.problem());
   }
-  std::printf("%s: %u x %u sun and sky (%s), %.0f ms\n", args.output.c_str(), args.width, height,
-              describe(p).c_str(), millisecondsSince(start));
+  std::printf("%s: %u x %u sun and sky (%s), %.0f ms\n", args.output.c_str(), args.width, height, describe(p).c_str(),
+              millisecondsSince(start));
   return std::fflush(stdout) == 0 ? 0 : 1;
 }
 
@@ -75,7 +76,8 @@ Command addEnvGen(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "env-gen", "Write a procedural sun-and-sky environment map (lat-long, +Y up) as a float OpenEXR file.");
   std::string presets;
-  for (const std::string& name : sunSkyPresetNames()) presets += "  " + name + ": " + describe(sunSkyPreset(name)) + "\n";
+  for (const std::string& name : sunSkyPresetNames())
+    presets += "  " + name + ": " + describe(sunSkyPreset(name)) + "\n";
   app->footer(
       "The map is equirectangular: row 0 is the zenith (+Y), column 0 looks along -Z, azimuth (phi) grows\n"
       "to the right (OpenEXR's LatLong layout). Sky: horizon + (zenith - horizon) * cos(theta)^gradient plus\n"

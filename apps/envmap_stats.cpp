@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/environment_light.h"
@@ -234,16 +234,18 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
                      {"adaptive", adaptive.buildMs},
                      {"hierarchical", hierarchical.buildMs}};
     for (const Named& s : strategies) {
-      j[s.name] = {{"variance", s.cost.variance}, {"ns_per_sample", s.cost.nsPerSample},
-                   {"efficiency", s.cost.efficiency}};
+      j[s.name] = {
+          {"variance", s.cost.variance}, {"ns_per_sample", s.cost.nsPerSample}, {"efficiency", s.cost.efficiency}};
       if (s.cost.stratifiedVariance) j[s.name]["stratified_variance"] = *s.cost.stratifiedVariance;
     }
     std::puts(j.dump(2).c_str());
   } else {
     std::string out;
     out += fmt::format("input              {} ({} x {})\n", args.input, map->width(), map->height());
-    out += fmt::format("negative clamped   {} pixels had a negative channel (set to 0)\n", map->negativePixelsClamped());
-    if (args.sanitize) out += fmt::format("non-finite         {} channel values replaced with 0\n", map->nonFiniteReplaced());
+    out +=
+        fmt::format("negative clamped   {} pixels had a negative channel (set to 0)\n", map->negativePixelsClamped());
+    if (args.sanitize)
+      out += fmt::format("non-finite         {} channel values replaced with 0\n", map->nonFiniteReplaced());
     out += fmt::format("\n{:<18} {:>14} {:>14} {:>14} {:>14}\n", "", "uniform", "alias", "adaptive", "hierarchical");
     out += fmt::format("{:<18} {:>14} {:>14} {:>14} {:>14}\n", "bytes", uniform.light->tableBytes(),
                        alias.light->tableBytes(), adaptive.light->tableBytes(), hierarchical.light->tableBytes());
@@ -261,8 +263,8 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
     out += fmt::format("{:<18} {:>14} {:>14} {:>14} {:>14}\n", "strategy", "variance", "ns/sample", "efficiency",
                        "stratified");
     for (const Named& s : strategies)
-      out += fmt::format("{:<18} {:>14.6g} {:>14.1f} {:>14.4g} {:>14}\n", s.name, s.cost.variance,
-                         s.cost.nsPerSample, s.cost.efficiency,
+      out += fmt::format("{:<18} {:>14.6g} {:>14.1f} {:>14.4g} {:>14}\n", s.name, s.cost.variance, s.cost.nsPerSample,
+                         s.cost.efficiency,
                          s.cost.stratifiedVariance ? fmt::format("{:.6g}", *s.cost.stratifiedVariance) : "-");
     std::fputs(out.c_str(), stdout);
   }

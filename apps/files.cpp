@@ -9,9 +9,9 @@
 
 #include <fmt/format.h>
 
-#include "errors.h"
 #include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/temporary_files.h"
+#include "errors.h"
 
 namespace acdf::app {
 
@@ -35,7 +35,8 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
   if (!in) throw InputError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
   std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (static_cast<std::uintmax_t>(in.gcount()) != size) throw InputError(path, "read error (file changed while reading?)");
+  if (static_cast<std::uintmax_t>(in.gcount()) != size)
+    throw InputError(path, "read error (file changed while reading?)");
   return bytes;
 }
 

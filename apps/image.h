@@ -14,11 +14,11 @@ namespace acdf::app {
 
 struct LuminanceImage {
   std::size_t width = 0, height = 0;
-  std::size_t channels = 0;         // channels in the file
-  std::vector<float> values;        // height x width, row-major (row 0 = top scanline)
-  std::size_t negativeClamped = 0;  // luminances < 0 that were set to 0
+  std::size_t channels = 0;               // channels in the file
+  std::vector<float> values;              // height x width, row-major (row 0 = top scanline)
+  std::size_t negativeClamped = 0;        // luminances < 0 that were set to 0
   std::size_t negativeChannelPixels = 0;  // pixels with a used channel < 0 (kept in the luminance)
-  std::string format;               // OpenImageIO format name, e.g. "openexr"
+  std::string format;                     // OpenImageIO format name, e.g. "openexr"
 };
 
 // Subimage 0, MIP level 0. Luminance = 0.2126 R + 0.7152 G + 0.0722 B from the first three

@@ -13,9 +13,9 @@ struct InputGrid {
   enum class Kind { Npy, Image };
   Kind kind = Kind::Npy;
   std::string path;
-  std::vector<std::size_t> dims;   // sizes, axis 0 slowest (images: height, width)
-  std::vector<float> values;       // row-major, product(dims) entries
-  std::size_t negativeClamped = 0; // images only: negative luminances set to 0
+  std::vector<std::size_t> dims;          // sizes, axis 0 slowest (images: height, width)
+  std::vector<float> values;              // row-major, product(dims) entries
+  std::size_t negativeClamped = 0;        // images only: negative luminances set to 0
   std::size_t negativeChannelPixels = 0;  // images only: pixels with a negative channel (informative)
 };
 

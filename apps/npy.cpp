@@ -16,8 +16,7 @@
 
 namespace acdf::app {
 
-static_assert(std::endian::native == std::endian::little,
-              "the .npy reader copies '<f4' / '<f8' data as is");
+static_assert(std::endian::native == std::endian::little, "the .npy reader copies '<f4' / '<f8' data as is");
 
 namespace {
 
@@ -28,8 +27,10 @@ std::string printable(std::string_view text) {
   std::string out;
   for (char c : text) {
     const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u >= 0x7f) out += fmt::format("\\x{:02x}", u);
-    else out.push_back(c);
+    if (u < 0x20 || u >= 0x7f)
+      out += fmt::format("\\x{:02x}", u);
+    else
+      out.push_back(c);
   }
   return out;
 }
@@ -81,8 +82,7 @@ class HeaderParser {
     expect('}', "'}' closing the header dict");
     for (; pos_ < text_.size(); ++pos_) {
       char c = text_[pos_];
-      if (c != ' ' && c != '\n' && c != '\r' && c != '\t' && c != '\0')
-        fail("unexpected text after the header dict");
+      if (c != ' ' && c != '\n' && c != '\r' && c != '\t' && c != '\0') fail("unexpected text after the header dict");
     }
     return entries;
   }
@@ -213,8 +213,7 @@ bool hasNpyMagic(std::span<const unsigned char> bytes) {
 NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name) {
   if (bytes.empty()) throw InputError(name, "file is empty");
   if (!hasNpyMagic(bytes)) {
-    if (bytes.size() < sizeof(kMagic) &&
-        std::memcmp(bytes.data(), kMagic, bytes.size()) == 0)
+    if (bytes.size() < sizeof(kMagic) && std::memcmp(bytes.data(), kMagic, bytes.size()) == 0)
       throw InputError(name, "truncated .npy file (ends inside the magic string)");
     throw InputError(name, "not a .npy file (missing the \\x93NUMPY magic string)");
   }
@@ -224,13 +223,12 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
   const int major = bytes[6];
   const int minor = bytes[7];
   if (major < 1 || major > 3 || minor != 0)
-    throw InputError(name, fmt::format("unsupported .npy format version {}.{} (supported: 1.0, 2.0, 3.0)",
-                                       major, minor));
+    throw InputError(name,
+                     fmt::format("unsupported .npy format version {}.{} (supported: 1.0, 2.0, 3.0)", major, minor));
   array.majorVersion = major;
 
   const std::size_t lengthBytes = major == 1 ? 2 : 4;
-  if (bytes.size() < 8 + lengthBytes)
-    throw InputError(name, "truncated .npy file (ends inside the header length)");
+  if (bytes.size() < 8 + lengthBytes) throw InputError(name, "truncated .npy file (ends inside the header length)");
   const std::size_t headerLength = major == 1 ? readLe16(&bytes[8]) : readLe32(&bytes[8]);
   const std::size_t headerStart = 8 + lengthBytes;
   if (headerLength > bytes.size() - headerStart)
@@ -244,10 +242,14 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
   const Value* fortran = nullptr;
   const Value* shape = nullptr;
   for (const auto& [key, value] : entries) {
-    if (key == "descr") descr = &value;
-    else if (key == "fortran_order") fortran = &value;
-    else if (key == "shape") shape = &value;
-    else throw InputError(name, fmt::format("bad .npy header: unexpected key '{}'", printable(key)));
+    if (key == "descr")
+      descr = &value;
+    else if (key == "fortran_order")
+      fortran = &value;
+    else if (key == "shape")
+      shape = &value;
+    else
+      throw InputError(name, fmt::format("bad .npy header: unexpected key '{}'", printable(key)));
   }
   if (!descr) throw InputError(name, "bad .npy header: no 'descr' key");
   if (!fortran) throw InputError(name, "bad .npy header: no 'fortran_order' key");
@@ -258,33 +260,35 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
   if (descr->kind != Value::Kind::String)
     throw InputError(name, fmt::format("unsupported dtype (structured or non-string 'descr'); {}", kNeed));
   const std::string d = printable(descr->text);
-  if (d == "<f4") array.dtype = NpyDtype::Float32;
-  else if (d == "<f8") array.dtype = NpyDtype::Float64;
+  if (d == "<f4")
+    array.dtype = NpyDtype::Float32;
+  else if (d == "<f8")
+    array.dtype = NpyDtype::Float64;
   else if (d == ">f4" || d == ">f8")
     throw InputError(name, fmt::format("big-endian dtype '{}' is not supported; {} (convert with "
-                                       "a.astype('<{}'))", d, kNeed, d.substr(1)));
+                                       "a.astype('<{}'))",
+                                       d, kNeed, d.substr(1)));
   else
     throw InputError(name, fmt::format("unsupported dtype '{}'; {}", d, kNeed));
 
   if (fortran->kind != Value::Kind::Bool)
     throw InputError(name, "bad .npy header: 'fortran_order' is not True or False");
   if (fortran->flag)
-    throw InputError(name, "fortran_order is True (column-major data) and is not supported; save a "
-                           "C-order array (np.ascontiguousarray)");
+    throw InputError(name,
+                     "fortran_order is True (column-major data) and is not supported; save a "
+                     "C-order array (np.ascontiguousarray)");
 
-  if (shape->kind != Value::Kind::Tuple)
-    throw InputError(name, "bad .npy header: 'shape' is not a tuple of integers");
+  if (shape->kind != Value::Kind::Tuple) throw InputError(name, "bad .npy header: 'shape' is not a tuple of integers");
   array.shape = shape->numbers;
-  if (array.shape.empty())
-    throw InputError(name, "0-dimensional (scalar) array; need 1 to 4 dimensions");
+  if (array.shape.empty()) throw InputError(name, "0-dimensional (scalar) array; need 1 to 4 dimensions");
   if (array.shape.size() > kNpyMaxDims)
-    throw InputError(name, fmt::format("{} dimensions, shape {}; at most {} are supported",
-                                       array.shape.size(), shapeString(array.shape), kNpyMaxDims));
+    throw InputError(name, fmt::format("{} dimensions, shape {}; at most {} are supported", array.shape.size(),
+                                       shapeString(array.shape), kNpyMaxDims));
   std::size_t count = 1;
   for (std::size_t i = 0; i < array.shape.size(); ++i) {
     if (array.shape[i] == 0)
-      throw InputError(name, fmt::format("dimension {} has size 0, shape {}; empty arrays are not supported",
-                                         i, shapeString(array.shape)));
+      throw InputError(name, fmt::format("dimension {} has size 0, shape {}; empty arrays are not supported", i,
+                                         shapeString(array.shape)));
     if (count > std::numeric_limits<std::size_t>::max() / array.shape[i])
       throw InputError(name, fmt::format("shape {} is too large", shapeString(array.shape)));
     count *= array.shape[i];

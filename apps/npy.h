@@ -17,10 +17,10 @@ namespace acdf::app {
 enum class NpyDtype { Float32, Float64 };
 
 struct NpyArray {
-  std::vector<std::size_t> shape;  // 1..4 entries, each > 0
+  std::vector<std::size_t> shape;      // 1..4 entries, each > 0
   NpyDtype dtype = NpyDtype::Float32;  // as stored in the file
   int majorVersion = 1;
-  std::vector<float> values;       // C order, product(shape) entries
+  std::vector<float> values;  // C order, product(shape) entries
 };
 
 inline constexpr std::size_t kNpyMaxDims = 4;

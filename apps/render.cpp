@@ -6,10 +6,10 @@
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
@@ -41,7 +41,8 @@ struct RenderArgs {
 int runRender(const RenderArgs& args) {
   SceneOverrides overrides;
   if (!args.mis.empty()) overrides.mis = parseOption("render", "--mis", args.mis, parseMisMode);
-  if (!args.bsdfSampling.empty()) overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
+  if (!args.bsdfSampling.empty())
+    overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
   if (!args.envSampling.empty())
     overrides.envSampling = parseOption("render", "--env-sampling", args.envSampling, parseEnvironmentStrategy);
   overrides.spp = args.spp;
@@ -52,7 +53,9 @@ int runRender(const RenderArgs& args) {
   }
   if (args.seconds && !(*args.seconds > 0)) throw UsageError("render: --time must be positive");
 
-  const std::string png = args.noPng ? "" : !args.png.empty() ? args.png : fs::path(args.output).replace_extension(".png").string();
+  const std::string png = args.noPng          ? ""
+                          : !args.png.empty() ? args.png
+                                              : fs::path(args.output).replace_extension(".png").string();
   checkOutputPath(args.output);
   if (!png.empty()) checkOutputPath(png);
 
@@ -98,7 +101,8 @@ int runRender(const RenderArgs& args) {
     out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
                        film.height(), stats.spp, stats.seconds, setupMs);
     out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
-    out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(), tables.tablesFromCache().size());
+    out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(),
+                       tables.tablesFromCache().size());
     for (const std::string& t : tables.tablesBuilt()) out += fmt::format("          built       {}\n", t);
     for (const std::string& t : tables.tablesFromCache()) out += fmt::format("          from cache  {}\n", t);
     out += fmt::format("wrote     {}{}\n", args.output, png.empty() ? "" : " and " + png);
@@ -111,7 +115,8 @@ int runRender(const RenderArgs& args) {
 
 Command addRender(CLI::App& parent) {
   auto args = std::make_shared<RenderArgs>();
-  CLI::App* app = parent.add_subcommand("render", "Render a scene with the MIS path tracer (measured BRDFs, environment light).");
+  CLI::App* app =
+      parent.add_subcommand("render", "Render a scene with the MIS path tracer (measured BRDFs, environment light).");
   app->footer(
       "SCENE: a JSON scene file (docs/scene-format.md). The strategy options replace the scene's choices:\n"
       "  --bsdf-sampling  cosine | uniform | adaptive          (every measured material)\n"
@@ -129,13 +134,16 @@ Command addRender(CLI::App& parent) {
   app->add_option("-o,--output", args->output, "Output image (linear float OpenEXR)")->required();
   app->add_option("--png", args->png, "sRGB PNG preview (default: the output with .png)");
   app->add_flag("--no-png", args->noPng, "Write no PNG preview");
-  auto* spp = app->add_option("--spp", args->spp, "Samples per pixel (replaces the scene's)")->check(CLI::Range(1u, 1u << 30));
+  auto* spp =
+      app->add_option("--spp", args->spp, "Samples per pixel (replaces the scene's)")->check(CLI::Range(1u, 1u << 30));
   app->add_option("--time", args->seconds, "Render progressive passes for this many seconds instead")->excludes(spp);
   app->add_option("--seed", args->seed, "Random seed (replaces the scene's)");
   app->add_option("--mis", args->mis, "power | balance | bsdf-only | light-only");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive");
-  app->add_option("--env-sampling", args->envSampling, "uniform-sphere | uniform | alias | adaptive | compensated | ...");
-  app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")->delimiter(',');
+  app->add_option("--env-sampling", args->envSampling,
+                  "uniform-sphere | uniform | alias | adaptive | compensated | ...");
+  app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")
+      ->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
   app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
   app->add_flag("--json", args->json, "Print a JSON summary");

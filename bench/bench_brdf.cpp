@@ -244,8 +244,7 @@ int main(int argc, char** argv) {
           ->DisplayAggregatesOnly(true);
   }
   for (const char* name : kSamplers) {
-    benchmark::RegisterBenchmark((std::string("brdf-sample/") + name + "/nickel").c_str(), sampleOne,
-                                 std::string(name))
+    benchmark::RegisterBenchmark((std::string("brdf-sample/") + name + "/nickel").c_str(), sampleOne, std::string(name))
         ->MinTime(0.2)
         ->Repetitions(3)
         ->DisplayAggregatesOnly(true);

@@ -49,7 +49,8 @@ struct MapSet {
     if (directions.empty()) {
       const EnvironmentLight& uniform = light(EnvironmentSampling::Uniform);
       const std::vector<float> v = variates(2 * kVariates, 11);
-      for (std::size_t i = 0; i < kVariates; ++i) directions.push_back(uniform.sample(v[2 * i], v[2 * i + 1]).direction);
+      for (std::size_t i = 0; i < kVariates; ++i)
+        directions.push_back(uniform.sample(v[2 * i], v[2 * i + 1]).direction);
     }
     return directions;
   }
@@ -137,8 +138,8 @@ void registerMap(const std::string& name, std::shared_ptr<const EnvironmentMap> 
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
-  registerMap("sunsky4096x2048", std::make_shared<const EnvironmentMap>(
-                                     4096, 2048, sunSkyImage(4096, 2048, sunSkyPreset("noon")).pixels));
+  registerMap("sunsky4096x2048",
+              std::make_shared<const EnvironmentMap>(4096, 2048, sunSkyImage(4096, 2048, sunSkyPreset("noon")).pixels));
   for (const char* file : {"sunset_1024x512.exr", "forest_1024x512.exr", "stage_1000x500.exr"}) {
     const std::filesystem::path path = std::filesystem::path(ACDF_SHARED_ENVMAPS) / file;
     if (std::filesystem::is_regular_file(path))

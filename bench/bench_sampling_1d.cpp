@@ -93,9 +93,12 @@ constexpr const char* kMethodName[] = {"uniform", "alias", "adaptive"};
 
 template <Method M>
 const auto& pick(const Set1D& s) {
-  if constexpr (M == Method::Uniform) return s.uniform;
-  else if constexpr (M == Method::Alias) return s.alias;
-  else return s.adaptive;
+  if constexpr (M == Method::Uniform)
+    return s.uniform;
+  else if constexpr (M == Method::Alias)
+    return s.alias;
+  else
+    return s.adaptive;
 }
 
 template <Method M>
@@ -187,8 +190,7 @@ void headToHead1d(benchmark::State& st, uint32_t n) {
     offset = (offset + kChunk) & kVariateMask;
   }
   h2h.reportSamplersVsUniform(st);
-  st.counters["bytes_alias_vs_uniform"] =
-      static_cast<double>(s.alias.bytes()) / static_cast<double>(s.uniform.bytes());
+  st.counters["bytes_alias_vs_uniform"] = static_cast<double>(s.alias.bytes()) / static_cast<double>(s.uniform.bytes());
   st.counters["bytes_adaptive_vs_uniform"] =
       static_cast<double>(s.adaptive.bytes()) / static_cast<double>(s.uniform.bytes());
 }

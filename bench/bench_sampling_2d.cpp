@@ -213,8 +213,7 @@ std::optional<Distribution> timedBuilds(benchmark::State& st, Set2D& s, Args&&..
   return d;
 }
 
-void buildCascadeOn(benchmark::State& st, uint32_t w, uint32_t h, CascadeOptions options,
-                    Fixture fixture) {
+void buildCascadeOn(benchmark::State& st, uint32_t w, uint32_t h, CascadeOptions options, Fixture fixture) {
   Set2D& s = set2D(w, h, fixture);
   s.uniform();  // the reference for bytes_vs_uniform, built before the peak-memory probe
   s.exact();
@@ -237,9 +236,12 @@ void buildAlias(benchmark::State& st, uint32_t w, uint32_t h) {
 
 template <Method M>
 auto& pick(Set2D& s) {
-  if constexpr (M == Method::Uniform) return s.uniform();
-  else if constexpr (M == Method::Alias) return s.alias();
-  else return s.adaptive();
+  if constexpr (M == Method::Uniform)
+    return s.uniform();
+  else if constexpr (M == Method::Alias)
+    return s.alias();
+  else
+    return s.adaptive();
 }
 
 template <Method M>
@@ -331,25 +333,19 @@ void registerSize(uint32_t w, uint32_t h) {
     b->MinTime(0.1)->Repetitions(3)->DisplayAggregatesOnly(true);
   };
 
-  buildOpts(benchmark::RegisterBenchmark(("build2d/uniform/" + size).c_str(), buildCascade, w, h,
-                                         uniformOptions()));
+  buildOpts(benchmark::RegisterBenchmark(("build2d/uniform/" + size).c_str(), buildCascade, w, h, uniformOptions()));
   buildOpts(reg("build2d/alias/" + size, buildAlias, w, h));
-  buildOpts(benchmark::RegisterBenchmark(("build2d/adaptive/" + size).c_str(), buildCascade, w, h,
-                                         CascadeOptions{}));
+  buildOpts(benchmark::RegisterBenchmark(("build2d/adaptive/" + size).c_str(), buildCascade, w, h, CascadeOptions{}));
 
   for (Simplifier sim : {Simplifier::DouglasPeucker, Simplifier::GreedyRefinement}) {
     for (ErrorMetric metric : {ErrorMetric::Vertical, ErrorMetric::Perpendicular}) {
-      std::string name = std::string("simplify2d/") +
-                         (sim == Simplifier::DouglasPeucker ? "dp" : "greedy") + "-" +
-                         (metric == ErrorMetric::Vertical ? "vertical" : "perpendicular") + "/" +
-                         size;
-      buildOpts(benchmark::RegisterBenchmark(name.c_str(), buildCascade, w, h,
-                                             simplifierOptions(sim, metric)));
+      std::string name = std::string("simplify2d/") + (sim == Simplifier::DouglasPeucker ? "dp" : "greedy") + "-" +
+                         (metric == ErrorMetric::Vertical ? "vertical" : "perpendicular") + "/" + size;
+      buildOpts(benchmark::RegisterBenchmark(name.c_str(), buildCascade, w, h, simplifierOptions(sim, metric)));
     }
   }
   buildOpts(benchmark::RegisterBenchmark(
-      ("simplify2d/greedy-vertical-budget" + std::to_string(kGreedyBudget) + "/" + size).c_str(),
-      buildCascade, w, h,
+      ("simplify2d/greedy-vertical-budget" + std::to_string(kGreedyBudget) + "/" + size).c_str(), buildCascade, w, h,
       simplifierOptions(Simplifier::GreedyRefinement, ErrorMetric::Vertical, kGreedyBudget)));
 
   queryOpts(reg("sample2d/uniform/" + size, sample2d<Method::Uniform>, w, h));
@@ -370,8 +366,8 @@ void registerSize(uint32_t w, uint32_t h) {
 void registerRough(uint32_t w, uint32_t h) {
   const std::string size = std::to_string(w) + "x" + std::to_string(h);
   for (auto [name, options] : {std::pair{"uniform", uniformOptions()}, std::pair{"adaptive", CascadeOptions{}}}) {
-    benchmark::RegisterBenchmark(("build2d-rough/" + std::string(name) + "/" + size).c_str(),
-                                 buildCascadeOn, w, h, options, Fixture::Rough)
+    benchmark::RegisterBenchmark(("build2d-rough/" + std::string(name) + "/" + size).c_str(), buildCascadeOn, w, h,
+                                 options, Fixture::Rough)
         ->Unit(benchmark::kMillisecond)
         ->MinTime(0.3)
         ->Repetitions(3)

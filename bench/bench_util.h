@@ -5,8 +5,8 @@
 #include <malloc.h>
 #include <sys/resource.h>
 
-#include <algorithm>
 #include <benchmark/benchmark.h>
+#include <algorithm>
 
 #include <chrono>
 #include <cstddef>
@@ -105,8 +105,7 @@ class HeadToHead {
       auto t0 = std::chrono::steady_clock::now();
       contenders_[i](offset);
       auto t1 = std::chrono::steady_clock::now();
-      nsPerOp_[i].push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() /
-                            static_cast<double>(ops_));
+      nsPerOp_[i].push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(ops_));
     }
     ++rounds_;
   }

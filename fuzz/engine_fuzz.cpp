@@ -29,12 +29,24 @@ using namespace acdf;
 using fuzz::Bytes;
 using fuzz::require;
 
-constexpr float kPalette[16] = {0.0f, 0.0f, 1.0f, 1.0f, 0.5f, 1e-30f, 1e30f,
+constexpr float kPalette[16] = {0.0f,
+                                0.0f,
+                                1.0f,
+                                1.0f,
+                                0.5f,
+                                1e-30f,
+                                1e30f,
                                 std::numeric_limits<float>::denorm_min(),
                                 std::numeric_limits<float>::min(),
-                                std::numeric_limits<float>::max(), 1e-38f, 3.0f, 1e-10f, 1e10f, 0.25f, 7.0f};
-constexpr float kVariatePalette[8] = {0.0f, kOneMinusEpsilon, 0.5f, 0x1p-24f, 1.0f - 0x1p-23f,
-                                      std::numeric_limits<float>::denorm_min(), 1.0f, -0.0f};
+                                std::numeric_limits<float>::max(),
+                                1e-38f,
+                                3.0f,
+                                1e-10f,
+                                1e10f,
+                                0.25f,
+                                7.0f};
+constexpr float kVariatePalette[8] = {
+    0.0f, kOneMinusEpsilon, 0.5f, 0x1p-24f, 1.0f - 0x1p-23f, std::numeric_limits<float>::denorm_min(), 1.0f, -0.0f};
 
 float value(Bytes& in, bool raw) {
   if (raw) return in.take<float>();
@@ -96,7 +108,8 @@ void run1D(const Distribution& d, Bytes& in) {
 void checkSampleND(std::span<const GridAxis> axes, const SampleND& s, float pdfAtX) {
   require(s.dims == axes.size(), "ND sample has the wrong dimension");
   for (std::size_t d = 0; d < axes.size(); ++d)
-    require(axes[d].contains(s.x[d]), "ND sample outside the domain", "axis " + std::to_string(d) + " " + where(s.x[d], s.pdf, pdfAtX));
+    require(axes[d].contains(s.x[d]), "ND sample outside the domain",
+            "axis " + std::to_string(d) + " " + where(s.x[d], s.pdf, pdfAtX));
   require(std::isfinite(s.pdf) && s.pdf > 0.0f, "ND pdf not finite and positive", where(s.x[0], s.pdf, pdfAtX));
   require(s.pdf == pdfAtX, "ND pdf(x) differs from the sample's pdf", where(s.x[0], s.pdf, pdfAtX));
 }

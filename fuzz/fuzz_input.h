@@ -51,7 +51,8 @@ inline void require(bool ok, const char* what, const std::string& detail = {}) {
 class ScratchFile {
  public:
   ScratchFile(const uint8_t* data, std::size_t size, const std::string& suffix) {
-    const char* dir = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
+    const char* dir =
+        access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
     path_ = std::string(dir) + "/acdf-fuzz-" + std::to_string(getpid()) + suffix;
     std::FILE* f = std::fopen(path_.c_str(), "wb");
     if (!f || (size > 0 && std::fwrite(data, 1, size, f) != size) || std::fclose(f) != 0) fail("cannot write", path_);

@@ -33,8 +33,8 @@ void checkLight(const std::shared_ptr<const acdf::EnvironmentMap>& map, acdf::En
         fuzz::require(s.pdf == 0.0, "light: a black map returned a sample");
         continue;
       }
-      const double length = std::sqrt(s.direction.x * s.direction.x + s.direction.y * s.direction.y +
-                                      s.direction.z * s.direction.z);
+      const double length =
+          std::sqrt(s.direction.x * s.direction.x + s.direction.y * s.direction.y + s.direction.z * s.direction.z);
       fuzz::require(std::fabs(length - 1.0) < 1e-5, "light: direction is not unit length");
       fuzz::require(std::isfinite(s.pdf) && s.pdf > 0.0, "light: pdf not finite and positive");
       const double pdf = light.pdf(s.direction);

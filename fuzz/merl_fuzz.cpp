@@ -24,7 +24,8 @@ void checkEval(const acdf::MerlBrdf& brdf, acdf::fuzz::Bytes& angles) {
     if (!std::isfinite(th) || !std::isfinite(td) || !std::isfinite(pd)) continue;
     for (auto mode : {acdf::MerlBrdf::Interpolation::Nearest, acdf::MerlBrdf::Interpolation::Trilinear}) {
       const acdf::Rgb v = brdf.evalHalfDiff(std::fabs(th), std::fabs(td), pd, mode);
-      for (float c : {v.r, v.g, v.b}) acdf::fuzz::require(std::isfinite(c) && c >= 0.0f, "merl: eval not finite and >= 0");
+      for (float c : {v.r, v.g, v.b})
+        acdf::fuzz::require(std::isfinite(c) && c >= 0.0f, "merl: eval not finite and >= 0");
     }
   }
 }

@@ -26,11 +26,14 @@ struct Preset {
 
 // F0 of gold and aluminium: linear RGB values from Real-Time Rendering (4th ed.), table 9.2.
 const Preset kPresets[] = {
-    {"gold", "GGX conductor, alpha 0.15, Schlick F0 (1.000, 0.766, 0.336)",
+    {"gold",
+     "GGX conductor, alpha 0.15, Schlick F0 (1.000, 0.766, 0.336)",
      {AnalyticBrdf::Kind::Conductor, 0.15, {1.000, 0.766, 0.336}, {}, 1.5}},
-    {"rough-aluminium", "GGX conductor, alpha 0.4, Schlick F0 (0.913, 0.922, 0.924)",
+    {"rough-aluminium",
+     "GGX conductor, alpha 0.4, Schlick F0 (0.913, 0.922, 0.924)",
      {AnalyticBrdf::Kind::Conductor, 0.4, {0.913, 0.922, 0.924}, {}, 1.5}},
-    {"red-plastic", "diffuse albedo (0.5, 0.05, 0.05) under a GGX coat, alpha 0.08, ior 1.5",
+    {"red-plastic",
+     "diffuse albedo (0.5, 0.05, 0.05) under a GGX coat, alpha 0.08, ior 1.5",
      {AnalyticBrdf::Kind::CoatedDiffuse, 0.08, {}, {0.5, 0.05, 0.05}, 1.5}},
 };
 
@@ -58,8 +61,8 @@ std::array<double, 3> AnalyticBrdf::evalHalfDiff(double thetaHalf, double thetaD
   const double cosI = p.wi.z, cosO = p.wo.z;
   if (!(cosI > 0 && cosO > 0)) return {0.0, 0.0, 0.0};
   const double cosD = std::cos(thetaDiff);
-  const double specular = ggxD(alpha, std::cos(thetaHalf)) * smithG1(alpha, cosI) * smithG1(alpha, cosO) /
-                          (4.0 * cosI * cosO);
+  const double specular =
+      ggxD(alpha, std::cos(thetaHalf)) * smithG1(alpha, cosI) * smithG1(alpha, cosO) / (4.0 * cosI * cosO);
   std::array<double, 3> f{};
   if (kind == Kind::Conductor) {
     for (int c = 0; c < 3; ++c) f[c] = schlick(f0[c], cosD) * specular;

@@ -29,8 +29,7 @@ Vec3d capDirection(double cap, double phi) {
 
 }  // namespace
 
-std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo,
-                                         const SphereChiSquareOptions& o) {
+std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo, const SphereChiSquareOptions& o) {
   const auto* table = dynamic_cast<const TabulatedBrdfSampler*>(&sampler);
   if (!table && !dynamic_cast<const CosineBrdfSampler*>(&sampler))
     throw std::invalid_argument("brdf chi-square: unknown sampler " + sampler.name());
@@ -43,7 +42,8 @@ std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d
   // 2π/phiBins: (za² − zb²)/phiBins.
   for (uint32_t row = 0; row < o.thetaBins / 2; ++row) {
     const double za = 1.0 - 2.0 * row / o.thetaBins, zb = 1.0 - 2.0 * (row + 1) / o.thetaBins;
-    for (uint32_t col = 0; col < o.phiBins; ++col) p[std::size_t{row} * o.phiBins + col] += w * (za * za - zb * zb) / o.phiBins;
+    for (uint32_t col = 0; col < o.phiBins; ++col)
+      p[std::size_t{row} * o.phiBins + col] += w * (za * za - zb * zb) / o.phiBins;
   }
   if (cosineOnly || w == 1.0) return p;
 

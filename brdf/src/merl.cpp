@@ -39,8 +39,10 @@ constexpr double kHalfPi = std::numbers::pi / 2;
 // "NaN in the green channel at index 12345 (θh cell 0, θd cell 68, φd cell 105)".
 std::string badValueProblem(int channel, std::size_t index, double value) {
   std::string what;
-  if (std::isnan(value)) what = "NaN";
-  else if (std::isinf(value)) what = value > 0 ? "+Inf" : "-Inf";
+  if (std::isnan(value))
+    what = "NaN";
+  else if (std::isinf(value))
+    what = value > 0 ? "+Inf" : "-Inf";
   else {
     char text[40];
     std::snprintf(text, sizeof text, "%.9g", value);
@@ -49,9 +51,8 @@ std::string badValueProblem(int channel, std::size_t index, double value) {
   const std::size_t th = index / (std::size_t{MerlBrdf::kThetaDiffCells} * MerlBrdf::kPhiDiffCells);
   const std::size_t td = index / MerlBrdf::kPhiDiffCells % MerlBrdf::kThetaDiffCells;
   const std::size_t pd = index % MerlBrdf::kPhiDiffCells;
-  return what + " in the " + kChannelName[channel] + " channel at index " + std::to_string(index) +
-         " (theta_h cell " + std::to_string(th) + ", theta_d cell " + std::to_string(td) +
-         ", phi_d cell " + std::to_string(pd) + ")";
+  return what + " in the " + kChannelName[channel] + " channel at index " + std::to_string(index) + " (theta_h cell " +
+         std::to_string(th) + ", theta_d cell " + std::to_string(td) + ", phi_d cell " + std::to_string(pd) + ")";
 }
 
 std::string errnoText() { return std::strerror(errno); }
@@ -113,8 +114,8 @@ MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, s
   for (int c = 0; c < 3; ++c) {
     if (channels[c].size() != kCells) {
       throw std::invalid_argument("MERL BRDF: the " + std::string(kChannelName[c]) + " channel has " +
-                                  std::to_string(channels[c].size()) + " values, expected " +
-                                  std::to_string(kCells) + " (90 x 90 x 180)");
+                                  std::to_string(channels[c].size()) + " values, expected " + std::to_string(kCells) +
+                                  " (90 x 90 x 180)");
     }
   }
   values_.resize(3 * kCells);

@@ -8,9 +8,9 @@
 #include <numbers>
 #include <system_error>
 
-#include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
 
 #include "acdf/sampling/regular_file.h"
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -136,8 +136,8 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
     const double thetaHalf = s * s * kHalfPi;
     for (uint32_t t = 0; t < lattice.points; ++t) {
       const double phi = (t + lattice.offset) * lattice.spacing;
-      halfVectors.push_back({sphericalDirection(thetaHalf, phi), HalfVectorFrame(thetaHalf, phi),
-                             kPi * s * std::sin(thetaHalf)});
+      halfVectors.push_back(
+          {sphericalDirection(thetaHalf, phi), HalfVectorFrame(thetaHalf, phi), kPi * s * std::sin(thetaHalf)});
     }
   }
 
@@ -260,9 +260,8 @@ CacheKey TabulatedBrdfSampler::tableKey(const MerlBrdf& brdf, MerlBrdf::Interpol
       " interpolation=" + (interpolation == MerlBrdf::Interpolation::Nearest ? "nearest" : "trilinear") +
       " layout=" + (o.layout == Layout::Full4D ? "full-4d" : "isotropic") +
       " cells=" + std::to_string(o.thetaOutCells) + "x" + std::to_string(o.phiOutCells) + "x" +
-      std::to_string(o.thetaHalfCells) + "x" + std::to_string(o.phiHalfCells) +
-      " mirror=" + std::to_string(o.mirror) + " supersampling=" + std::to_string(o.supersampling) + " " +
-      describe(cascadeOptions(o));
+      std::to_string(o.thetaHalfCells) + "x" + std::to_string(o.phiHalfCells) + " mirror=" + std::to_string(o.mirror) +
+      " supersampling=" + std::to_string(o.supersampling) + " " + describe(cascadeOptions(o));
   return cacheKey(content, parameters);
 }
 
@@ -280,8 +279,9 @@ Vec3d TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1)
   // The rest of u0's range, stretched back to [0, 1), drives the table; for a mirrored table
   // u1's halves choose the sign of Δφ (exact in float: 2·u1 and 2·u1 − 1).
   const bool negative = mirrored(options_) && u1 >= 0.5f;
-  const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))),
-                               negative ? 2.0f * u1 - 1.0f : mirrored(options_) ? 2.0f * u1 : u1};
+  const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))), negative ? 2.0f * u1 - 1.0f
+                                                                                    : mirrored(options_) ? 2.0f * u1
+                                                                                                         : u1};
   const std::array<float, 2> c = condition(wo);
   const std::size_t k = table_.conditioningDims();
   const SampleND x = table_.sample(std::span<const float>(c.data(), k), u);

@@ -123,12 +123,8 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
       cascade_.emplace(cascadeOf(tabulated_, axes, uniform, savedTable));
       break;
     }
-    case EnvironmentSampling::Alias:
-      alias_.emplace(tabulated_, width, height);
-      break;
-    case EnvironmentSampling::Hierarchical:
-      warp_.emplace(tabulated_, axes);
-      break;
+    case EnvironmentSampling::Alias: alias_.emplace(tabulated_, width, height); break;
+    case EnvironmentSampling::Hierarchical: warp_.emplace(tabulated_, axes); break;
     case EnvironmentSampling::Adaptive:
     case EnvironmentSampling::Compensated: {
       CascadeOptions adaptive;
@@ -214,9 +210,9 @@ std::vector<std::byte> EnvironmentLight::serializeTable() const {
 CacheKey EnvironmentLight::tableKey(const EnvironmentMap& map, const EnvironmentLightOptions& options) {
   ContentHash content;
   content.number(map.width()).number(map.height()).values(std::span<const float>(map.rgb()));
-  return cacheKey(content, "environment-light tabulation=" + std::to_string(kTabulationVersion) +
-                               " strategy=" + std::string(toString(options.strategy)) + " " +
-                               describe(options.simplify) + " cascade-format=" + std::to_string(Cascade::kSerialVersion));
+  return cacheKey(content, "environment-light tabulation=" + std::to_string(kTabulationVersion) + " strategy=" +
+                               std::string(toString(options.strategy)) + " " + describe(options.simplify) +
+                               " cascade-format=" + std::to_string(Cascade::kSerialVersion));
 }
 
 Cached<EnvironmentLight> EnvironmentLight::cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,

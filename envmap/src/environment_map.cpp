@@ -24,8 +24,10 @@ EnvironmentMap::EnvironmentMap(uint32_t width, uint32_t height, std::vector<floa
     for (std::size_t c = 0; c < 3; ++c) {
       float& v = rgb_[3 * i + c];
       if (!std::isfinite(v))
-        throw std::invalid_argument(fmt::format("EnvironmentMap: pixel (x {}, y {}) has channel {} = {}; NaN and "
-                                                "Inf are not allowed", i % width, i / width, "RGB"[c], v));
+        throw std::invalid_argument(
+            fmt::format("EnvironmentMap: pixel (x {}, y {}) has channel {} = {}; NaN and "
+                        "Inf are not allowed",
+                        i % width, i / width, "RGB"[c], v));
       if (v < 0.0f) {
         v = 0.0f;
         negative = true;
@@ -42,7 +44,8 @@ EnvironmentMap EnvironmentMap::fromImage(const Image& image, const std::string& 
     rgb = image.pixels;
   } else {
     rgb.resize(3 * image.pixels.size());
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = image.pixels[i];
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = image.pixels[i];
   }
   try {
     EnvironmentMap map(image.width, image.height, std::move(rgb));

@@ -76,16 +76,18 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
   const int bufferedRows = spec.tile_width > 0 ? spec.tile_height : kScanlinesPerConversion;
   const double conversionBytes = static_cast<double>(spec.scanline_bytes(true)) * std::max(bufferedRows, 1);
   if (conversionBytes > kMaxConversionBufferBytes)
-    fail(fmt::format("the header claims rows of {} pixels x {} channels, too wide to read ({:.3g} GB per {} rows); "
-                     "the file is corrupt",
-                     spec.width, spec.nchannels, conversionBytes * 1e-9, std::max(bufferedRows, 1)));
+    fail(
+        fmt::format("the header claims rows of {} pixels x {} channels, too wide to read ({:.3g} GB per {} rows); "
+                    "the file is corrupt",
+                    spec.width, spec.nchannels, conversionBytes * 1e-9, std::max(bufferedRows, 1)));
   const std::size_t values = std::size_t{image.width} * image.height * image.channels;
   const double decodedBytes = static_cast<double>(values) * sizeof(float);
   const auto fileBytes = fs::file_size(path);
   if (decodedBytes > kMaxDecodedBytesPerFileByte * static_cast<double>(fileBytes))
-    fail(fmt::format("the header claims {} x {} pixels ({:.3g} GB as float) from a file of {} bytes, more than any "
-                     "image format compresses to; the file is corrupt",
-                     spec.width, spec.height, decodedBytes * 1e-9, fileBytes));
+    fail(
+        fmt::format("the header claims {} x {} pixels ({:.3g} GB as float) from a file of {} bytes, more than any "
+                    "image format compresses to; the file is corrupt",
+                    spec.width, spec.height, decodedBytes * 1e-9, fileBytes));
   try {
     image.pixels.resize(values);
   } catch (const std::bad_alloc&) {
@@ -130,9 +132,10 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
   std::random_device random;
   const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
   auto output = OIIO::ImageOutput::create(format);
-  if (!output) throw ImageFileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
-  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height),
-                       static_cast<int>(image.channels), type);
+  if (!output)
+    throw ImageFileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
+  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), static_cast<int>(image.channels),
+                       type);
   if (image.channels == 1) spec.channelnames = {"Y"};
   if (compression) spec.attribute("compression", compression);
   auto fail = [&](const std::string& what) {

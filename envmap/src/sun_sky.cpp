@@ -20,16 +20,30 @@ struct Preset {
 
 const Preset kPresets[] = {
     {"noon", SunSkyParameters{}},
-    {"afternoon", SunSkyParameters{.sunElevationDeg = 25, .sunAzimuthDeg = 200, .sunIntensity = 5e4,
-                                   .zenith = {0.35f, 0.5f, 0.9f}, .horizon = {0.9f, 0.9f, 0.95f},
-                                   .glow = 0.8, .glowWidthDeg = 20}},
-    {"sunset", SunSkyParameters{.sunElevationDeg = 2, .sunAzimuthDeg = 270, .sunRadiusDeg = 0.4,
-                                .sunIntensity = 5e3, .sunColor = {1.0f, 0.45f, 0.15f},
-                                .zenith = {0.08f, 0.1f, 0.25f}, .horizon = {1.0f, 0.55f, 0.3f},
-                                .gradient = 0.3, .glow = 2.0, .glowWidthDeg = 12,
+    {"afternoon", SunSkyParameters{.sunElevationDeg = 25,
+                                   .sunAzimuthDeg = 200,
+                                   .sunIntensity = 5e4,
+                                   .zenith = {0.35f, 0.5f, 0.9f},
+                                   .horizon = {0.9f, 0.9f, 0.95f},
+                                   .glow = 0.8,
+                                   .glowWidthDeg = 20}},
+    {"sunset", SunSkyParameters{.sunElevationDeg = 2,
+                                .sunAzimuthDeg = 270,
+                                .sunRadiusDeg = 0.4,
+                                .sunIntensity = 5e3,
+                                .sunColor = {1.0f, 0.45f, 0.15f},
+                                .zenith = {0.08f, 0.1f, 0.25f},
+                                .horizon = {1.0f, 0.55f, 0.3f},
+                                .gradient = 0.3,
+                                .glow = 2.0,
+                                .glowWidthDeg = 12,
                                 .ground = {0.04f, 0.03f, 0.03f}}},
-    {"overcast", SunSkyParameters{.sunRadiusDeg = 0, .sunIntensity = 0, .zenith = {0.9f, 0.9f, 0.92f},
-                                  .horizon = {0.3f, 0.3f, 0.31f}, .gradient = 1.0, .glow = 0,
+    {"overcast", SunSkyParameters{.sunRadiusDeg = 0,
+                                  .sunIntensity = 0,
+                                  .zenith = {0.9f, 0.9f, 0.92f},
+                                  .horizon = {0.3f, 0.3f, 0.31f},
+                                  .gradient = 1.0,
+                                  .glow = 0,
                                   .ground = {0.08f, 0.08f, 0.08f}}},
 };
 
@@ -69,14 +83,14 @@ SunSkyParameters sunSkyPreset(const std::string& name) {
 Image sunSkyImage(uint32_t width, uint32_t height, const SunSkyParameters& p) {
   validate(width, height, p);
   const LatLongMapping mapping(width, height);
-  const Vec3d sun = LatLongMapping::direction(std::numbers::pi / 2 - p.sunElevationDeg * kDegree,
-                                              p.sunAzimuthDeg * kDegree);
+  const Vec3d sun =
+      LatLongMapping::direction(std::numbers::pi / 2 - p.sunElevationDeg * kDegree, p.sunAzimuthDeg * kDegree);
   const bool hasSun = p.sunRadiusDeg > 0 && p.sunIntensity > 0;
   const double cosSunRadius = std::cos(p.sunRadiusDeg * kDegree);
   // A pixel can touch the disk only if its centre is within the radius plus the pixel's extent
   // (at most a pixel's width in φ or height in θ, whichever is larger, times √2 for the diagonal).
-  const double reach = p.sunRadiusDeg * kDegree + std::numbers::sqrt2 * std::max(std::numbers::pi / height,
-                                                                                2 * std::numbers::pi / width);
+  const double reach = p.sunRadiusDeg * kDegree +
+                       std::numbers::sqrt2 * std::max(std::numbers::pi / height, 2 * std::numbers::pi / width);
   const double cosReach = std::cos(std::min(reach, std::numbers::pi));
   const double glowWidth = p.glowWidthDeg * kDegree;
   const Rgb sunRadiance{static_cast<float>(p.sunIntensity * p.sunColor.r),
@@ -108,8 +122,8 @@ Image sunSkyImage(uint32_t width, uint32_t height, const SunSkyParameters& p) {
         uint32_t inside = 0;
         for (uint32_t i = 0; i < kSunSupersampling; ++i)
           for (uint32_t j = 0; j < kSunSupersampling; ++j)
-            inside += dot(mapping.directionInPixel(pixel, (i + 0.5) / kSunSupersampling,
-                                                   (j + 0.5) / kSunSupersampling), sun) >= cosSunRadius;
+            inside += dot(mapping.directionInPixel(pixel, (i + 0.5) / kSunSupersampling, (j + 0.5) / kSunSupersampling),
+                          sun) >= cosSunRadius;
         L = mix(L, sunRadiance, static_cast<double>(inside) / (kSunSupersampling * kSunSupersampling));
       }
       float* out = &image.pixels[3 * (std::size_t{row} * width + column)];

@@ -28,9 +28,7 @@ Environment::Environment(std::shared_ptr<const EnvironmentMap> map, Rotation wor
   if (strategy_ && !light_) throw std::invalid_argument("Environment: a table strategy needs its EnvironmentLight");
 }
 
-Color Environment::eval(const Vec3d& w) const {
-  return Color(map_->radiance(worldFromMap_.applyInverse(w))) * scale_;
-}
+Color Environment::eval(const Vec3d& w) const { return Color(map_->radiance(worldFromMap_.applyInverse(w))) * scale_; }
 
 LightSample Environment::sample(float u0, float u1) const {
   if (!strategy_) {

@@ -29,7 +29,8 @@ Image Film::image() const {
   for (uint32_t y = 0; y < height_; ++y)
     for (uint32_t x = 0; x < width_; ++x) {
       const Color c = mean(x, y);
-      image.pixels.insert(image.pixels.end(), {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)});
+      image.pixels.insert(image.pixels.end(),
+                          {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)});
     }
   return image;
 }

@@ -14,7 +14,8 @@ namespace {
 
 void check(RTCDevice device, const char* what) {
   const RTCError error = rtcGetDeviceError(device);
-  if (error != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + what + " failed (error " + std::to_string(error) + ")");
+  if (error != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree: ") + what + " failed (error " + std::to_string(error) + ")");
 }
 
 RTCRay toEmbree(const Ray& ray, double maxDistance) {
@@ -27,7 +28,7 @@ RTCRay toEmbree(const Ray& ray, double maxDistance) {
   r.dir_z = static_cast<float>(ray.direction.z);
   r.tnear = 0.0f;
   r.tfar = maxDistance >= std::numeric_limits<float>::max() ? std::numeric_limits<float>::infinity()
-                                                             : static_cast<float>(maxDistance);
+                                                            : static_cast<float>(maxDistance);
   r.mask = ~0u;
   r.flags = 0;
   return r;
@@ -56,8 +57,8 @@ Geometry::Geometry(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes
 
   if (!spheres_.empty()) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                          4 * sizeof(float), spheres_.size()));
+    auto* v = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres_.size()));
     check(device_, "allocating sphere buffers");
     for (std::size_t i = 0; i < spheres_.size(); ++i) {
       v[4 * i + 0] = static_cast<float>(spheres_[i].center.x);

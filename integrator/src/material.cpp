@@ -30,7 +30,8 @@ double DiffuseMaterial::pdf(const Vec3d&, const Vec3d& wi) const { return cosine
 
 MeasuredMaterial::MeasuredMaterial(std::shared_ptr<const MerlBrdf> brdf, std::shared_ptr<const BrdfSampler> sampler)
     : brdf_(std::move(brdf)), sampler_(std::move(sampler)) {
-  if (&sampler_->brdf() != brdf_.get()) throw std::invalid_argument("MeasuredMaterial: the sampler samples another BRDF");
+  if (&sampler_->brdf() != brdf_.get())
+    throw std::invalid_argument("MeasuredMaterial: the sampler samples another BRDF");
 }
 
 Color MeasuredMaterial::eval(const Vec3d& wo, const Vec3d& wi) const {

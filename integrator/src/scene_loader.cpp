@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <tiny_obj_loader.h>
+#include <nlohmann/json.hpp>
 
 #include "acdf/brdf/analytic.h"
 #include "acdf/envmap/image_file.h"
@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 // A JSON value and where it sits in the file, for messages like "$.shapes[2].radius: ...".
 class Node {
  public:
-  Node(const Json& value, std::string path, const std::string& file) : value_(value), path_(std::move(path)), file_(file) {}
+  Node(const Json& value, std::string path, const std::string& file)
+      : value_(value), path_(std::move(path)), file_(file) {}
 
   [[noreturn]] void fail(const std::string& problem) const { throw SceneError(file_, path_ + ": " + problem); }
 
@@ -191,8 +192,8 @@ TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& tr
   if (!reader.ParseFromFile(path.string(), config)) {
     std::string message = reader.Error();
     while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
-    throw SceneError(path.string(), (message.empty() ? "cannot read the OBJ file" : message) + " (referenced by " +
-                                        node.path() + ")");
+    throw SceneError(path.string(),
+                     (message.empty() ? "cannot read the OBJ file" : message) + " (referenced by " + node.path() + ")");
   }
   TriangleMesh mesh;
   const auto& vertices = reader.GetAttrib().vertices;
@@ -216,13 +217,17 @@ TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& tr
 }
 
 TabulatedBrdfOptions readTableOptions(const Node& node) {
-  node.object({"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
+  node.object(
+      {"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
   TabulatedBrdfOptions o;
   if (node.has("layout")) {
     const std::string layout = node["layout"].string();
-    if (layout == "4d") o.layout = TabulatedBrdfOptions::Layout::Full4D;
-    else if (layout == "isotropic") o.layout = TabulatedBrdfOptions::Layout::Isotropic;
-    else node["layout"].fail("expected \"4d\" or \"isotropic\"");
+    if (layout == "4d")
+      o.layout = TabulatedBrdfOptions::Layout::Full4D;
+    else if (layout == "isotropic")
+      o.layout = TabulatedBrdfOptions::Layout::Isotropic;
+    else
+      node["layout"].fail("expected \"4d\" or \"isotropic\"");
   }
   if (node.has("theta_out")) o.thetaOutCells = node["theta_out"].count(1);
   if (node.has("phi_out")) o.phiOutCells = node["phi_out"].count(1);
@@ -244,7 +249,7 @@ TabulatedBrdfOptions readTableOptions(const Node& node) {
 
 // Material descriptions are read up front (to report every error early) and built on demand.
 struct MaterialSpec {
-  std::string path;  // JSON path, for messages
+  std::string path;              // JSON path, for messages
   std::optional<fs::path> file;  // the data file it needs, checked once the material is used
   std::function<std::unique_ptr<Material>(TableProvider&)> build;
 };
@@ -258,7 +263,8 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     spec.build = [albedo](TableProvider&) { return std::make_unique<DiffuseMaterial>(albedo); };
   } else if (type == "measured") {
     node.object({"type", "file", "preset", "sampling", "interpolation", "table"});
-    if (node.has("file") == node.has("preset")) node.fail("a measured material needs exactly one of \"file\" and \"preset\"");
+    if (node.has("file") == node.has("preset"))
+      node.fail("a measured material needs exactly one of \"file\" and \"preset\"");
     std::optional<fs::path> file;
     std::string preset;
     if (node.has("file")) {
@@ -278,8 +284,10 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
     if (node.has("interpolation")) {
       const std::string name = node["interpolation"].string();
-      if (name == "trilinear") interpolation = MerlBrdf::Interpolation::Trilinear;
-      else if (name != "nearest") node["interpolation"].fail("expected \"nearest\" or \"trilinear\"");
+      if (name == "trilinear")
+        interpolation = MerlBrdf::Interpolation::Trilinear;
+      else if (name != "nearest")
+        node["interpolation"].fail("expected \"nearest\" or \"trilinear\"");
     }
     const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
     const std::string where = node.path();
@@ -353,7 +361,8 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   return spec;
 }
 
-std::unique_ptr<Environment> buildEnvironment(const EnvironmentSpec& spec, TableProvider& tables, const std::string& where) {
+std::unique_ptr<Environment> buildEnvironment(const EnvironmentSpec& spec, TableProvider& tables,
+                                              const std::string& where) {
   std::shared_ptr<const EnvironmentMap> map;
   std::string key;
   if (spec.file) {
@@ -410,7 +419,8 @@ MisMode parseMisMode(std::string_view name) {
 
 Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
   std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw SceneError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
+  if (!fs::is_regular_file(file, ec))
+    throw SceneError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
   std::ifstream in(file);
   if (!in) throw SceneError(file.string(), "cannot open the file");
   std::stringstream text;
@@ -418,7 +428,8 @@ Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProv
   return loadSceneText(text.str(), file, overrides, tables);
 }
 
-Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
+Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOverrides& overrides,
+                    TableProvider& tables) {
   const std::string name = file.string();
   const fs::path baseDir = file.parent_path();
   Json json;
@@ -471,7 +482,8 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   }();
 
   std::map<std::string, MaterialSpec> materialSpecs;
-  for (const auto& [key, node] : root["materials"].members()) materialSpecs.emplace(key, readMaterial(node, baseDir, overrides));
+  for (const auto& [key, node] : root["materials"].members())
+    materialSpecs.emplace(key, readMaterial(node, baseDir, overrides));
 
   // Shapes refer to materials by name; each used name gets an index, in order of first use.
   std::map<std::string, uint32_t> materialIndex;
@@ -521,8 +533,9 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
   scene.environment = buildEnvironment(envSpec, tables, "$.environment");
   if (settings.mis == MisMode::LightOnly && scene.environment->needsMis())
-    throw SceneError(name, "light-only rendering cannot use compensated environment sampling (its pdf is 0 where the "
-                           "map is dimmer than its mean); choose another --env-sampling or --mis");
+    throw SceneError(name,
+                     "light-only rendering cannot use compensated environment sampling (its pdf is 0 where the "
+                     "map is dimmer than its mean); choose another --env-sampling or --mis");
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
   } catch (const std::invalid_argument& e) {

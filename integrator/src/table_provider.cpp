@@ -15,7 +15,9 @@ namespace {
 class ScopedTimer {
  public:
   explicit ScopedTimer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~ScopedTimer() { total_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count(); }
+  ~ScopedTimer() {
+    total_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
   ScopedTimer(const ScopedTimer&) = delete;
   ScopedTimer& operator=(const ScopedTimer&) = delete;
 
@@ -56,7 +58,8 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& nam
     ScopedTimer timer(milliseconds_);
     const std::vector<double> raw = AnalyticBrdf::preset(name).merlTable();
     const std::span<const double> all(raw);
-    slot = std::make_shared<const MerlBrdf>(all.subspan(0, MerlBrdf::kCells), all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
+    slot = std::make_shared<const MerlBrdf>(all.subspan(0, MerlBrdf::kCells),
+                                            all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
                                             all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
   }
   return slot;
@@ -84,9 +87,8 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
   auto& slot = brdfSamplers_[fmt::format("{} w={:a}", tableKey.hex(), table.cosineWeight)];
   if (!slot) {
     const std::string what = fmt::format("brdf {} {}", table.name(), brdfKey);
-    Cached<Cascade> cascade = cache_.getOrBuild(tableKey, what, [&] {
-      return TabulatedBrdfSampler::buildCascade(*brdf, interpolation, table);
-    });
+    Cached<Cascade> cascade = cache_.getOrBuild(
+        tableKey, what, [&] { return TabulatedBrdfSampler::buildCascade(*brdf, interpolation, table); });
     try {
       slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table, std::move(cascade.value));
     } catch (const SerializationError&) {
@@ -99,9 +101,9 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
   return slot;
 }
 
-std::shared_ptr<const EnvironmentLight> TableProvider::environmentLight(const std::shared_ptr<const EnvironmentMap>& map,
-                                                                        const std::string& mapKey,
-                                                                        const EnvironmentLightOptions& options) {
+std::shared_ptr<const EnvironmentLight> TableProvider::environmentLight(
+    const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey,
+    const EnvironmentLightOptions& options) {
   ScopedTimer timer(milliseconds_);
   // The light also carries the rotation and scale, which its table does not depend on (they are
   // not in the cache key), but a light is one object: they tell lights apart here.

@@ -5,8 +5,7 @@
 
 namespace acdf {
 
-AdaptiveCdf1D::AdaptiveCdf1D(std::span<const float> function, float lo, float hi,
-                             const SimplifyOptions& options)
+AdaptiveCdf1D::AdaptiveCdf1D(std::span<const float> function, float lo, float hi, const SimplifyOptions& options)
     : axis_(static_cast<uint32_t>(function.size()), lo, hi), vertices_(axis_.cells()) {
   checkNonNegativeFinite(function);
   validate(options);
@@ -39,8 +38,6 @@ float AdaptiveCdf1D::pdf(float x) const {
   return clampDensity(detail::lookup(view(cdf_, vertices_, axis_.cells()), axis_, x).density);
 }
 
-float AdaptiveCdf1D::invert(float x) const {
-  return detail::invert(view(cdf_, vertices_, axis_.cells()), axis_, x);
-}
+float AdaptiveCdf1D::invert(float x) const { return detail::invert(view(cdf_, vertices_, axis_.cells()), axis_, x); }
 
 }  // namespace acdf

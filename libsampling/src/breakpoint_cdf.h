@@ -45,9 +45,7 @@ struct BreakpointCdf {
   }
 
   // Exact in double: the difference of two floats.
-  double mass(std::size_t j) const {
-    return static_cast<double>(value(j + 1)) - static_cast<double>(value(j));
-  }
+  double mass(std::size_t j) const { return static_cast<double>(value(j + 1)) - static_cast<double>(value(j)); }
 };
 
 // One sampled coordinate: the interval chosen, its cells, where in it the sample fell, and the

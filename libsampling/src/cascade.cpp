@@ -71,8 +71,10 @@ void fillCellProbabilities(std::span<const LevelView> levels, std::size_t root, 
       first[level] = n.cdf.vertex(j);
       end[level] = n.cdf.vertex(j + 1);
       const double share = perCell * mass / (end[level] - first[level]);
-      if (level + 1 == dims) fillBox(share);
-      else self(self, level + 1, n.childBase + j, share);
+      if (level + 1 == dims)
+        fillBox(share);
+      else
+        self(self, level + 1, n.childBase + j, share);
     }
   };
   visit(visit, 0, root, 1.0);
@@ -224,8 +226,10 @@ class Builder {
         buildChild(block, masses, total, share, level, c);
         c.built = true;
       };
-      if (parallel && pending.size() > 1) tbb::parallel_for(std::size_t{0}, pending.size(), buildOne);
-      else for (std::size_t k = 0; k < pending.size(); ++k) buildOne(k);
+      if (parallel && pending.size() > 1)
+        tbb::parallel_for(std::size_t{0}, pending.size(), buildOne);
+      else
+        for (std::size_t k = 0; k < pending.size(); ++k) buildOne(k);
       if (!bounded) return children;
 
       std::vector<Child> next;
@@ -295,8 +299,8 @@ class Builder {
 
   // The joint of the next axes given the interval [a, b) of this one.
   template <class T>
-  std::vector<double> mergeRows(std::span<const T> block, const std::vector<double>& masses,
-                                uint32_t a, uint32_t b, std::size_t row) const {
+  std::vector<double> mergeRows(std::span<const T> block, const std::vector<double>& masses, uint32_t a, uint32_t b,
+                                std::size_t row) const {
     std::vector<double> merged(row, 0.0);
     for (uint32_t j = a; j < b; ++j) {
       // Exact conditional: sum the rows. Eq. 10: average the normalised rows (the common 1/count
@@ -324,13 +328,11 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
   checkGridShape(values.size(), axes_);
   if (conditioningDims_ >= axes_.size()) {
     throw std::invalid_argument("cascade: " + std::to_string(conditioningDims_) +
-                                " conditioning axes leave none to sample out of " +
-                                std::to_string(axes_.size()));
+                                " conditioning axes leave none to sample out of " + std::to_string(axes_.size()));
   }
   if (!options_.methods.empty() && options_.methods.size() != sampledDims()) {
-    throw std::invalid_argument("cascade: " + std::to_string(options_.methods.size()) +
-                                " dimension methods for " + std::to_string(sampledDims()) +
-                                " sampled axes");
+    throw std::invalid_argument("cascade: " + std::to_string(options_.methods.size()) + " dimension methods for " +
+                                std::to_string(sampledDims()) + " sampled axes");
   }
   validate(options_.simplify);
   if (!(options_.sliceGroupingTolerance >= 0.0) || !std::isfinite(options_.sliceGroupingTolerance)) {
@@ -354,8 +356,10 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
     sliceIntegral_[s] =
         builder.build<float>(values.subspan(s * sliceSize, sliceSize), 0, parts[s], slices == 1) * cellVolume;
   };
-  if (slices == 1) buildSlice(0);
-  else tbb::parallel_for(std::size_t{0}, slices, buildSlice);
+  if (slices == 1)
+    buildSlice(0);
+  else
+    tbb::parallel_for(std::size_t{0}, slices, buildSlice);
 
   // Pools the chosen slices' subtrees into levels_; root i of level 0 is roots[i].
   auto assemble = [&](const std::vector<std::size_t>& roots) {
@@ -379,8 +383,10 @@ Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, Casc
   assemble(roots);
   if (options_.sliceGroupingTolerance > 0.0 && slices > 1) {
     roots = groupSlices(values, sliceSize);
-    if (roots.size() < slices) assemble(roots);
-    else sliceRoot_.clear();
+    if (roots.size() < slices)
+      assemble(roots);
+    else
+      sliceRoot_.clear();
   }
 }
 
@@ -417,9 +423,8 @@ std::vector<std::size_t> Cascade::groupSlices(std::span<const float> values, std
 
 std::size_t Cascade::sliceOf(std::span<const float> condition) const {
   if (condition.size() != conditioningDims_) {
-    throw std::invalid_argument("cascade: " + std::to_string(condition.size()) +
-                                " condition coordinates for " + std::to_string(conditioningDims_) +
-                                " conditioning axes");
+    throw std::invalid_argument("cascade: " + std::to_string(condition.size()) + " condition coordinates for " +
+                                std::to_string(conditioningDims_) + " conditioning axes");
   }
   std::size_t slice = 0;
   for (std::size_t d = 0; d < conditioningDims_; ++d) {
@@ -431,8 +436,8 @@ std::size_t Cascade::sliceOf(std::span<const float> condition) const {
 namespace {
 void requireArity(std::size_t given, std::size_t needed, const char* what) {
   if (given != needed) {
-    throw std::invalid_argument(std::string("cascade: ") + std::to_string(given) + " " + what +
-                                " for " + std::to_string(needed) + " sampled axes");
+    throw std::invalid_argument(std::string("cascade: ") + std::to_string(given) + " " + what + " for " +
+                                std::to_string(needed) + " sampled axes");
   }
 }
 }  // namespace
@@ -498,7 +503,8 @@ std::size_t Cascade::distinctSlices() const {
 std::vector<std::size_t> Cascade::cdfsPerLevel() const {
   // A level's CDFs are the intervals of the level above: each CDF has its interior points + 1.
   std::vector<std::size_t> cdfs{distinctSlices()};
-  for (std::size_t level = 0; level + 1 < levels_.size(); ++level) cdfs.push_back(levels_[level].cdf.size() + cdfs.back());
+  for (std::size_t level = 0; level + 1 < levels_.size(); ++level)
+    cdfs.push_back(levels_[level].cdf.size() + cdfs.back());
   return cdfs;
 }
 
@@ -515,7 +521,8 @@ std::vector<double> Cascade::averageIntervals() const {
 std::vector<std::size_t> Cascade::pointsPerDimension() const {
   std::vector<std::size_t> result;
   const std::vector<std::size_t> cdfs = cdfsPerLevel();
-  for (std::size_t level = 0; level < levels_.size(); ++level) result.push_back(levels_[level].cdf.size() + 2 * cdfs[level]);
+  for (std::size_t level = 0; level < levels_.size(); ++level)
+    result.push_back(levels_[level].cdf.size() + 2 * cdfs[level]);
   return result;
 }
 

@@ -134,9 +134,12 @@ void Cascade::write(ByteWriter& out) const {
     out.put<uint64_t>(l.vertices.size());
     for (std::size_t i = 0; i < l.vertices.size(); ++i) {
       const uint32_t v = l.vertices[i];
-      if (l.vertices.width() == 1) out.put(static_cast<uint8_t>(v));
-      else if (l.vertices.width() == 2) out.put(static_cast<uint16_t>(v));
-      else out.put(v);
+      if (l.vertices.width() == 1)
+        out.put(static_cast<uint8_t>(v));
+      else if (l.vertices.width() == 2)
+        out.put(static_cast<uint16_t>(v));
+      else
+        out.put(v);
     }
     out.putArray<uint32_t>(l.starts);
   }
@@ -212,8 +215,7 @@ Cascade Cascade::read(ByteReader& in) {
   for (std::size_t level = 0; level < c.sampledDims(); ++level) {
     const std::string where = levelName(level);
     const uint32_t cells = c.axes_[conditioning + level].cells();
-    const DimensionMethod expected =
-        c.options_.methods.empty() ? DimensionMethod::Adaptive : c.options_.methods[level];
+    const DimensionMethod expected = c.options_.methods.empty() ? DimensionMethod::Adaptive : c.options_.methods[level];
     Level l;
     l.method = getEnum(in, DimensionMethod::Adaptive, "dimension method");
     if (l.method != expected) in.fail(where + ": method differs from the options'");

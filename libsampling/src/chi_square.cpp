@@ -57,8 +57,7 @@ double sidakAlpha(double alpha, uint32_t tests) {
   return -std::expm1(std::log1p(-alpha) / tests);
 }
 
-ChiSquareResult chiSquareTest(std::span<const double> observed, std::span<const double> expected,
-                              double minExpected) {
+ChiSquareResult chiSquareTest(std::span<const double> observed, std::span<const double> expected, double minExpected) {
   if (observed.size() != expected.size()) throw std::invalid_argument("chi-square: cell counts differ");
   ChiSquareResult result;
   std::vector<std::size_t> order;
@@ -86,7 +85,8 @@ ChiSquareResult chiSquareTest(std::span<const double> observed, std::span<const 
     }
   }
   if (pooledExpected > 0.0) {
-    if (pools.empty()) pools.emplace_back(pooledObserved, pooledExpected);
+    if (pools.empty())
+      pools.emplace_back(pooledObserved, pooledExpected);
     else {
       pools.back().first += pooledObserved;
       pools.back().second += pooledExpected;

@@ -11,8 +11,8 @@ namespace acdf {
 GridAxis::GridAxis(uint32_t cells, float lo, float hi) : cells_(cells), lo_(lo), hi_(hi) {
   if (cells == 0) throw std::invalid_argument("grid axis: needs at least one cell");
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) {
-    throw std::invalid_argument("grid axis: domain [" + std::to_string(lo) + ", " +
-                                std::to_string(hi) + ") is not a finite, non-empty interval");
+    throw std::invalid_argument("grid axis: domain [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                ") is not a finite, non-empty interval");
   }
   cellWidth_ = (static_cast<double>(hi) - static_cast<double>(lo)) / cells;
   invCellWidth_ = 1.0 / cellWidth_;
@@ -21,9 +21,8 @@ GridAxis::GridAxis(uint32_t cells, float lo, float hi) : cells_(cells), lo_(lo),
   const float magnitude = std::max(std::fabs(lo), std::fabs(hi));
   const double ulp = static_cast<double>(std::nextafter(magnitude, std::numeric_limits<float>::infinity())) - magnitude;
   if (cellWidth_ < 3.0 * ulp) {
-    throw std::invalid_argument("grid axis: " + std::to_string(cells) + " cells on [" +
-                                std::to_string(lo) + ", " + std::to_string(hi) +
-                                ") are narrower than float coordinates can resolve");
+    throw std::invalid_argument("grid axis: " + std::to_string(cells) + " cells on [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + ") are narrower than float coordinates can resolve");
   }
   const double margin = cellWidth_ * 0x1p-24;
   innerLo_ = std::max(std::nextafter(lo, hi), static_cast<float>(lo + margin));

@@ -28,8 +28,8 @@ void checkNonNegativeFinite(std::span<const float> values, std::span<const GridA
     const float v = values[i];
     if (v >= 0.0f && v <= std::numeric_limits<float>::max()) continue;
     const char* what = std::isnan(v) ? "NaN" : std::isinf(v) ? "infinite" : "negative";
-    throw std::invalid_argument("value at index " + std::to_string(i) + cellName(i, axes) + " is " +
-                                what + " (" + std::to_string(v) + ")");
+    throw std::invalid_argument("value at index " + std::to_string(i) + cellName(i, axes) + " is " + what + " (" +
+                                std::to_string(v) + ")");
   }
 }
 

@@ -94,8 +94,7 @@ std::vector<uint32_t> douglasPeucker(const Chords& chords, uint32_t n, double ep
   return kept;
 }
 
-std::vector<uint32_t> greedyRefinement(const Chords& chords, uint32_t n, double epsilon,
-                                       uint32_t maxPoints) {
+std::vector<uint32_t> greedyRefinement(const Chords& chords, uint32_t n, double epsilon, uint32_t maxPoints) {
   std::vector<uint32_t> kept{0, n};
   std::priority_queue<Segment> queue;
   queue.push({0, n, chords.worst(0, n)});
@@ -121,8 +120,8 @@ bool exceedsWeightBound(std::span<const float> cdf, uint32_t a, uint32_t b, doub
   return false;
 }
 
-std::vector<uint32_t> enforceWeightBound(const Chords& chords, std::span<const float> cdf,
-                                         std::vector<uint32_t> kept, double rho) {
+std::vector<uint32_t> enforceWeightBound(const Chords& chords, std::span<const float> cdf, std::vector<uint32_t> kept,
+                                         double rho) {
   std::vector<uint32_t> added;
   std::vector<std::pair<uint32_t, uint32_t>> stack;
   for (std::size_t i = 0; i + 1 < kept.size(); ++i) stack.push_back({kept[i], kept[i + 1]});
@@ -148,8 +147,7 @@ void validate(const SimplifyOptions& o) {
     throw std::invalid_argument("simplify: epsilon must be finite and >= 0, got " + std::to_string(o.epsilon));
   }
   if (!(o.weightBound == 0.0 || o.weightBound >= 1.0)) {
-    throw std::invalid_argument("simplify: weight bound must be 0 (off) or >= 1, got " +
-                                std::to_string(o.weightBound));
+    throw std::invalid_argument("simplify: weight bound must be 0 (off) or >= 1, got " + std::to_string(o.weightBound));
   }
   if (o.metric != ErrorMetric::Vertical && o.metric != ErrorMetric::Perpendicular &&
       o.metric != ErrorMetric::ChiSquare) {
@@ -180,9 +178,7 @@ uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMe
   return Chords(cdf, metric).worst(a, b).vertex;
 }
 
-std::string_view toString(Simplifier s) {
-  return s == Simplifier::DouglasPeucker ? "douglas-peucker" : "greedy";
-}
+std::string_view toString(Simplifier s) { return s == Simplifier::DouglasPeucker ? "douglas-peucker" : "greedy"; }
 
 std::string_view toString(ErrorMetric m) {
   switch (m) {

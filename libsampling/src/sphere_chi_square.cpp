@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
-#include <string>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -66,8 +66,8 @@ struct SampleChecker {
 std::string SphereChiSquareReport::summary() const {
   std::ostringstream out;
   out << "chi2 " << chi2.statistic << " dof " << chi2.dof << " p " << chi2.pvalue << " (alpha " << alpha
-      << "), samples " << samples << ", invalid " << invalidSamples << ", pdf mismatches " << pdfMismatch
-      << " (worst " << worstPdfMismatch << "), ∫pdf " << pdfIntegral;
+      << "), samples " << samples << ", invalid " << invalidSamples << ", pdf mismatches " << pdfMismatch << " (worst "
+      << worstPdfMismatch << "), ∫pdf " << pdfIntegral;
   if (!firstProblem.empty()) out << "; first problem: " << firstProblem;
   return out.str();
 }
@@ -117,8 +117,8 @@ SphereChiSquareReport sphereChiSquareTest(const DirectionSampler& sample, const 
     throw std::invalid_argument("sphere chi-square: samples and bins must be > 0");
   const std::size_t bins = std::size_t{options.thetaBins} * options.phiBins;
   if (probability.size() != bins)
-    throw std::invalid_argument("sphere chi-square: " + std::to_string(probability.size()) +
-                                " bin probabilities for " + std::to_string(bins) + " bins");
+    throw std::invalid_argument("sphere chi-square: " + std::to_string(probability.size()) + " bin probabilities for " +
+                                std::to_string(bins) + " bins");
   const SampleChecker checker{pdf, options.pdfTolerance};
 
   // Samples: fixed chunks with their own streams, so the histogram is thread-count independent.

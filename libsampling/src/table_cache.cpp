@@ -131,8 +131,8 @@ std::string describe(const SimplifyOptions& o) {
 std::string describe(const CascadeOptions& o) {
   std::string methods;
   for (DimensionMethod m : o.methods) methods += m == DimensionMethod::Uniform ? 'u' : 'a';
-  return "conditioning=" + std::to_string(o.conditioningDims) + " methods=" + (methods.empty() ? "all-adaptive" : methods) +
-         " " + describe(o.simplify) +
+  return "conditioning=" + std::to_string(o.conditioningDims) +
+         " methods=" + (methods.empty() ? "all-adaptive" : methods) + " " + describe(o.simplify) +
          " conditional=" + (o.conditional == ConditionalRule::ExactMass ? "exact-mass" : "average-of-normalized") +
          " tolerance=" + (o.tolerance == ConditionalTolerance::Constant ? "constant" : "mass-scaled") +
          " slice-grouping=" + hexFloat(o.sliceGroupingTolerance) +
@@ -168,7 +168,9 @@ CacheRead TableCache::load(const CacheKey& key) const {
   const std::filesystem::path path = fileOf(key);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return {CacheStatus::Miss, {}, {}};
-  auto reject = [&](const std::string& problem) { return CacheRead{CacheStatus::Rejected, {}, path.string() + ": " + problem}; };
+  auto reject = [&](const std::string& problem) {
+    return CacheRead{CacheStatus::Rejected, {}, path.string() + ": " + problem};
+  };
   if (!std::filesystem::is_regular_file(path, ec)) return reject("not a regular file");
 
   // One read of the whole file. A concurrent store renames a new file over the name; the open
@@ -234,7 +236,8 @@ bool TableCache::store(const CacheKey& key, std::span<const std::byte> payload) 
   {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     if (!file) return failed("cannot write " + temporary.string());
-    file.write(reinterpret_cast<const char*>(header.bytes().data()), static_cast<std::streamsize>(header.bytes().size()));
+    file.write(reinterpret_cast<const char*>(header.bytes().data()),
+               static_cast<std::streamsize>(header.bytes().size()));
     file.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
     file.close();
     if (!file) {
@@ -251,7 +254,8 @@ bool TableCache::store(const CacheKey& key, std::span<const std::byte> payload) 
   return true;
 }
 
-Cached<Cascade> TableCache::getOrBuild(const CacheKey& key, std::string_view what, const std::function<Cascade()>& build) {
+Cached<Cascade> TableCache::getOrBuild(const CacheKey& key, std::string_view what,
+                                       const std::function<Cascade()>& build) {
   return getOrBuild(
       key, what, build, [](const Cascade& c) { return c.serialize(); },
       [](std::span<const std::byte> bytes) { return Cascade::deserialize(bytes); });

@@ -55,8 +55,7 @@ std::string npyDict(const std::string& descr, const std::vector<std::size_t>& sh
   }
   if (shape.size() == 1) s += ",";
   s += ")";
-  return "{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': " + s +
-         ", }";
+  return "{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': " + s + ", }";
 }
 
 std::string npyPreamble(const std::string& dict, int major, int minor) {

@@ -44,8 +44,8 @@ std::string npyF4(const std::vector<std::size_t>& shape, const std::vector<float
 std::string npyF8(const std::vector<std::size_t>& shape, const std::vector<double>& values, int major = 1);
 
 struct RunResult {
-  int exitCode = -1;    // exit status, or -1 when the process did not exit normally
-  int signal = 0;       // terminating signal, if any
+  int exitCode = -1;  // exit status, or -1 when the process did not exit normally
+  int signal = 0;     // terminating signal, if any
   std::string out, err;
   std::vector<std::string> errLines() const;
 };

@@ -73,22 +73,30 @@ class BenchErrorCli : public apptest::TempDirTest {
         {"render", {{"spp", 4}, {"seed", seed}, {"max_depth", 4}}},
         {"environment", {{"type", "map"}, {"file", path("sky.exr")}, {"sampling", "adaptive"}}},
         {"materials",
-         {{"gold", {{"type", "measured"}, {"preset", "gold"}, {"sampling", "adaptive"}, {"table", {{"layout", "isotropic"}}}}},
+         {{"gold",
+           {{"type", "measured"}, {"preset", "gold"}, {"sampling", "adaptive"}, {"table", {{"layout", "isotropic"}}}}},
           {"floor", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
         {"shapes",
          {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "gold"}},
-          {{"type", "quad"}, {"corner", {-5, 0, -5}}, {"edge_u", {0, 0, 10}}, {"edge_v", {10, 0, 0}}, {"material", "floor"}}}},
+          {{"type", "quad"},
+           {"corner", {-5, 0, -5}},
+           {"edge_u", {0, 0, 10}},
+           {"edge_v", {10, 0, 0}},
+           {"material", "floor"}}}},
     };
     apptest::writeFile(path("scene.json"), scene.dump(2));
   }
 
   RunResult benchError(std::vector<std::string> extra, const std::string& out = "out") {
-    std::vector<std::string> args = {"bench-error", path("scene.json"), "--out", path(out), "--reference-spp", kReferenceSpp};
+    std::vector<std::string> args = {"bench-error", path("scene.json"), "--out",
+                                     path(out),     "--reference-spp",  kReferenceSpp};
     args.insert(args.end(), extra.begin(), extra.end());
     return apptest::runAcdf(args, dir_);
   }
 
-  nlohmann::json results(const std::string& out = "out") { return nlohmann::json::parse(apptest::readFile(path(out + "/results.json"))); }
+  nlohmann::json results(const std::string& out = "out") {
+    return nlohmann::json::parse(apptest::readFile(path(out + "/results.json")));
+  }
 
   // The "rows N rendered, M kept" line of the summary.
   static std::pair<int, int> rowCounts(const RunResult& r) {
@@ -121,7 +129,8 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   for (const auto& m : kMis)
     for (const auto& b : kBsdf)
       for (const auto& e : kEnv)
-        if (!(m == "bsdf-only" && e != "uniform-sphere") && !(m == "light-only" && e == "compensated")) expected.insert({b, e, m});
+        if (!(m == "bsdf-only" && e != "uniform-sphere") && !(m == "light-only" && e == "compensated"))
+          expected.insert({b, e, m});
   ASSERT_EQ(expected.size(), 54u);
 
   const nlohmann::json j = results();
@@ -171,8 +180,10 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     ASSERT_EQ(csv[i + 1].size(), header.size());
     for (std::size_t c = 0; c < header.size(); ++c) {
       const nlohmann::json& value = rows[i].at(header[c]);
-      if (value.is_string()) EXPECT_EQ(csv[i + 1][c], value.get<std::string>()) << header[c];
-      else EXPECT_NEAR(std::stod(csv[i + 1][c]), value.get<double>(), 1e-7 * std::abs(value.get<double>())) << header[c];
+      if (value.is_string())
+        EXPECT_EQ(csv[i + 1][c], value.get<std::string>()) << header[c];
+      else
+        EXPECT_NEAR(std::stod(csv[i + 1][c]), value.get<double>(), 1e-7 * std::abs(value.get<double>())) << header[c];
     }
   }
 
@@ -186,8 +197,9 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
 }
 
 TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
-  const std::vector<std::string> small = {"--spp-budgets", "1,4", "--no-plot", "--bsdf-sampling", "adaptive",
-                                          "--env-sampling", "uniform,adaptive", "--mis", "power"};
+  const std::vector<std::string> small = {"--spp-budgets",    "1,4",      "--no-plot",
+                                          "--bsdf-sampling",  "adaptive", "--env-sampling",
+                                          "uniform,adaptive", "--mis",    "power"};
   const RunResult first = benchError(small);
   ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
   EXPECT_EQ(rowCounts(first), std::make_pair(4, 0));
@@ -205,7 +217,8 @@ TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
   ASSERT_EQ(again.size(), complete["rows"].size());
   for (std::size_t i = 0; i < again.size(); ++i)
     for (const char* key : {"bsdf_sampling", "env_sampling", "budget", "seed", "spp", "relmse", "rmse", "table_bytes"})
-      EXPECT_EQ(again[i][key], complete["rows"][i][key]) << "row " << i << " " << key << ": the same seed, the same row";
+      EXPECT_EQ(again[i][key], complete["rows"][i][key])
+          << "row " << i << " " << key << ": the same seed, the same row";
 
   // A wider matrix keeps the rows it shares with the earlier one.
   std::vector<std::string> wider = small;
@@ -216,8 +229,8 @@ TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
 }
 
 TEST_F(BenchErrorCli, ReferenceIsReusedOnlyWhileItMatches) {
-  const std::vector<std::string> small = {"--spp-budgets", "1,4", "--no-plot", "--bsdf-sampling", "cosine",
-                                          "--env-sampling", "adaptive", "--mis", "power"};
+  const std::vector<std::string> small = {
+      "--spp-budgets", "1,4", "--no-plot", "--bsdf-sampling", "cosine", "--env-sampling", "adaptive", "--mis", "power"};
   ASSERT_EQ(benchError(small).exitCode, 0);
   const nlohmann::json info = nlohmann::json::parse(apptest::readFile(path("out/reference.json")));
   EXPECT_EQ(info["spp"], std::stoi(kReferenceSpp));
@@ -254,9 +267,14 @@ TEST_F(BenchErrorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expectOneLineFailure(missing, "acdf: " + path("nope.json") + ": ", "no such file");
   EXPECT_FALSE(fs::exists(path("out")));
 
-  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
-           {"--budgets", "0"}, {"--budgets", "1,-2"}, {"--budgets", "abc"}, {"--spp-budgets", "0"},
-           {"--budgets", "1", "--spp-budgets", "2"}, {"--env-sampling", "sunny"}, {"--mis", "both"}}) {
+  for (const std::vector<std::string>& bad :
+       std::vector<std::vector<std::string>>{{"--budgets", "0"},
+                                             {"--budgets", "1,-2"},
+                                             {"--budgets", "abc"},
+                                             {"--spp-budgets", "0"},
+                                             {"--budgets", "1", "--spp-budgets", "2"},
+                                             {"--env-sampling", "sunny"},
+                                             {"--mis", "both"}}) {
     const RunResult r = benchError(bad);
     EXPECT_EQ(r.exitCode, 2) << bad[0] << " " << bad[1] << ": " << apptest::describe(r);
     EXPECT_EQ(r.errLines().size(), 1u) << apptest::describe(r);
@@ -264,7 +282,8 @@ TEST_F(BenchErrorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   }
 
   apptest::writeFile(path("a-file"), "x");
-  expectOneLineFailure(benchError({"--spp-budgets", "1"}, "a-file"), "acdf: " + path("a-file") + ": ", "not a directory");
+  expectOneLineFailure(benchError({"--spp-budgets", "1"}, "a-file"), "acdf: " + path("a-file") + ": ",
+                       "not a directory");
   expectOneLineFailure(benchError({"--spp-budgets", "1"}, "no/such/dir"), "acdf: " + path("no/such/dir") + ": ",
                        "parent directory does not exist");
   EXPECT_FALSE(fs::exists(path("no")));
@@ -298,7 +317,8 @@ TEST_F(BenchErrorCli, PlotsAndTheDocsSectionAreWritten) {
   }
 
   // The docs section: between its markers, the same after a second run.
-  apptest::writeFile(path("doc.md"), "# Doc\n\nbefore\n<!-- bench-error: begin -->\nold\n<!-- bench-error: end -->\nafter\n");
+  apptest::writeFile(path("doc.md"),
+                     "# Doc\n\nbefore\n<!-- bench-error: begin -->\nold\n<!-- bench-error: end -->\nafter\n");
   const std::string command = "/usr/bin/python3 " + apptest::sourceDir() + "/bench/error_report.py docs " +
                               path("out/results.json") + " " + path("doc.md") + " " + path("images") +
                               " --command 'acdf bench-error ...' >/dev/null";

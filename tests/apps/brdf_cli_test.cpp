@@ -113,8 +113,7 @@ TEST_F(BrdfCli, StatsJsonKeysAreConsistent) {
     // No sample can be below the mean of a positive estimator everywhere.
     EXPECT_GT(s["max_weight"].get<double>(), 1.0) << s;
     const double efficiency = s["efficiency"].get<double>();
-    EXPECT_NEAR(efficiency, 1e9 / (s["variance"].get<double>() * s["ns_per_sample"].get<double>()),
-                1e-6 * efficiency)
+    EXPECT_NEAR(efficiency, 1e9 / (s["variance"].get<double>() * s["ns_per_sample"].get<double>()), 1e-6 * efficiency)
         << s;
   }
   EXPECT_FALSE(j["cosine"].contains("bytes"));
@@ -142,8 +141,8 @@ TEST_F(BrdfCli, StatsPrintsATable) {
   args.insert(args.end(), {"--interpolation", "trilinear", "--epsilon", "0.01"});
   const RunResult r = run(args);
   ASSERT_EQ(r.exitCode, 0) << describe(r);
-  for (const char* text : {"isotropic table", "trilinear interpolation", "epsilon 0.01", "16 x 64 x 8",
-                           "compression", "cosine", "uniform", "adaptive", "efficiency"})
+  for (const char* text : {"isotropic table", "trilinear interpolation", "epsilon 0.01", "16 x 64 x 8", "compression",
+                           "cosine", "uniform", "adaptive", "efficiency"})
     EXPECT_NE(r.out.find(text), std::string::npos) << text << " not in:\n" << r.out;
 }
 
@@ -153,8 +152,8 @@ TEST_F(BrdfCli, StatsBadInput) {
   writeFile(truncated, readFile(gold()).substr(0, 1000));
   expectFailure(stats(truncated, kSmallIso), truncated + ": ", "truncated");
 
-  for (const char* res : {"32x16x256", "32x16x256x32x2", "0x16x256x32", "32x16xx32", "axbxcxd", "32x-16x256x32",
-                          "32x16x256x32x"})
+  for (const char* res :
+       {"32x16x256", "32x16x256x32x2", "0x16x256x32", "32x16xx32", "axbxcxd", "32x-16x256x32", "32x16x256x32x"})
     expectFailure({"brdf-stats", gold(), "--res", res}, "", "--res");
   expectFailure({"brdf-stats", gold(), "--table", "iso", "--res", "32x16x256x32"}, "", "--res for a iso table");
   expectFailure({"brdf-stats", gold(), "--res", "4096x4096x4096x4096"}, "", "at most");
@@ -199,8 +198,8 @@ TEST_F(BrdfCli, Chi2BadInput) {
     expectFailure(args({"--theta-o", theta}), "chi2 --brdf: ", "--theta-o must be in [0, 90)");
   expectFailure(args({"--theta-o", "abc"}), "", "--theta-o");
   expectFailure(args({}), "chi2 --brdf: ", "--theta-o");
-  expectFailure({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "alias"}, "chi2 --brdf: ",
-                "cosine, uniform or adaptive");
+  expectFailure({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "alias"},
+                "chi2 --brdf: ", "cosine, uniform or adaptive");
   expectFailure({"chi2", "--brdf", path("missing.binary"), "--theta-o", "30", "--sampler", "uniform"},
                 path("missing.binary") + ": ", "no such file");
   const std::string truncated = path("truncated.binary");

@@ -91,8 +91,8 @@ void expectWellFormedReport(const json& j, const std::vector<std::size_t>& dims)
   EXPECT_GT(j["uniform_bytes"].get<std::size_t>(), 0u);
   EXPECT_EQ(j["alias_bytes"].get<std::size_t>(), 12 * cells);  // 12 bytes a cell (alias_table_1d.h)
   EXPECT_GT(j["adaptive_bytes"].get<std::size_t>(), 0u);
-  EXPECT_NEAR(j["compression"].get<double>(),
-              j["uniform_bytes"].get<double>() / j["adaptive_bytes"].get<double>(), 1e-9);
+  EXPECT_NEAR(j["compression"].get<double>(), j["uniform_bytes"].get<double>() / j["adaptive_bytes"].get<double>(),
+              1e-9);
   ASSERT_EQ(j["points"].size(), dims.size());
   ASSERT_EQ(j["average_intervals"].size(), dims.size());
   for (std::size_t d = 0; d < dims.size(); ++d) {
@@ -250,12 +250,12 @@ TEST_F(Cli, EightMillionCells) {
 TEST_F(Cli, ImageLuminanceWithNegativePixelsClamped) {
   const int w = 32, h = 16;
   std::vector<float> rgb(static_cast<std::size_t>(w * h * 3), 0.5f);
-  rgb[0] = -1.0f;                     // pixel 0: luminance 0.2126 * -1 + 0.7152 * .5 + ... > 0: not clamped
+  rgb[0] = -1.0f;  // pixel 0: luminance 0.2126 * -1 + 0.7152 * .5 + ... > 0: not clamped
   for (int c = 0; c < 3; ++c) {
-    rgb[3 * 5 + c] = -0.25f;          // pixel 5: all negative
-    rgb[3 * 200 + c] = -1e-3f;        // pixel 200: all slightly negative
+    rgb[3 * 5 + c] = -0.25f;    // pixel 5: all negative
+    rgb[3 * 200 + c] = -1e-3f;  // pixel 200: all slightly negative
   }
-  rgb[3 * 300 + 1] = 500.0f;          // a bright green pixel
+  rgb[3 * 300 + 1] = 500.0f;  // a bright green pixel
   const std::string file = path("small.exr");
   writeImage(file, w, h, 3, rgb);
   const json j = stats({file, "--samples", "20000"});
@@ -376,7 +376,8 @@ TEST_F(Cli, NotAnImage) {
 TEST_F(Cli, TruncatedImage) {
   const int w = 64, h = 64;
   std::vector<float> rgb(static_cast<std::size_t>(w * h * 3));
-  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i))) + 1.5f;
+  for (std::size_t i = 0; i < rgb.size(); ++i)
+    rgb[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i))) + 1.5f;
   writeImage(path("whole.exr"), w, h, 3, rgb);
   const std::string bytes = readFile(path("whole.exr"));
   writeFile(path("cut.exr"), bytes.substr(0, bytes.size() / 2));

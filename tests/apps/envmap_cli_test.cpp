@@ -100,10 +100,23 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
   const auto j = nlohmann::json::parse(r.out);
   std::set<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.insert(key);
-  const std::set<std::string> expected = {"width", "height", "uniform_bytes", "alias_bytes", "adaptive_bytes",
-                                          "hierarchical_bytes", "compression", "chi2_divergence", "max_weight_ratio",
-                                          "negative_pixels_clamped", "build_ms", "uniform_sphere", "cosine",
-                                          "uniform", "alias", "adaptive", "hierarchical"};
+  const std::set<std::string> expected = {"width",
+                                          "height",
+                                          "uniform_bytes",
+                                          "alias_bytes",
+                                          "adaptive_bytes",
+                                          "hierarchical_bytes",
+                                          "compression",
+                                          "chi2_divergence",
+                                          "max_weight_ratio",
+                                          "negative_pixels_clamped",
+                                          "build_ms",
+                                          "uniform_sphere",
+                                          "cosine",
+                                          "uniform",
+                                          "alias",
+                                          "adaptive",
+                                          "hierarchical"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(j["width"], 128);
   EXPECT_EQ(j["height"], 64);
@@ -119,7 +132,8 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
   // hierarchical descent) far more than the alias tables, which scatter neighbouring variates.
   for (const char* strategy : {"uniform", "alias", "adaptive", "hierarchical"})
     EXPECT_LT(j[strategy]["stratified_variance"].get<double>(), j[strategy]["variance"].get<double>()) << strategy;
-  EXPECT_LT(2 * j["hierarchical"]["stratified_variance"].get<double>(), j["alias"]["stratified_variance"].get<double>());
+  EXPECT_LT(2 * j["hierarchical"]["stratified_variance"].get<double>(),
+            j["alias"]["stratified_variance"].get<double>());
   EXPECT_FALSE(j["cosine"].contains("stratified_variance"));
   // A sunset's power is in a tiny sun: sampling the map beats sampling the sphere by far.
   EXPECT_LT(10 * j["adaptive"]["variance"].get<double>(), j["uniform_sphere"]["variance"].get<double>());
@@ -168,8 +182,8 @@ TEST_F(EnvmapCli, Chi2PassesForEverySamplerAndRejectsBadUsage) {
   }
   expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "cosine"}), "acdf: chi2 --envmap:", "cosine");
   expectOneLineFailure(run({"chi2", "--sampler", "uniform"}), "acdf: chi2:", "--envmap");
-  expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "uniform", "--samples", "0"}), "acdf: chi2:",
-                       "--samples");
+  expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "uniform", "--samples", "0"}),
+                       "acdf: chi2:", "--samples");
 }
 
 }  // namespace

@@ -104,16 +104,14 @@ void compareWithTool(const fs::path& dir, const std::string& material) {
   EXPECT_LE(worst, 1e-5) << material << " at " << worstIndex << ": " << actual[worstIndex] << " vs "
                          << expected[worstIndex];
   std::cout << "[ merl-gen ] " << material << ": max relative difference " << worst << " over "
-            << (expected.size() - invalid) << " valid values, " << invalid / 3
-            << " cells below the horizon; python " << std::chrono::duration<double>(t1 - t0).count()
-            << " s, acdf merl-gen " << std::chrono::duration<double>(t2 - t1).count() << " s\n";
+            << (expected.size() - invalid) << " valid values, " << invalid / 3 << " cells below the horizon; python "
+            << std::chrono::duration<double>(t1 - t0).count() << " s, acdf merl-gen "
+            << std::chrono::duration<double>(t2 - t1).count() << " s\n";
 }
 
 TEST_F(MerlGen, NickelMatchesTheReferenceTool) { compareWithTool(dir_, "nickel"); }
 TEST_F(MerlGen, BlueMetallicPaintMatchesTheReferenceTool) { compareWithTool(dir_, "blue-metallic-paint"); }
-TEST_F(MerlGen, SpecularBluePhenolicMatchesTheReferenceTool) {
-  compareWithTool(dir_, "specular-blue-phenolic");
-}
+TEST_F(MerlGen, SpecularBluePhenolicMatchesTheReferenceTool) { compareWithTool(dir_, "specular-blue-phenolic"); }
 
 TEST_F(MerlGen, ListsTheBundledMaterials) {
   const RunResult r = run({"merl-gen", "--list"});
@@ -198,8 +196,8 @@ TEST_F(MerlGen, AnalyticPresets) {
   for (const char* name : {"gold", "rough-aluminium", "red-plastic"})
     EXPECT_NE(help.out.find(std::string("  ") + name + ": "), std::string::npos) << name;
   fs::remove_all(dir);
-  expectFailure({"merl-gen", "--preset", "mithril", "-o", (outDir() / "t.binary").string()}, "merl-gen: ",
-                "no preset named 'mithril' (presets: gold");
+  expectFailure({"merl-gen", "--preset", "mithril", "-o", (outDir() / "t.binary").string()},
+                "merl-gen: ", "no preset named 'mithril' (presets: gold");
   expectFailure({"merl-gen", "--preset", "gold", "--nbrdf", "nickel", "-o", (outDir() / "t.binary").string()},
                 "merl-gen: ", "not both");
 }

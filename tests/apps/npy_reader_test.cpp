@@ -39,7 +39,8 @@ class NpyReader : public TempDirTest {
       EXPECT_EQ(what.rfind(file + ": ", 0), 0u) << "message does not start with the file: " << what;
       EXPECT_EQ(e.file(), file);
       for (char c : what) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20) << "control character in: " << what;
-      for (const auto& needle : needles) EXPECT_NE(what.find(needle), std::string::npos) << "'" << needle << "' not in: " << what;
+      for (const auto& needle : needles)
+        EXPECT_NE(what.find(needle), std::string::npos) << "'" << needle << "' not in: " << what;
     }
   }
 };
@@ -178,32 +179,32 @@ TEST_F(NpyReader, BadHeaderSyntax) {
   expectError("h2.npy", npyPreamble("not a dict") + rawBytes(iota(1)), {"bad .npy header"});
   expectError("h3.npy", npyPreamble("{'descr': '<f4', 'fortran_order': False, 'shape': (2, x)}") + rawBytes(iota(2)),
               {"bad .npy header"});
-  expectError("h4.npy", npyPreamble("{'descr': '<f4', 'fortran_order': False, 'shape': (2,)} trailing") +
-                            rawBytes(iota(2)),
+  expectError("h4.npy",
+              npyPreamble("{'descr': '<f4', 'fortran_order': False, 'shape': (2,)} trailing") + rawBytes(iota(2)),
               {"bad .npy header", "after the header dict"});
   expectError("h5.npy", npyPreamble("{'descr': '<f4', 'fortran_order': Maybe, 'shape': (2,)}") + rawBytes(iota(2)),
               {"bad .npy header", "fortran_order"});
 }
 
 TEST_F(NpyReader, BytesFromTheFileArePrintedEscaped) {
-  expectError("ctl.npy",
-              npyPreamble(std::string("{'de\x0bscr\x85': '<f4', 'fortran_order': False, 'shape': (2,)}")) +
-                  rawBytes(iota(2)),
-              {"unexpected key 'de\\x0bscr\\x85'"});
+  expectError(
+      "ctl.npy",
+      npyPreamble(std::string("{'de\x0bscr\x85': '<f4', 'fortran_order': False, 'shape': (2,)}")) + rawBytes(iota(2)),
+      {"unexpected key 'de\\x0bscr\\x85'"});
   expectError("ctl2.npy", npyPreamble(npyDict("<f\x0c", {2})) + rawBytes(iota(2)), {"unsupported dtype '<f\\x0c'"});
 }
 
 TEST_F(NpyReader, MissingAndUnknownKeys) {
   expectError("k1.npy", npyPreamble("{'descr': '<f4', 'fortran_order': False}") + rawBytes(iota(2)),
               {"no 'shape' key"});
-  expectError("k2.npy", npyPreamble("{'shape': (2,), 'fortran_order': False}") + rawBytes(iota(2)),
-              {"no 'descr' key"});
+  expectError("k2.npy", npyPreamble("{'shape': (2,), 'fortran_order': False}") + rawBytes(iota(2)), {"no 'descr' key"});
   expectError("k3.npy",
               npyPreamble("{'descr': '<f4', 'fortran_order': False, 'shape': (2,), 'extra': 1}") + rawBytes(iota(2)),
               {"bad .npy header"});
-  expectError("k4.npy", npyPreamble("{'descr': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': (2,)}") +
-                            rawBytes(iota(2)),
-              {"duplicate key 'descr'"});
+  expectError(
+      "k4.npy",
+      npyPreamble("{'descr': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': (2,)}") + rawBytes(iota(2)),
+      {"duplicate key 'descr'"});
 }
 
 TEST_F(NpyReader, FortranOrder) {

@@ -92,8 +92,8 @@ TEST(AnalyticBrdf, EnergyConserving) {
   for (double thetaI : {0.0, 0.8}) {
     const double red = albedo(plastic, thetaI, 0), green = albedo(plastic, thetaI, 1);
     EXPECT_LT(red, 1.0) << thetaI;
-    EXPECT_GT(red, 0.35) << thetaI;          // mostly the 0.5 base through the coat
-    EXPECT_GT(green, 0.04) << thetaI;        // the white coat's reflection + the dark base
+    EXPECT_GT(red, 0.35) << thetaI;    // mostly the 0.5 base through the coat
+    EXPECT_GT(green, 0.04) << thetaI;  // the white coat's reflection + the dark base
     EXPECT_LT(green, red) << thetaI;
   }
 }

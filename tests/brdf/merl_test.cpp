@@ -54,8 +54,8 @@ Table randomTable(uint64_t seed) {
 
 // A reciprocal analytic BRDF of (θh, θd, φd mod π), tabulated at the cell centres.
 double analytic(int channel, double thetaHalf, double thetaDiff, double phiDiff) {
-  return 100.0 * (1 + channel) + 800.0 * std::exp(-8 * thetaHalf) + 50.0 * thetaDiff +
-         30.0 * std::cos(2 * phiDiff) + 10.0 * std::sin(2 * phiDiff);
+  return 100.0 * (1 + channel) + 800.0 * std::exp(-8 * thetaHalf) + 50.0 * thetaDiff + 30.0 * std::cos(2 * phiDiff) +
+         10.0 * std::sin(2 * phiDiff);
 }
 Table analyticTable() {
   Table t;
@@ -275,7 +275,8 @@ TEST_F(MerlFiles, NonFiniteValues) {
   bytes = good;
   setDouble(bytes, 2, kN - 1, std::numeric_limits<double>::infinity());
   writeFile(file("inf.binary"), bytes);
-  expectLoadError(file("inf.binary"), "+Inf in the blue channel at index 1457999 (theta_h cell 89, theta_d cell 89, phi_d cell 179)");
+  expectLoadError(file("inf.binary"),
+                  "+Inf in the blue channel at index 1457999 (theta_h cell 89, theta_d cell 89, phi_d cell 179)");
 
   bytes = good;
   setDouble(bytes, 0, 0, -std::numeric_limits<double>::infinity());  // negative, but not a −1 marker
@@ -423,8 +424,8 @@ TEST_F(MerlEval, TrilinearEqualsNearestAtCellCentres) {
       for (int p = 0; p < 180; p += 5) {
         const double th = MerlBrdf::thetaHalfCentre(h), td = MerlBrdf::thetaDiffCentre(d),
                      pd = MerlBrdf::phiDiffCentre(p);
-        expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), b.evalHalfDiff(th, td, pd, Interp::Nearest),
-                      1e-6, std::to_string(h) + " " + std::to_string(d) + " " + std::to_string(p));
+        expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), b.evalHalfDiff(th, td, pd, Interp::Nearest), 1e-6,
+                      std::to_string(h) + " " + std::to_string(d) + " " + std::to_string(p));
       }
 }
 
@@ -433,7 +434,8 @@ TEST_F(MerlEval, TrilinearIsLinearInThetaDiffBetweenCentres) {
   const int h = 40, p = 100;
   const double th = MerlBrdf::thetaHalfCentre(h), pd = MerlBrdf::phiDiffCentre(p);
   for (int d = 0; d + 1 < 90; ++d) {
-    const Rgb lo = expectedCell(b, MerlBrdf::flatIndex(h, d, p)), hi = expectedCell(b, MerlBrdf::flatIndex(h, d + 1, p));
+    const Rgb lo = expectedCell(b, MerlBrdf::flatIndex(h, d, p)),
+              hi = expectedCell(b, MerlBrdf::flatIndex(h, d + 1, p));
     for (double t : {0.1, 0.25, 0.5, 0.8}) {
       const double td = MerlBrdf::thetaDiffCentre(d) + t * (kPi / 2) / 90;
       const Rgb expected{static_cast<float>((1 - t) * lo.r + t * hi.r), static_cast<float>((1 - t) * lo.g + t * hi.g),
@@ -449,12 +451,13 @@ TEST_F(MerlEval, TrilinearIsLinearInSqrtThetaHalf) {
   const MerlBrdf& b = *brdf_;
   const int d = 30, p = 60;
   for (int h : {0, 10, 50, 88}) {
-    const Rgb lo = expectedCell(b, MerlBrdf::flatIndex(h, d, p)), hi = expectedCell(b, MerlBrdf::flatIndex(h + 1, d, p));
+    const Rgb lo = expectedCell(b, MerlBrdf::flatIndex(h, d, p)),
+              hi = expectedCell(b, MerlBrdf::flatIndex(h + 1, d, p));
     const double s = (h + 1.0) / 90;  // √(θh / (π/2)) halfway between the centres
     const Rgb expected{(lo.r + hi.r) / 2, (lo.g + hi.g) / 2, (lo.b + hi.b) / 2};
-    expectRgbNear(b.evalHalfDiff(s * s * kPi / 2, MerlBrdf::thetaDiffCentre(d), MerlBrdf::phiDiffCentre(p),
-                                 Interp::Trilinear),
-                  expected, 1e-5, "h = " + std::to_string(h));
+    expectRgbNear(
+        b.evalHalfDiff(s * s * kPi / 2, MerlBrdf::thetaDiffCentre(d), MerlBrdf::phiDiffCentre(p), Interp::Trilinear),
+        expected, 1e-5, "h = " + std::to_string(h));
   }
 }
 
@@ -462,8 +465,10 @@ TEST_F(MerlEval, TrilinearClampsAtTheThetaEnds) {
   const MerlBrdf& b = *brdf_;
   const int h = 20, p = 33;
   const double th = MerlBrdf::thetaHalfCentre(h), pd = MerlBrdf::phiDiffCentre(p);
-  const Rgb first = expectedCell(b, MerlBrdf::flatIndex(h, 0, p)), last = expectedCell(b, MerlBrdf::flatIndex(h, 89, p));
-  for (double td : {0.0, 0.3 * (kPi / 2) / 90}) expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), first, 1e-6, "low θd");
+  const Rgb first = expectedCell(b, MerlBrdf::flatIndex(h, 0, p)),
+            last = expectedCell(b, MerlBrdf::flatIndex(h, 89, p));
+  for (double td : {0.0, 0.3 * (kPi / 2) / 90})
+    expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), first, 1e-6, "low θd");
   for (double td : {MerlBrdf::thetaDiffCentre(89) + 1e-4, kPi / 2, 2.0})
     expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), last, 1e-6, "high θd");
   const Rgb h0 = expectedCell(b, MerlBrdf::flatIndex(0, 10, p)), h89 = expectedCell(b, MerlBrdf::flatIndex(89, 10, p));
@@ -477,7 +482,8 @@ TEST_F(MerlEval, TrilinearWrapsPhiDiffWithPeriodPi) {
   const double th = MerlBrdf::thetaHalfCentre(h), td = MerlBrdf::thetaDiffCentre(d);
   const Rgb c0 = expectedCell(b, MerlBrdf::flatIndex(h, d, 0)), c179 = expectedCell(b, MerlBrdf::flatIndex(h, d, 179));
   const Rgb mid{(c0.r + c179.r) / 2, (c0.g + c179.g) / 2, (c0.b + c179.b) / 2};
-  for (double pd : {0.0, kPi, -kPi, 2 * kPi}) expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), mid, 1e-5, "φd = " + std::to_string(pd));
+  for (double pd : {0.0, kPi, -kPi, 2 * kPi})
+    expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), mid, 1e-5, "φd = " + std::to_string(pd));
   for (double pd : {0.001, 0.3, 1.7, 3.1}) {
     const Rgb v = b.evalHalfDiff(th, td, pd, Interp::Trilinear);
     expectRgbNear(b.evalHalfDiff(th, td, pd - kPi, Interp::Trilinear), v, 1e-6, "φd − π");
@@ -522,7 +528,8 @@ TEST(MerlBrdf, TrilinearFollowsASmoothTable) {
   for (int n = 0; n < 20000; ++n) {
     const double th = u(rng) * kPi / 2 * 0.9 + 0.05, td = u(rng) * kPi / 2 * 0.9 + 0.05, pd = (2 * u(rng) - 1) * kPi;
     const double exact = analytic(0, th, td, pd) * MerlBrdf::kChannelScale[0];
-    worstTrilinear = std::max(worstTrilinear, std::fabs(b.evalHalfDiff(th, td, pd, Interp::Trilinear).r - exact) / exact);
+    worstTrilinear =
+        std::max(worstTrilinear, std::fabs(b.evalHalfDiff(th, td, pd, Interp::Trilinear).r - exact) / exact);
     worstNearest = std::max(worstNearest, std::fabs(b.evalHalfDiff(th, td, pd, Interp::Nearest).r - exact) / exact);
   }
   EXPECT_LT(worstTrilinear, 2e-3);

@@ -130,17 +130,17 @@ TEST_F(NeuralBrdfTest, WrongLayers) {
 TEST_F(NeuralBrdfTest, NetworkArithmetic) {
   json j = {{"m", zeroNet()}};
   auto& L = j["m"]["layers"];
-  L[0]["W"][2][0] = 1.0;     // hidden0 = relu(hz)
-  L[0]["W"][2][1] = -1.0;    // hidden1 = relu(-hz) = 0 above the horizon
-  L[0]["W"][3][2] = 2.0;     // hidden2 = relu(2 dx + 0.5)
+  L[0]["W"][2][0] = 1.0;   // hidden0 = relu(hz)
+  L[0]["W"][2][1] = -1.0;  // hidden1 = relu(-hz) = 0 above the horizon
+  L[0]["W"][3][2] = 2.0;   // hidden2 = relu(2 dx + 0.5)
   L[0]["b"][2] = 0.5;
-  L[1]["W"][0][0] = 1.0;     // hidden'0 = hidden0
-  L[1]["W"][1][1] = 1.0;     // hidden'1 = hidden1
-  L[1]["W"][2][2] = 1.0;     // hidden'2 = hidden2
-  L[2]["W"][0][0] = 1.0;     // r = hidden'0
-  L[2]["W"][1][1] = 5.0;     // g = 5 hidden'1 + log 2
+  L[1]["W"][0][0] = 1.0;  // hidden'0 = hidden0
+  L[1]["W"][1][1] = 1.0;  // hidden'1 = hidden1
+  L[1]["W"][2][2] = 1.0;  // hidden'2 = hidden2
+  L[2]["W"][0][0] = 1.0;  // r = hidden'0
+  L[2]["W"][1][1] = 5.0;  // g = 5 hidden'1 + log 2
   L[2]["b"][1] = std::log(2.0);
-  L[2]["W"][2][2] = 1.0;     // b = hidden'2 - 1
+  L[2]["W"][2][2] = 1.0;  // b = hidden'2 - 1
   L[2]["b"][2] = -1.0;
   const NeuralBrdf net = NeuralBrdf::load(writeJson(j), "m");
   EXPECT_EQ(net.name(), "m");

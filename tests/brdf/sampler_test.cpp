@@ -263,8 +263,8 @@ TEST(BrdfTable1, NickelAdaptiveIsSmallerAtNearlyTheUniformVariance) {
                             c = estimateReflectance(library().sampler("nickel", "cosine"));
   const double compression = double(uniform.bytes()) / adaptive.bytes();
   const std::string measured = "compression " + std::to_string(compression) + ", variance adaptive " +
-                               std::to_string(a.variance) + " / uniform " + std::to_string(u.variance) +
-                               " / cosine " + std::to_string(c.variance);
+                               std::to_string(a.variance) + " / uniform " + std::to_string(u.variance) + " / cosine " +
+                               std::to_string(c.variance);
   EXPECT_GE(compression, kTable1Compression) << measured;
   EXPECT_LE(a.variance, kTable1VarianceRatio * u.variance) << measured;
   EXPECT_LE(a.variance, c.variance / 5) << measured;
@@ -316,7 +316,8 @@ TEST(BrdfTabulation, FourDimensionalTableMatchesDirectQuadrature) {
     // (least so at small θo, where the lobe is nearly round in φh).
     const double turned = directQuadratureDistance(uniform, nickel, thetaCell, phiCell, (phiCell + 4) % 16);
     EXPECT_GT(turned, 3 * distance) << "slice " << thetaCell << ", " << phiCell;
-    std::printf("slice %u,%u: total variation %.4f (a quarter turn away: %.3f)\n", thetaCell, phiCell, distance, turned);
+    std::printf("slice %u,%u: total variation %.4f (a quarter turn away: %.3f)\n", thetaCell, phiCell, distance,
+                turned);
   }
 }
 

@@ -5,12 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <bit>
 #include <cmath>
 #include <filesystem>
 #include <set>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "acdf/brdf/tabulated_brdf_sampler.h"
@@ -140,7 +140,8 @@ TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
   // The defensive mixture weight only acts at sample time: the same table serves every weight.
   TabulatedBrdfOptions mixed = base;
   mixed.cosineWeight = 0.25;
-  EXPECT_EQ(TabulatedBrdfSampler::tableKey(brdf(), kNearest, mixed), TabulatedBrdfSampler::tableKey(brdf(), kNearest, base));
+  EXPECT_EQ(TabulatedBrdfSampler::tableKey(brdf(), kNearest, mixed),
+            TabulatedBrdfSampler::tableKey(brdf(), kNearest, base));
 }
 
 TEST(BrdfTable, ThroughATableCache) {

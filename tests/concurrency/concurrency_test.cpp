@@ -14,10 +14,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <span>
-#include <string>
 #include <functional>
 #include <memory>
+#include <span>
+#include <string>
 #include <thread>
 #include <vector>
 

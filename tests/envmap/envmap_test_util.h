@@ -26,14 +26,13 @@ std::shared_ptr<const EnvironmentMap> smoothMap(uint32_t width, uint32_t height)
 
 // Path of a shared real map ("sunset_1024x512.exr", ...), or "" when the shared data are absent.
 std::string sharedEnvmap(const std::string& name);
-inline constexpr const char* kSharedEnvmaps[] = {"sunset_1024x512.exr", "forest_1024x512.exr",
-                                                 "stage_1000x500.exr"};
+inline constexpr const char* kSharedEnvmaps[] = {"sunset_1024x512.exr", "forest_1024x512.exr", "stage_1000x500.exr"};
 
 }  // namespace acdf::envmaptest
 
 // Skips the current test when the shared real maps are absent.
-#define ACDF_SKIP_WITHOUT_SHARED_ENVMAPS()                                                          \
-  do {                                                                                              \
-    if (::acdf::envmaptest::sharedEnvmap(::acdf::envmaptest::kSharedEnvmaps[0]).empty())            \
-      GTEST_SKIP() << "shared maps not found in " ACDF_SHARED_ENVMAPS " (project test data)";       \
+#define ACDF_SKIP_WITHOUT_SHARED_ENVMAPS()                                                    \
+  do {                                                                                        \
+    if (::acdf::envmaptest::sharedEnvmap(::acdf::envmaptest::kSharedEnvmaps[0]).empty())      \
+      GTEST_SKIP() << "shared maps not found in " ACDF_SHARED_ENVMAPS " (project test data)"; \
   } while (0)

@@ -52,8 +52,7 @@ void writeTestImage(const std::string& path, const Layout& l, int width, int hei
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
       for (int c = 0; c < l.channels; ++c) pixels[(std::size_t(y) * width + x) * l.channels + c] = pattern(x, y, c);
-  ASSERT_TRUE(out->open(path, spec, OIIO::ImageOutput::Create))
-      << out->geterror();
+  ASSERT_TRUE(out->open(path, spec, OIIO::ImageOutput::Create)) << out->geterror();
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) << out->geterror();
   if (l.mipmapped) {
     OIIO::ImageSpec level = spec;
@@ -201,9 +200,10 @@ TEST_F(ReadImage, BrokenFilesAreErrorsNamingTheFile) {
   const std::string empty = path("empty.exr");
   acdf::apptest::writeFile(empty, "");
 
-  for (const auto& [file, needle] : {std::pair{truncated, std::string()}, std::pair{text, std::string()},
-                                     std::pair{empty, std::string()}, std::pair{path("missing.exr"), std::string("no such file")},
-                                     std::pair{dir_.string(), std::string("is a directory")}}) {
+  for (const auto& [file, needle] :
+       {std::pair{truncated, std::string()}, std::pair{text, std::string()}, std::pair{empty, std::string()},
+        std::pair{path("missing.exr"), std::string("no such file")},
+        std::pair{dir_.string(), std::string("is a directory")}}) {
     try {
       (void)EnvironmentMap::load(file);
       FAIL() << "no error for " << file;

@@ -34,10 +34,10 @@ void expectNear(const Vec3d& a, const Vec3d& b, double tolerance) {
 }
 
 TEST(LatLong, DocumentedDirections) {
-  expectNear(LatLongMapping::direction(0, 1.0), {0, 1, 0}, 1e-15);         // row 0: the zenith, +Y
-  expectNear(LatLongMapping::direction(kPi / 2, 0), {0, 0, -1}, 1e-15);      // left edge: −Z
+  expectNear(LatLongMapping::direction(0, 1.0), {0, 1, 0}, 1e-15);             // row 0: the zenith, +Y
+  expectNear(LatLongMapping::direction(kPi / 2, 0), {0, 0, -1}, 1e-15);        // left edge: −Z
   expectNear(LatLongMapping::direction(kPi / 2, kPi / 2), {-1, 0, 0}, 1e-15);  // a quarter in: −X
-  expectNear(LatLongMapping::direction(kPi / 2, kPi), {0, 0, 1}, 1e-15);     // centre column: +Z
+  expectNear(LatLongMapping::direction(kPi / 2, kPi), {0, 0, 1}, 1e-15);       // centre column: +Z
   expectNear(LatLongMapping::direction(kPi / 2, 1.5 * kPi), {1, 0, 0}, 1e-15);
   for (double theta : {1e-9, 0.4, 1.6, 3.0, kPi - 1e-9})
     for (double phi : {0.0, 0.5, 3.0, 6.2}) {
@@ -219,8 +219,7 @@ TEST(SunSky, PresetsPutTheSunWhereTheySay) {
       if (L > best) best = L, brightest = i;
     }
     if (p.sunIntensity > 0) {
-      const Vec3d sun =
-          LatLongMapping::direction(kPi / 2 - p.sunElevationDeg * kPi / 180, p.sunAzimuthDeg * kPi / 180);
+      const Vec3d sun = LatLongMapping::direction(kPi / 2 - p.sunElevationDeg * kPi / 180, p.sunAzimuthDeg * kPi / 180);
       // The disk may straddle a pixel edge: the brightest pixel is the sun's or a neighbour.
       const PixelIndex at = map.mapping().pixelOf(sun);
       EXPECT_LE(std::abs(int(at.row) - int(brightest / 256)), 1) << name;

@@ -61,8 +61,8 @@ TEST(EnvironmentTable, RoundTripsAreBitIdentical) {
   const auto constant = constantMap(32, 16, 2.0f);
   const EnvironmentLight fellBack(constant, withStrategy(EnvironmentSampling::Compensated));
   ASSERT_TRUE(fellBack.compensationFellBack());
-  expectSameLight(fellBack, EnvironmentLight(constant, withStrategy(EnvironmentSampling::Compensated),
-                                             fellBack.serializeTable()));
+  expectSameLight(
+      fellBack, EnvironmentLight(constant, withStrategy(EnvironmentSampling::Compensated), fellBack.serializeTable()));
 }
 
 TEST(EnvironmentTable, StrategiesWithoutACascadeSaveNothing) {

@@ -30,7 +30,8 @@ std::string smoothSky() {
   };
   static const TemporaryFile sky = [] {
     TemporaryFile file{
-        (std::filesystem::temp_directory_path() / ("acdf_consistency_sky_" + std::to_string(::getpid()) + ".exr")).string()};
+        (std::filesystem::temp_directory_path() / ("acdf_consistency_sky_" + std::to_string(::getpid()) + ".exr"))
+            .string()};
     Image image;
     image.width = 64;
     image.height = 32;
@@ -41,9 +42,9 @@ std::string smoothSky() {
         const Vec3d w = LatLongMapping::direction(std::numbers::pi * (r + 0.5) / image.height,
                                                   2.0 * std::numbers::pi * (c + 0.5) / image.width);
         const double bright = std::pow(std::max(0.0, dot(w, lobe)), 8.0);
-        image.pixels.insert(image.pixels.end(), {static_cast<float>(0.3 + 4.0 * bright),
-                                                 static_cast<float>(0.4 + 3.0 * bright),
-                                                 static_cast<float>(0.6 + 2.0 * bright)});
+        image.pixels.insert(image.pixels.end(),
+                            {static_cast<float>(0.3 + 4.0 * bright), static_cast<float>(0.4 + 3.0 * bright),
+                             static_cast<float>(0.6 + 2.0 * bright)});
       }
     writeExr(file.path, image);
     return file;
@@ -59,19 +60,25 @@ nlohmann::json skyScene(const std::string& sampling) {
       {"render", {{"spp", 96}, {"seed", 3}, {"max_depth", 4}}},
       {"environment", {{"type", "map"}, {"file", smoothSky()}, {"sampling", "adaptive"}}},
       {"materials",
-       {{"metal", {{"type", "measured"}, {"preset", "gold"}, {"sampling", sampling}, {"table", {{"layout", "isotropic"}}}}},
+       {{"metal",
+         {{"type", "measured"}, {"preset", "gold"}, {"sampling", sampling}, {"table", {{"layout", "isotropic"}}}}},
         {"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
       {"shapes",
        {{{"type", "sphere"}, {"center", {-0.6, 0.6, 0}}, {"radius", 0.6}, {"material", "metal"}},
         {{"type", "sphere"}, {"center", {0.7, 0.5, 0.3}}, {"radius", 0.5}, {"material", "floor"}},
-        {{"type", "quad"}, {"corner", {-5, 0, -5}}, {"edge_u", {0, 0, 10}}, {"edge_v", {10, 0, 0}}, {"material", "floor"}}}},
+        {{"type", "quad"},
+         {"corner", {-5, 0, -5}},
+         {"edge_u", {0, 0, 10}},
+         {"edge_v", {10, 0, 0}},
+         {"material", "floor"}}}},
   };
 }
 
 void expectAgree(const rendertest::ImageMean& a, const rendertest::ImageMean& b, const std::string& what) {
   auto check = [&](double ma, double sa, double mb, double sb, const char* channel) {
     const double bar = 3.0 * std::sqrt(sa * sa + sb * sb);
-    EXPECT_LE(std::abs(ma - mb), bar) << what << " " << channel << ": " << ma << " vs " << mb << " (3σ = " << bar << ")";
+    EXPECT_LE(std::abs(ma - mb), bar) << what << " " << channel << ": " << ma << " vs " << mb << " (3σ = " << bar
+                                      << ")";
     // The bars themselves must be meaningful: a few percent, not the size of the signal.
     EXPECT_LT(bar, 0.1 * std::max(ma, mb)) << what << " " << channel;
   };
@@ -97,7 +104,8 @@ TEST(Consistency, MisModesAgree) {
 TEST(Consistency, UniformAndAdaptiveTablesAgree) {
   // BSDF sampling alone, so the BRDF table's own bias could not hide behind light sampling.
   expectAgree(renderMean("uniform", MisMode::BsdfOnly, EnvironmentSampling::Adaptive),
-              renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive), "uniform vs adaptive BRDF table");
+              renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive),
+              "uniform vs adaptive BRDF table");
   // Light sampling alone for the environment tables, likewise.
   expectAgree(renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Uniform),
               renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Adaptive),
@@ -108,7 +116,8 @@ TEST(Consistency, EnvironmentStrategiesAgreeUnderMis) {
   const auto adaptive = renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive);
   expectAgree(adaptive, renderMean("adaptive", MisMode::Power, std::nullopt), "adaptive vs uniform-sphere");
   expectAgree(adaptive, renderMean("adaptive", MisMode::Power, EnvironmentSampling::Alias), "adaptive vs alias");
-  expectAgree(adaptive, renderMean("adaptive", MisMode::Power, EnvironmentSampling::Compensated), "adaptive vs compensated");
+  expectAgree(adaptive, renderMean("adaptive", MisMode::Power, EnvironmentSampling::Compensated),
+              "adaptive vs compensated");
 }
 
 }  // namespace

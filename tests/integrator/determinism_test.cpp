@@ -15,11 +15,14 @@ nlohmann::json smallScene(uint64_t seed) {
       {"render", {{"spp", 4}, {"seed", seed}}},
       {"environment", {{"type", "map"}, {"file", "data/envmaps/sunset_1024x512.exr"}, {"sampling", "alias"}}},
       {"materials",
-       {{"metal", {{"type", "ggx-conductor"}, {"preset", "gold"}}},
-        {"floor", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+       {{"metal", {{"type", "ggx-conductor"}, {"preset", "gold"}}}, {"floor", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
       {"shapes",
        {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "metal"}},
-        {{"type", "quad"}, {"corner", {-5, 0, -5}}, {"edge_u", {0, 0, 10}}, {"edge_v", {10, 0, 0}}, {"material", "floor"}}}},
+        {{"type", "quad"},
+         {"corner", {-5, 0, -5}},
+         {"edge_u", {0, 0, 10}},
+         {"edge_v", {10, 0, 0}},
+         {"material", "floor"}}}},
   };
 }
 

@@ -40,8 +40,10 @@ TEST(ExampleScenes, EveryExampleLoadsAndRenders) {
       const bool demoMaterialMissing = entry.path().filename() == "demo.json" &&
                                        e.file().find("build/demo/") != std::string::npos &&
                                        e.problem().find("no such file") != std::string::npos;
-      if (!demoMaterialMissing) ADD_FAILURE() << e.what();
-      else std::printf("skipped %s: run `make demo` first (%s)\n", entry.path().c_str(), e.what());
+      if (!demoMaterialMissing)
+        ADD_FAILURE() << e.what();
+      else
+        std::printf("skipped %s: run `make demo` first (%s)\n", entry.path().c_str(), e.what());
     }
   }
   EXPECT_GE(rendered, 2);  // furnace.json and conductors.json need nothing generated

@@ -53,8 +53,8 @@ TEST_P(DiffuseFurnace, RendersAlbedoTimesRadiance) {
   // image mean within 3. Zero-variance strategies (BSDF sampling of a diffuse surface under a
   // constant sky) leave only rounding.
   auto check = [](double value, double exact, double se, double sigmas, const std::string& what) {
-    EXPECT_LE(std::abs(value - exact), sigmas * se + 1e-9 * exact) << what << ": " << value << " vs " << exact
-                                                                   << " (standard error " << se << ")";
+    EXPECT_LE(std::abs(value - exact), sigmas * se + 1e-9 * exact)
+        << what << ": " << value << " vs " << exact << " (standard error " << se << ")";
   };
   for (uint32_t y = 0; y < r.film.height(); ++y)
     for (uint32_t x = 0; x < r.film.width(); ++x) {
@@ -77,13 +77,12 @@ std::vector<Combination> everyCombination() {
   return all;
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryStrategy, DiffuseFurnace, ::testing::ValuesIn(everyCombination()),
-                         [](const auto& info) {
-                           std::string name = info.param.mis + "_" + info.param.env;
-                           for (char& c : name)
-                             if (c == '-') c = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(EveryStrategy, DiffuseFurnace, ::testing::ValuesIn(everyCombination()), [](const auto& info) {
+  std::string name = info.param.mis + "_" + info.param.env;
+  for (char& c : name)
+    if (c == '-') c = '_';
+  return name;
+});
 
 // ∫ f(ωi, ωo) cosθi dωi over the hemisphere by the midpoint rule in (cosθi, φi) (dω = dcosθ dφ).
 Color directionalAlbedo(const MerlBrdf& brdf, const Vec3d& wo, int cosCells, int phiCells) {
@@ -134,8 +133,8 @@ TEST(MeasuredFurnace, MatchesBruteForceDirectionalAlbedo) {
     const Color m = r.film.mean(0, 0), se = r.film.standardError(0, 0);
     // 3 standard errors of the render, plus 0.5% for the quadrature of a table that is
     // piecewise constant in the half/difference angles.
-    for (auto [value, exact, error] : {std::tuple{m.r, expected.r, se.r}, std::tuple{m.g, expected.g, se.g},
-                                       std::tuple{m.b, expected.b, se.b}})
+    for (auto [value, exact, error] :
+         {std::tuple{m.r, expected.r, se.r}, std::tuple{m.g, expected.g, se.g}, std::tuple{m.b, expected.b, se.b}})
       EXPECT_NEAR(value, exact, 3 * error + 0.005 * exact) << "pixel " << px << "," << py;
   }
 }

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -29,8 +29,9 @@ nlohmann::json tinyScene() {
       {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 30}, {"width", 8}, {"height", 6}}},
       {"render", {{"spp", 2}}},
       {"environment", {{"type", "map"}, {"file", apptest::sourceDir() + "/data/envmaps/sunset_1024x512.exr"}}},
-      {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}},
-                     {"unused", {{"type", "measured"}, {"file", "never-loaded.binary"}}}}},
+      {"materials",
+       {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}},
+        {"unused", {{"type", "measured"}, {"file", "never-loaded.binary"}}}}},
       {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "grey"}}}},
   };
 }
@@ -51,8 +52,8 @@ class RenderCli : public apptest::TempDirTest {
   void expectNoOutputs() {
     for (const auto& entry : fs::directory_iterator(dir_)) {
       const std::string name = entry.path().filename().string();
-      EXPECT_TRUE(name.ends_with(".json") || name.ends_with(".binary") || name == "readonly" || name == "cache" || name == "stdout.txt" ||
-                  name == "stderr.txt")
+      EXPECT_TRUE(name.ends_with(".json") || name.ends_with(".binary") || name == "readonly" || name == "cache" ||
+                  name == "stdout.txt" || name == "stderr.txt")
           << "left behind: " << name;
     }
   }
@@ -87,7 +88,8 @@ TEST_F(RenderCli, RendersWithJsonSummary) {
 }
 
 TEST_F(RenderCli, BuildsOnlyTheChosenEnvironmentTable) {
-  const auto r = runAcdf({"render", writeScene(tinyScene()), "-o", path("a.exr"), "--json", "--env-sampling", "alias"}, dir_);
+  const auto r =
+      runAcdf({"render", writeScene(tinyScene()), "-o", path("a.exr"), "--json", "--env-sampling", "alias"}, dir_);
   ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
   const auto built = nlohmann::json::parse(r.out)["tables_built"];
   ASSERT_EQ(built.size(), 1u);
@@ -165,13 +167,13 @@ TEST_F(RenderCli, WrongTypeNamesItsPath) {
 
 TEST_F(RenderCli, InvalidJson) {
   apptest::writeFile(path("scene.json"), "{\"camera\": ");
-  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
-                       "invalid JSON");
+  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_),
+                       "acdf: " + path("scene.json"), "invalid JSON");
   // A number beyond double is nlohmann's out_of_range, not a parse_error (found by fuzz_scene; it
   // was reported as an internal error, exit 1).
   apptest::writeFile(path("scene.json"), "{\"camera\": {\"width\": 4833333333333333333333333333E3333}}");
-  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
-                       "number overflow");
+  expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_),
+                       "acdf: " + path("scene.json"), "number overflow");
 }
 
 TEST_F(RenderCli, MissingSceneFile) {
@@ -182,8 +184,8 @@ TEST_F(RenderCli, MissingSceneFile) {
 TEST_F(RenderCli, MissingReferencedFileIsResolvedAgainstTheScene) {
   nlohmann::json scene = tinyScene();
   scene["materials"]["grey"] = {{"type", "measured"}, {"file", "missing.binary"}};
-  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("missing.binary"),
-                       "no such file (referenced by $.materials.grey.file)");
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_),
+                       "acdf: " + path("missing.binary"), "no such file (referenced by $.materials.grey.file)");
   expectNoOutputs();
 }
 
@@ -191,8 +193,8 @@ TEST_F(RenderCli, BrokenReferencedFile) {
   apptest::writeFile(path("broken.binary"), "not a BRDF");
   nlohmann::json scene = tinyScene();
   scene["materials"]["grey"] = {{"type", "measured"}, {"file", "broken.binary"}};
-  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("broken.binary"),
-                       "referenced by $.materials.grey");
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_),
+                       "acdf: " + path("broken.binary"), "referenced by $.materials.grey");
   expectNoOutputs();
 }
 
@@ -222,8 +224,9 @@ TEST_F(RenderCli, UnwritableOutputLeavesNoFile) {
 }
 
 TEST_F(RenderCli, BadStrategyOnTheCommandLine) {
-  expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("x.exr"), "--env-sampling", "magic"}, dir_),
-                       "acdf: render: --env-sampling", "uniform-sphere");
+  expectOneLineFailure(
+      runAcdf({"render", writeScene(tinyScene()), "-o", path("x.exr"), "--env-sampling", "magic"}, dir_),
+      "acdf: render: --env-sampling", "uniform-sphere");
   expectOneLineFailure(runAcdf({"render", writeScene(tinyScene()), "-o", path("x.exr"), "--mis", "best"}, dir_),
                        "acdf: render: --mis", "power");
 }

@@ -19,7 +19,8 @@ Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& override
   // One provider for the whole test program: scenes that share a material or a map share its
   // tables, as they would within one scene.
   static TableProvider tables(TableCache::disabled());
-  const Scene loaded = loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
+  const Scene loaded =
+      loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
   Rendered r{makeFilm(loaded), {}};
   r.stats = render(loaded, r.film);
   return r;

@@ -66,9 +66,7 @@ TEST_P(AliasGridTest, PdfIntegratesToOne) {
   EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
 }
 
-TEST_P(AliasGridTest, CellProbabilities) {
-  EXPECT_TRUE(cellProbabilitiesAreExact(sampler(), values()));
-}
+TEST_P(AliasGridTest, CellProbabilities) { EXPECT_TRUE(cellProbabilitiesAreExact(sampler(), values())); }
 
 TEST_P(AliasGridTest, NeverSamplesZeroCellsAndStaysInTheChosenCell) {
   const Sampler s = sampler();
@@ -178,7 +176,8 @@ double worstLatticeError(uint32_t log2Cells) {
   for (uint32_t m = 0; m < (1u << 24); ++m) ++hits[table.sample(static_cast<float>(m) * 0x1p-24f).index];
   const double total = std::accumulate(w.begin(), w.end(), 0.0);
   double worst = 0;
-  for (std::size_t i = 0; i < w.size(); ++i) worst = std::max(worst, std::fabs(hits[i] * 0x1p-24 / (w[i] / total) - 1.0));
+  for (std::size_t i = 0; i < w.size(); ++i)
+    worst = std::max(worst, std::fabs(hits[i] * 0x1p-24 / (w[i] / total) - 1.0));
   return worst;
 }
 

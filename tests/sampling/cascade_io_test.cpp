@@ -10,12 +10,12 @@
 
 #include <algorithm>
 #include <bit>
-#include <limits>
-#include <stdexcept>
-#include <utility>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "acdf/sampling/byte_io.h"
@@ -105,7 +105,9 @@ std::vector<Case> cases() {
   all.push_back({"adaptive-2d", {32, 48}, {}});
   all.push_back({"adaptive-1d-16bit", {3000}, {}});
   all.push_back({"adaptive-1d-32bit", {70000}, optionsWith([](auto& o) { o.simplify.epsilon = 1e-2; })});
-  all.push_back({"mixed-4d-conditioned", {6, 5, 20, 12}, optionsWith([](auto& o) {
+  all.push_back({"mixed-4d-conditioned",
+                 {6, 5, 20, 12},
+                 optionsWith([](auto& o) {
                    o.conditioningDims = 2;
                    o.methods = {DM::Adaptive, DM::Uniform};
                  }),
@@ -114,7 +116,9 @@ std::vector<Case> cases() {
                    o.conditioningDims = 1;
                    o.methods = {DM::Uniform, DM::Adaptive};
                  })});
-  all.push_back({"average-of-normalized-mass-scaled-chi2", {5, 30, 20}, optionsWith([](auto& o) {
+  all.push_back({"average-of-normalized-mass-scaled-chi2",
+                 {5, 30, 20},
+                 optionsWith([](auto& o) {
                    o.conditioningDims = 1;
                    o.simplify.metric = ErrorMetric::ChiSquare;
                    o.simplify.epsilon = 1e-3;
@@ -128,7 +132,9 @@ std::vector<Case> cases() {
                    o.simplify.metric = ErrorMetric::Perpendicular;
                    o.simplify.maxPoints = 12;
                  })});
-  all.push_back({"slice-grouping", {12, 16, 16}, optionsWith([](auto& o) {
+  all.push_back({"slice-grouping",
+                 {12, 16, 16},
+                 optionsWith([](auto& o) {
                    o.conditioningDims = 1;
                    o.sliceGroupingTolerance = 0.5;
                  }),
@@ -287,10 +293,8 @@ TEST(CascadeSerialization, EveryTruncationIsRejected) {
 
 TEST(CascadeSerialization, EverySingleByteChangeIsRejectedOrHarmless) {
   const std::vector<std::vector<std::byte>> tables = {
-      smallUniform(),
-      Cascade(bumpyValues({3, 7, 6}, 1), axesOf({3, 7, 6}), conditionedOn(1)).serialize(),
-      Cascade(bumpyValues({6, 5, 8}, 1), axesOf({6, 5, 8}), conditionedOn(1, 1.0))
-          .serialize()};
+      smallUniform(), Cascade(bumpyValues({3, 7, 6}, 1), axesOf({3, 7, 6}), conditionedOn(1)).serialize(),
+      Cascade(bumpyValues({6, 5, 8}, 1), axesOf({6, 5, 8}), conditionedOn(1, 1.0)).serialize()};
   for (const std::vector<std::byte>& original : tables) {
     std::vector<std::byte> bytes = original;
     for (std::size_t i = 0; i < bytes.size(); ++i) {

@@ -111,15 +111,13 @@ TEST_P(CascadeFixtures, CellProbabilitiesSumToOneAndMatchPdf) {
   const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
   ASSERT_EQ(q.size(), fromPdf.size());
   EXPECT_NEAR(std::accumulate(q.begin(), q.end(), 0.0), 1.0, 1e-6);
-  for (std::size_t i = 0; i < q.size(); ++i)
-    ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << "cell " << i;
+  for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(fromPdf[i], q[i], 2e-6 * q[i] + 1e-30) << "cell " << i;
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeFixtures,
                          ::testing::Combine(::testing::Range(0, 4), ::testing::ValuesIn(kAllFixtures)),
                          [](const auto& info) {
-                           return shapes()[std::get<0>(info.param)].name + "_" +
-                                  toString(std::get<1>(info.param));
+                           return shapes()[std::get<0>(info.param)].name + "_" + toString(std::get<1>(info.param));
                          });
 
 class CascadeUniformExact : public ::testing::TestWithParam<Fixture> {};
@@ -132,8 +130,7 @@ TEST_P(CascadeUniformExact, CellProbabilitiesAreTheFunctions) {
     const Sampler s = makeCascade(v, unitAxes(dims), withMethods(std::vector<DM>(dims.size(), DM::Uniform)));
     const auto q = s.cellProbabilities();
     const auto exact = exactCellProbabilities(v);
-    for (std::size_t i = 0; i < q.size(); ++i)
-      ASSERT_NEAR(q[i], exact[i], 3e-7 + 1e-5 * exact[i]) << "cell " << i;
+    for (std::size_t i = 0; i < q.size(); ++i) ASSERT_NEAR(q[i], exact[i], 3e-7 + 1e-5 * exact[i]) << "cell " << i;
     EXPECT_LT(compareCellProbabilities(exact, q).chi2Divergence, 1e-4);
   }
 }
@@ -184,8 +181,7 @@ TEST_P(CascadeConditioned, SliceEqualsAStandaloneCascadeOfItsValues) {
     const double volume = (1.0 / k4D[2]) * (1.0 / k4D[3]);
     EXPECT_NEAR(c->integral(slice), std::accumulate(own.begin(), own.end(), 0.0) * volume,
                 1e-9 * c->integral(slice) + 1e-300);
-    EXPECT_EQ(c->isUniformFallback(slice),
-              std::all_of(own.begin(), own.end(), [](float x) { return x == 0; }));
+    EXPECT_EQ(c->isUniformFallback(slice), std::all_of(own.begin(), own.end(), [](float x) { return x == 0; }));
   }
 }
 
@@ -391,8 +387,7 @@ TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {
   perpendicular.simplify.metric = ErrorMetric::Perpendicular;
   greedy.simplify.method = Simplifier::GreedyRefinement;
   greedy.simplify.maxPoints = 4;
-  const Cascade a(v, unitAxes(k2D), vertical), b(v, unitAxes(k2D), perpendicular),
-      c(v, unitAxes(k2D), greedy);
+  const Cascade a(v, unitAxes(k2D), vertical), b(v, unitAxes(k2D), perpendicular), c(v, unitAxes(k2D), greedy);
   EXPECT_NE(a.pointsPerDimension(), b.pointsPerDimension());
   // A budget of 4 points per 1D CDF: 4 points at level 0, 3 intervals × 4 points at level 1.
   EXPECT_EQ(c.pointsPerDimension(), (std::vector<std::size_t>{4, 12}));
@@ -461,8 +456,7 @@ TEST(CascadeOptions, WeightBoundHoldsForWholeCells) {
             }
             if (p[i] > 1e-4) worst = std::max(worst, p[i] / q[i]);
           }
-          EXPECT_LE(worst, rho * 1.01)
-              << toString(f) << " " << dims.size() << "D rho " << rho << " eps " << eps;
+          EXPECT_LE(worst, rho * 1.01) << toString(f) << " " << dims.size() << "D rho " << rho << " eps " << eps;
         }
   // Without the bound a coarse ε leaves much larger ratios: the check above is not vacuous.
   CascadeOptions loose;
@@ -549,8 +543,7 @@ TEST(CascadeDomains, PositionsAreUniformWithinCells) {
 
 TEST(CascadeDomains, ShiftedDomains3D) {
   const auto v = makeFixture(Fixture::Smooth, k3D);
-  const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f),
-                                      GridAxis(12, -1.0f, -0.5f)};
+  const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
   const Sampler s = makeCascade(v, axes, withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive}));
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
@@ -585,8 +578,7 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
     for (uint32_t& d : dims) d = 1 + pick(dimsCount <= 2 ? 40 : 12);
     CascadeOptions o;
     o.conditioningDims = pick(dimsCount);
-    for (uint32_t d = o.conditioningDims; d < dimsCount; ++d)
-      o.methods.push_back(pick(3) ? DM::Adaptive : DM::Uniform);
+    for (uint32_t d = o.conditioningDims; d < dimsCount; ++d) o.methods.push_back(pick(3) ? DM::Adaptive : DM::Uniform);
     o.conditional = pick(2) ? ConditionalRule::ExactMass : ConditionalRule::AverageOfNormalized;
     o.simplify.method = pick(2) ? Simplifier::DouglasPeucker : Simplifier::GreedyRefinement;
     o.simplify.metric = pick(2) ? ErrorMetric::Vertical : ErrorMetric::Perpendicular;
@@ -600,8 +592,7 @@ TEST(CascadeRandomConfigurations, ContractHolds) {
     for (float& x : condition) x = rng.nextFloat();
     const Sampler s = makeCascade(c, condition);
     const std::string what = "trial " + std::to_string(trial) + " " + toString(f) + " dims " +
-                             std::to_string(dimsCount) + " conditioning " +
-                             std::to_string(o.conditioningDims);
+                             std::to_string(dimsCount) + " conditioning " + std::to_string(o.conditioningDims);
     const ChiSquareReport r = checkSamples(s, 3'000);
     ASSERT_TRUE(r.samplesValid()) << what << ": " << r.summary();
     ASSERT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4) << what;
@@ -631,8 +622,7 @@ TEST(CascadeSliceGrouping, OffByDefault) {
 
 TEST(CascadeSliceGrouping, RejectsBadTolerances) {
   const auto v = makeFixture(Fixture::Smooth, k4D);
-  for (double bad :
-       {-1e-3, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+  for (double bad : {-1e-3, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
     EXPECT_THROW((Cascade{v, unitAxes(k4D), grouped(bad)}), std::invalid_argument) << bad;
 }
 
@@ -661,8 +651,7 @@ TEST(CascadeSliceGrouping, GroupedSlicesStayWithinTheTolerance) {
   for (Fixture f : {Fixture::Smooth, Fixture::Checkerboard, Fixture::ZerosWithIslands, Fixture::PeakedSun}) {
     SCOPED_TRACE(toString(f));
     const auto v = makeFixture(f, k4D);
-    const Cascade separate(v, unitAxes(k4D), withMethods({}, 2)),
-        shared(v, unitAxes(k4D), grouped(kTolerance));
+    const Cascade separate(v, unitAxes(k4D), withMethods({}, 2)), shared(v, unitAxes(k4D), grouped(kTolerance));
     if (f == Fixture::Smooth) {
       EXPECT_LT(shared.distinctSlices(), shared.slices());
     }
@@ -678,8 +667,7 @@ TEST(CascadeSliceGrouping, GroupedSlicesStayWithinTheTolerance) {
       const auto ownQ = separate.cellProbabilities(slice);
       if (q != ownQ) {
         ++reused;
-        const double ownDivergence =
-            compareCellProbabilities(exactCellProbabilities(own), ownQ).chi2Divergence;
+        const double ownDivergence = compareCellProbabilities(exactCellProbabilities(own), ownQ).chi2Divergence;
         EXPECT_LE(quality.chi2Divergence, ownDivergence + kTolerance) << "slice " << slice;
       }
     }
@@ -699,8 +687,7 @@ TEST(CascadeSliceGrouping, ZeroSlicesStayUniform) {
   for (std::size_t slice = 0; slice < shared.slices(); ++slice) {
     if (!shared.isUniformFallback(slice)) continue;
     ++zeroSlices;
-    for (double q : shared.cellProbabilities(slice))
-      ASSERT_NEAR(q, 1.0 / (32 * 16), 1e-9) << "slice " << slice;
+    for (double q : shared.cellProbabilities(slice)) ASSERT_NEAR(q, 1.0 / (32 * 16), 1e-9) << "slice " << slice;
   }
   EXPECT_GT(zeroSlices, 0u);
 }
@@ -729,8 +716,8 @@ struct Draws {
 };
 
 // Samples i in [0, n) with i % stride == offset, each with its own variates u(i).
-void drawInto(const Cascade& c, std::span<const float> condition, std::size_t n, std::size_t offset,
-              std::size_t stride, Draws& out) {
+void drawInto(const Cascade& c, std::span<const float> condition, std::size_t n, std::size_t offset, std::size_t stride,
+              Draws& out) {
   const std::size_t dims = c.sampledDims();
   std::vector<float> u(dims), back(dims);
   for (std::size_t i = offset; i < n; i += stride) {
@@ -749,8 +736,7 @@ void drawInto(const Cascade& c, std::span<const float> condition, std::size_t n,
 }
 
 Draws allocate(std::size_t n, std::size_t dims) {
-  return {std::vector<float>(n * dims), std::vector<float>(n), std::vector<float>(n),
-          std::vector<float>(n * dims)};
+  return {std::vector<float>(n * dims), std::vector<float>(n), std::vector<float>(n), std::vector<float>(n * dims)};
 }
 
 TEST(CascadeConcurrency, EightThreadsMatchOneThread) {
@@ -761,8 +747,7 @@ TEST(CascadeConcurrency, EightThreadsMatchOneThread) {
   Draws single = allocate(kN, 2), parallel = allocate(kN, 2);
   drawInto(c, condition, kN, 0, 1, single);
   std::vector<std::thread> threads;
-  for (std::size_t t = 0; t < 8; ++t)
-    threads.emplace_back([&, t] { drawInto(c, condition, kN, t, 8, parallel); });
+  for (std::size_t t = 0; t < 8; ++t) threads.emplace_back([&, t] { drawInto(c, condition, kN, t, 8, parallel); });
   for (std::thread& t : threads) t.join();
   EXPECT_TRUE(single == parallel);
 }

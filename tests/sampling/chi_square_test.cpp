@@ -53,9 +53,7 @@ TEST(ChiSquareSurvival, EdgesAndClosedForms) {
   for (double x : {0.1, 1.0, 4.0, 17.0, 60.0}) {
     // dof = 2: Q = exp(-x/2); dof = 4: Q = exp(-x/2)(1 + x/2).
     EXPECT_NEAR(chiSquareSurvival(x, 2), std::exp(-x / 2), 1e-10 * std::exp(-x / 2)) << x;
-    EXPECT_NEAR(chiSquareSurvival(x, 4), std::exp(-x / 2) * (1 + x / 2),
-                1e-10 * std::exp(-x / 2) * (1 + x / 2))
-        << x;
+    EXPECT_NEAR(chiSquareSurvival(x, 4), std::exp(-x / 2) * (1 + x / 2), 1e-10 * std::exp(-x / 2) * (1 + x / 2)) << x;
   }
   // Monotone decreasing in x.
   double previous = 1.0;

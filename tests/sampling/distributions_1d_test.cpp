@@ -137,8 +137,7 @@ TEST_P(Exact1D, CellProbabilitiesMatchTheFunction) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFixtures, Distribution1D,
-                         ::testing::Combine(::testing::ValuesIn(kKinds), ::testing::ValuesIn(kAllFixtures)),
-                         paramName);
+                         ::testing::Combine(::testing::ValuesIn(kKinds), ::testing::ValuesIn(kAllFixtures)), paramName);
 INSTANTIATE_TEST_SUITE_P(AllFixtures, Invertible1D,
                          ::testing::Combine(::testing::Values(Kind1D::PiecewiseConstant, Kind1D::Adaptive),
                                             ::testing::ValuesIn(kAllFixtures)),
@@ -163,8 +162,7 @@ TEST_P(OtherDomain1D, ChiSquareOnMinus3To5) {
   // The density is w.r.t. length on [-3, 5): a uniform function has pdf 1/8.
   const std::vector<float> flat(16, 2.0f);
   const Sampler u = make1D(GetParam(), flat, -3.0f, 5.0f);
-  for (float x : {-2.99f, -1.0f, 0.0f, 4.99f})
-    EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
+  for (float x : {-2.99f, -1.0f, 0.0f, 4.99f}) EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
 }
 
 TEST_P(OtherDomain1D, PositionsAreUniformWithinCells) {
@@ -267,8 +265,7 @@ TEST(AdaptiveCdf1D, PdfIsTheIntervalMassSpreadEvenly) {
     const uint32_t first = a.vertex(j), end = a.vertex(j + 1);
     const double mass = std::accumulate(exact.begin() + first, exact.begin() + end, 0.0);
     const float x = a.axis().place(first, end, 0.5);
-    EXPECT_NEAR(a.pdf(x) * a.axis().cellWidth() * (end - first), mass, 2.5e-7 + 1e-5 * mass)
-        << "interval " << j;
+    EXPECT_NEAR(a.pdf(x) * a.axis().cellWidth() * (end - first), mass, 2.5e-7 + 1e-5 * mass) << "interval " << j;
   }
 }
 

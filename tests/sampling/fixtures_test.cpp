@@ -130,8 +130,8 @@ TEST(Fixtures, SunAndSkyShape) {
   }
   EXPECT_GE(full, 1);
   EXPECT_GE(partial, 4);  // partial coverage of the disk's rim
-  std::cout << "sunAndSky 1024x512: full sun cells " << full << ", partial " << partial
-            << ", sun share of the total " << sunMass / total << "\n";
+  std::cout << "sunAndSky 1024x512: full sun cells " << full << ", partial " << partial << ", sun share of the total "
+            << sunMass / total << "\n";
   EXPECT_GT(sunMass / total, 0.5);  // the sun dominates the map's energy
 
   // Sky brighter toward the horizon (away from the sun), ground = 0.05·sinθ.

@@ -79,9 +79,7 @@ TEST_P(HierarchicalWarpTest, PdfIntegratesToOne) {
   EXPECT_NEAR(integratePdf(s.axes, s.pdf, 1), 1.0, 1e-6);
 }
 
-TEST_P(HierarchicalWarpTest, CellProbabilities) {
-  EXPECT_TRUE(cellProbabilitiesAreExact(sampler(), values()));
-}
+TEST_P(HierarchicalWarpTest, CellProbabilities) { EXPECT_TRUE(cellProbabilitiesAreExact(sampler(), values())); }
 
 TEST_P(HierarchicalWarpTest, InvertUndoesSample) {
   // Float coordinates hold a cell of 64 with 18 bits to spare: the round trip is good to ~1e-5
@@ -137,7 +135,8 @@ TEST(HierarchicalWarp, SphericalDomain) {
   const ChiSquareReport r = runChiSquare(s, chi2Options());
   recordReport(r);
   EXPECT_TRUE(Passed(r));
-  const HierarchicalWarp2D flat(std::vector<float>(24 * 48, 1.0f), {GridAxis(24, 0.0f, kPi), GridAxis(48, 0.0f, kTwoPi)});
+  const HierarchicalWarp2D flat(std::vector<float>(24 * 48, 1.0f),
+                                {GridAxis(24, 0.0f, kPi), GridAxis(48, 0.0f, kTwoPi)});
   const float x[] = {1.0f, 2.0f};
   EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
 }

@@ -46,52 +46,32 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Every distribution class, built from values on a grid of `dims` (1D classes need one axis).
-enum class Class {
-  PiecewiseConstant1D,
-  AliasTable1D,
-  AdaptiveCdf1D,
-  AliasGrid,
-  CascadeAdaptive,
-  CascadeUniform
-};
+enum class Class { PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid, CascadeAdaptive, CascadeUniform };
 constexpr Class kAllClasses[] = {Class::PiecewiseConstant1D, Class::AliasTable1D,    Class::AdaptiveCdf1D,
                                  Class::AliasGrid,           Class::CascadeAdaptive, Class::CascadeUniform};
 constexpr Class kGridClasses[] = {Class::AliasGrid, Class::CascadeAdaptive, Class::CascadeUniform};
 
 std::string name(Class c) {
   switch (c) {
-    case Class::PiecewiseConstant1D:
-      return "PiecewiseConstant1D";
-    case Class::AliasTable1D:
-      return "AliasTable1D";
-    case Class::AdaptiveCdf1D:
-      return "AdaptiveCdf1D";
-    case Class::AliasGrid:
-      return "AliasGrid";
-    case Class::CascadeAdaptive:
-      return "CascadeAdaptive";
-    case Class::CascadeUniform:
-      return "CascadeUniform";
+    case Class::PiecewiseConstant1D: return "PiecewiseConstant1D";
+    case Class::AliasTable1D: return "AliasTable1D";
+    case Class::AdaptiveCdf1D: return "AdaptiveCdf1D";
+    case Class::AliasGrid: return "AliasGrid";
+    case Class::CascadeAdaptive: return "CascadeAdaptive";
+    case Class::CascadeUniform: return "CascadeUniform";
   }
   return "?";
 }
 
-bool is1D(Class c) {
-  return c == Class::PiecewiseConstant1D || c == Class::AliasTable1D || c == Class::AdaptiveCdf1D;
-}
+bool is1D(Class c) { return c == Class::PiecewiseConstant1D || c == Class::AliasTable1D || c == Class::AdaptiveCdf1D; }
 
 Sampler build(Class c, std::span<const float> values, std::vector<GridAxis> axes) {
   switch (c) {
-    case Class::PiecewiseConstant1D:
-      return make1D(Kind1D::PiecewiseConstant, values, axes[0].lo(), axes[0].hi());
-    case Class::AliasTable1D:
-      return make1D(Kind1D::Alias, values, axes[0].lo(), axes[0].hi());
-    case Class::AdaptiveCdf1D:
-      return make1D(Kind1D::Adaptive, values, axes[0].lo(), axes[0].hi());
-    case Class::AliasGrid:
-      return makeAliasGrid(values, std::move(axes));
-    case Class::CascadeAdaptive:
-      return makeCascade(values, std::move(axes));
+    case Class::PiecewiseConstant1D: return make1D(Kind1D::PiecewiseConstant, values, axes[0].lo(), axes[0].hi());
+    case Class::AliasTable1D: return make1D(Kind1D::Alias, values, axes[0].lo(), axes[0].hi());
+    case Class::AdaptiveCdf1D: return make1D(Kind1D::Adaptive, values, axes[0].lo(), axes[0].hi());
+    case Class::AliasGrid: return makeAliasGrid(values, std::move(axes));
+    case Class::CascadeAdaptive: return makeCascade(values, std::move(axes));
     case Class::CascadeUniform: {
       CascadeOptions o;
       o.methods.assign(axes.size(), DM::Uniform);
@@ -172,8 +152,7 @@ TEST(BadValues, EmptyInputIsRejected) {
 TEST(AllZero, IsAUniformFallback) {
   for (Class c : kAllClasses) {
     SCOPED_TRACE(name(c));
-    const std::vector<uint32_t> dims =
-        is1D(c) ? std::vector<uint32_t>{100} : std::vector<uint32_t>{16, 8, 12};
+    const std::vector<uint32_t> dims = is1D(c) ? std::vector<uint32_t>{100} : std::vector<uint32_t>{16, 8, 12};
     const std::vector<float> zeros(fixtures::cellCount(dims), 0.0f);
     std::vector<GridAxis> axes;
     if (is1D(c))
@@ -269,8 +248,7 @@ TEST(SingleCell, OneNonZeroCellAmong4MIn1D) {
 // ---- Extreme magnitudes ------------------------------------------------------------------------
 
 std::vector<float> dynamicRange(std::size_t n) {
-  constexpr float kPattern[] = {1e-30f, 1e30f,  1.0f,  1e-20f, 1e20f, 0.0f,
-                                3e29f,  1e-25f, 5e28f, 1e10f,  2e-30f};
+  constexpr float kPattern[] = {1e-30f, 1e30f, 1.0f, 1e-20f, 1e20f, 0.0f, 3e29f, 1e-25f, 5e28f, 1e10f, 2e-30f};
   std::vector<float> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = kPattern[(i * 7 + i / 11) % std::size(kPattern)];
   return v;
@@ -292,8 +270,8 @@ TEST_P(DynamicRange, ChiSquareAndContract) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllClasses, DynamicRange,
-                         ::testing::Values(Class::PiecewiseConstant1D, Class::AliasTable1D,
-                                           Class::AdaptiveCdf1D, Class::AliasGrid, Class::CascadeAdaptive),
+                         ::testing::Values(Class::PiecewiseConstant1D, Class::AliasTable1D, Class::AdaptiveCdf1D,
+                                           Class::AliasGrid, Class::CascadeAdaptive),
                          [](const auto& info) { return name(info.param); });
 
 // Cell probabilities implied by pdf() against value / Σ values. Tolerance: the float CDF of
@@ -343,8 +321,7 @@ TEST(Magnitudes, DenormalOnlyInput) {
     EXPECT_FALSE(m.uniformFallback());
     EXPECT_TRUE(checkSamples(m, 10'000).samplesValid());
     EXPECT_NEAR(integratePdf(m.axes, m.pdf, 2), 1.0, 1e-4);
-    if (c != Class::AdaptiveCdf1D && c != Class::CascadeAdaptive)
-      expectCellProbabilitiesMatch(m, mixed, name(c));
+    if (c != Class::AdaptiveCdf1D && c != Class::CascadeAdaptive) expectCellProbabilitiesMatch(m, mixed, name(c));
   }
 }
 
@@ -355,8 +332,7 @@ TEST(Shapes, AxesOfSizeOne) {
   for (const auto& dims : shapes)
     for (Class c : kAllClasses) {
       if (is1D(c) != (dims.size() == 1)) continue;
-      const std::string what =
-          name(c) + " " + std::to_string(dims.size()) + "D " + std::to_string(dims[0]) + "x...";
+      const std::string what = name(c) + " " + std::to_string(dims.size()) + "D " + std::to_string(dims[0]) + "x...";
       SCOPED_TRACE(what);
       const auto v = makeFixture(Fixture::Random, dims);
       const Sampler s = build(c, v, dims);
@@ -366,8 +342,7 @@ TEST(Shapes, AxesOfSizeOne) {
       if (c != Class::CascadeAdaptive && c != Class::AdaptiveCdf1D) {
         const auto exact = exactCellProbabilities(v);
         const auto fromPdf = pdfCellProbabilities(s.axes, s.pdf);
-        for (std::size_t i = 0; i < exact.size(); ++i)
-          ASSERT_NEAR(fromPdf[i], exact[i], 3e-7 + 1e-5 * exact[i]);
+        for (std::size_t i = 0; i < exact.size(); ++i) ASSERT_NEAR(fromPdf[i], exact[i], 3e-7 + 1e-5 * exact[i]);
       }
       if (s.cellProbabilities) {
         const auto q = s.cellProbabilities();
@@ -417,8 +392,7 @@ TEST(Variates, EndsOfTheUnitIntervalGiveInteriorSamples) {
     for (Fixture f : kAllFixtures)
       for (bool shifted : {false, true}) {
         SCOPED_TRACE(name(c) + " " + toString(f) + (shifted ? " shifted" : ""));
-        const std::vector<uint32_t> dims =
-            is1D(c) ? std::vector<uint32_t>{1000} : std::vector<uint32_t>{16, 8, 12};
+        const std::vector<uint32_t> dims = is1D(c) ? std::vector<uint32_t>{1000} : std::vector<uint32_t>{16, 8, 12};
         const auto v = makeFixture(f, dims);
         std::vector<GridAxis> axes;
         for (std::size_t d = 0; d < dims.size(); ++d)
@@ -568,9 +542,7 @@ TEST(Rejects, InvalidSimplifyOptions) {
   bad[3].maxPoints = 10;  // a budget with Douglas–Peucker
   bad[4].epsilon = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < bad.size(); ++i) {
-    EXPECT_THROW((AdaptiveCdf1D{std::span<const float>(v).first(100), 0.0f, 1.0f, bad[i]}),
-                 std::invalid_argument)
-        << i;
+    EXPECT_THROW((AdaptiveCdf1D{std::span<const float>(v).first(100), 0.0f, 1.0f, bad[i]}), std::invalid_argument) << i;
     CascadeOptions o;
     o.simplify = bad[i];
     EXPECT_THROW((Cascade{v, axes, o}), std::invalid_argument) << i;

@@ -56,8 +56,8 @@ TEST(Quality, AdaptiveSunAndSkyIsSmallAndClose) {
             << uniform.bytes() << " bytes, ratio " << ratio << "\n"
             << "  chi2Divergence " << q.chi2Divergence << ", maxWeightRatio " << q.maxWeightRatio
             << ", unreachableMass " << q.unreachableMass << "\n"
-            << "  average intervals θ " << intervals[0] << ", φ " << intervals[1] << "; points " << points[0]
-            << ", " << points[1] << "\n"
+            << "  average intervals θ " << intervals[0] << ", φ " << intervals[1] << "; points " << points[0] << ", "
+            << points[1] << "\n"
             << "  uniform cascade: chi2Divergence " << qu.chi2Divergence << "\n";
   RecordProperty("adaptive_bytes", std::to_string(adaptive.bytes()));
   RecordProperty("uniform_bytes", std::to_string(uniform.bytes()));
@@ -74,8 +74,7 @@ TEST(Quality, AdaptiveSunAndSkyIsSmallAndClose) {
   const Sampler sampler = makeCascade(std::make_shared<const Cascade>(s.values, s.axes));
   const auto fromPdf = pdfCellProbabilities(sampler.axes, sampler.pdf);
   const auto cells = adaptive.cellProbabilities(0);
-  for (std::size_t i = 0; i < cells.size(); ++i)
-    ASSERT_NEAR(fromPdf[i], cells[i], 2e-6 * cells[i] + 1e-30) << i;
+  for (std::size_t i = 0; i < cells.size(); ++i) ASSERT_NEAR(fromPdf[i], cells[i], 2e-6 * cells[i] + 1e-30) << i;
 }
 
 TEST(Quality, AdaptiveSunAndSkyPassesChiSquare) {

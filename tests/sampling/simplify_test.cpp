@@ -111,8 +111,7 @@ std::vector<Input> inputs() {
   for (uint32_t n : {7u, 100u, 1000u, 4096u}) {
     const uint32_t dims[] = {n};
     for (Fixture f : test_support::kAllFixtures)
-      out.push_back(
-          {test_support::toString(f) + "/" + std::to_string(n), cdfOf(test_support::makeFixture(f, dims))});
+      out.push_back({test_support::toString(f) + "/" + std::to_string(n), cdfOf(test_support::makeFixture(f, dims))});
   }
   const auto sky = fixtures::sunAndSky(1024, 512);
   out.push_back({"sunAndSky row 184", cdfOf({sky.begin() + 184 * 1024, sky.begin() + 185 * 1024})});
@@ -206,13 +205,11 @@ TEST(Simplify, DouglasPeuckerAndGreedyAgreeWithOnlyEpsilon) {
 TEST(Simplify, GreedyBudgetKeepsExactlyMinOfBudgetAndNeeded) {
   for (const Input& in : allInputs())
     for (ErrorMetric metric : kMetrics) {
-      const std::size_t needed =
-          simplifyCdf(in.cdf, opts(Simplifier::GreedyRefinement, metric, 1e-4, 0.0)).size();
+      const std::size_t needed = simplifyCdf(in.cdf, opts(Simplifier::GreedyRefinement, metric, 1e-4, 0.0)).size();
       std::vector<std::size_t> budgets = {2, 3, 5, 17, needed - 1, needed, needed + 1, needed + 50};
       for (std::size_t budget : budgets) {
         if (budget < 2) continue;
-        const auto kept =
-            simplifyCdf(in.cdf, opts(Simplifier::GreedyRefinement, metric, 1e-4, 0.0, uint32_t(budget)));
+        const auto kept = simplifyCdf(in.cdf, opts(Simplifier::GreedyRefinement, metric, 1e-4, 0.0, uint32_t(budget)));
         EXPECT_EQ(kept.size(), std::min(budget, needed))
             << in.name << " " << toString(metric) << " budget=" << budget << " needed=" << needed;
         expectWellFormed(kept, uint32_t(in.cdf.size() - 1), in.name);
@@ -226,8 +223,7 @@ TEST(Simplify, GreedyBudgetPrefixesAreNested) {
   const auto cdf = cdfOf(fixtures::random(dims, 5));
   std::vector<uint32_t> previous;
   for (uint32_t budget = 2; budget < 60; ++budget) {
-    const auto kept =
-        simplifyCdf(cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, budget));
+    const auto kept = simplifyCdf(cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, budget));
     EXPECT_TRUE(std::includes(kept.begin(), kept.end(), previous.begin(), previous.end())) << budget;
     previous = kept;
   }
@@ -241,8 +237,7 @@ TEST(Simplify, WeightBoundHolds) {
           for (double eps : {2e-3, 0.2}) {
             const auto kept = simplifyCdf(in.cdf, opts(m, metric, eps, rho));
             EXPECT_LE(worstWeightRatio(in.cdf, kept), rho * (1 + 1e-6))
-                << in.name << " " << toString(m) << " " << toString(metric) << " rho=" << rho
-                << " eps=" << eps;
+                << in.name << " " << toString(m) << " " << toString(metric) << " rho=" << rho << " eps=" << eps;
           }
 }
 
@@ -307,8 +302,7 @@ TEST(Simplify, MetricsDiffer) {
   std::size_t vertical = 0, perpendicular = 0;
   for (const auto* c : {&cdf, &cdf2}) {
     vertical += simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-4, 0.0)).size();
-    perpendicular +=
-        simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 1e-4, 0.0)).size();
+    perpendicular += simplifyCdf(*c, opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 1e-4, 0.0)).size();
   }
   EXPECT_NE(vertical, perpendicular);
 }
@@ -375,8 +369,8 @@ TEST(SimplifyChiSquare, LowerDivergenceThanVerticalAtEqualPoints) {
   for (int i = 0; i <= 10; ++i) {
     const double eps = std::pow(10.0, -4.0 - 0.5 * i);
     const auto chi2 = simplifyCdf(cdf, opts(Simplifier::DouglasPeucker, ErrorMetric::ChiSquare, eps, 0.0));
-    const auto vertical = simplifyCdf(
-        cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, uint32_t(chi2.size())));
+    const auto vertical =
+        simplifyCdf(cdf, opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, uint32_t(chi2.size())));
     ASSERT_EQ(chi2.size(), vertical.size());
     const double ratio = divergence(cdf, chi2) / divergence(cdf, vertical);
     logRatios += std::log(ratio);
@@ -391,22 +385,18 @@ TEST(Simplify, OptionsValidation) {
   EXPECT_NO_THROW(validate(SimplifyOptions{}));
   EXPECT_NO_THROW(validate(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 0.0, 0.0, 2)));
   EXPECT_NO_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Perpendicular, 0.0, 1.0)));
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1e-3, 4.0)),
-               std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.5)),
-               std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.999)),
-               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1e-3, 4.0)), std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.5)), std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.999)), std::invalid_argument);
   EXPECT_THROW(validate(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 1e-3, 4.0, 1)),
                std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 4.0, 10)),
-               std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical,
-                             std::numeric_limits<double>::quiet_NaN(), 4.0)),
-               std::invalid_argument);
-  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3,
-                             std::numeric_limits<double>::quiet_NaN())),
-               std::invalid_argument);
+  EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 4.0, 10)), std::invalid_argument);
+  EXPECT_THROW(
+      validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, std::numeric_limits<double>::quiet_NaN(), 4.0)),
+      std::invalid_argument);
+  EXPECT_THROW(
+      validate(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, std::numeric_limits<double>::quiet_NaN())),
+      std::invalid_argument);
   EXPECT_NO_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::ChiSquare, 1e-5, 4.0)));
   EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, static_cast<ErrorMetric>(7), 1e-3, 4.0)),
                std::invalid_argument);

@@ -25,9 +25,7 @@ constexpr uint32_t kChiSquareTestsInSuite = 4;
 constexpr uint32_t kCondA = 4, kCondB = 4, kRows = 32, kCols = 16;
 constexpr std::size_t kSliceCells = kRows * kCols;
 
-std::vector<GridAxis> axes() {
-  return {GridAxis(kCondA), GridAxis(kCondB), GridAxis(kRows), GridAxis(kCols)};
-}
+std::vector<GridAxis> axes() { return {GridAxis(kCondA), GridAxis(kCondB), GridAxis(kRows), GridAxis(kCols)}; }
 
 // A peaked function of the sampled cell, the same in every slice up to `shape(slice)`.
 template <class Shape>
@@ -53,15 +51,13 @@ CascadeOptions grouping(double tolerance) {
 }
 
 std::vector<float> conditionOf(std::size_t slice) {
-  return {(static_cast<float>(slice / kCondB) + 0.5f) / kCondA,
-          (static_cast<float>(slice % kCondB) + 0.5f) / kCondB};
+  return {(static_cast<float>(slice / kCondB) + 0.5f) / kCondA, (static_cast<float>(slice % kCondB) + 0.5f) / kCondB};
 }
 
 TEST(SliceGrouping, ScaledCopiesShareOneTable) {
   // Every slice is the same function times a slice-dependent scale: one distribution suffices.
-  const auto values = slices([](std::size_t s, uint32_t r, uint32_t c) {
-    return static_cast<float>(1.0 + s) * peak(r, c, 10, 5);
-  });
+  const auto values =
+      slices([](std::size_t s, uint32_t r, uint32_t c) { return static_cast<float>(1.0 + s) * peak(r, c, 10, 5); });
   const Cascade separate(values, axes(), grouping(0.0));
   const Cascade grouped(values, axes(), grouping(0.01));
   EXPECT_EQ(separate.distinctSlices(), kCondA * kCondB);
@@ -85,9 +81,8 @@ TEST(SliceGrouping, ScaledCopiesShareOneTable) {
 
 TEST(SliceGrouping, DifferentSlicesStaySeparate) {
   // The peak moves with the slice: no slice's distribution serves its neighbour.
-  const auto values = slices([](std::size_t s, uint32_t r, uint32_t c) {
-    return peak(r, c, 2.0 + 1.7 * static_cast<double>(s), 8);
-  });
+  const auto values =
+      slices([](std::size_t s, uint32_t r, uint32_t c) { return peak(r, c, 2.0 + 1.7 * static_cast<double>(s), 8); });
   const Cascade grouped(values, axes(), grouping(0.01));
   EXPECT_EQ(grouped.distinctSlices(), kCondA * kCondB);
 }
@@ -112,17 +107,15 @@ TEST(SliceGrouping, NeverGroupsOverMassTheGroupCannotReach) {
     double total = 0;
     for (std::size_t i = 0; i < kSliceCells; ++i) total += values[s * kSliceCells + i];
     for (std::size_t i = 0; i < kSliceCells; ++i) exact[i] = values[s * kSliceCells + i] / total;
-    EXPECT_EQ(compareCellProbabilities(exact, grouped.cellProbabilities(s)).unreachableMass, 0.0)
-        << "slice " << s;
+    EXPECT_EQ(compareCellProbabilities(exact, grouped.cellProbabilities(s)).unreachableMass, 0.0) << "slice " << s;
   }
 }
 
 TEST(SliceGrouping, GroupedSlicesPassChiSquare) {
   // Slightly different slices grouped under a loose tolerance: each slice still samples exactly
   // the distribution its pdf() reports.
-  const auto values = slices([](std::size_t s, uint32_t r, uint32_t c) {
-    return peak(r, c, 10.0 + 0.05 * static_cast<double>(s), 5);
-  });
+  const auto values =
+      slices([](std::size_t s, uint32_t r, uint32_t c) { return peak(r, c, 10.0 + 0.05 * static_cast<double>(s), 5); });
   auto grouped = std::make_shared<const Cascade>(values, axes(), grouping(0.05));
   ASSERT_LT(grouped->distinctSlices(), grouped->slices());
   ChiSquareOptions options;

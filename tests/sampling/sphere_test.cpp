@@ -126,7 +126,9 @@ TEST(SphereChiSquare, CountsInconsistentPdfsAndInvalidSamples) {
   SphereChiSquareOptions o = options();
   o.samples = 10'000;
   const auto mismatched = sphereChiSquareTest(
-      [](float u0, float u1) { return DirectionSample{sampleUniformSphere(u0, u1), 1.01 * kUniformSpherePdf}; },
+      [](float u0, float u1) {
+        return DirectionSample{sampleUniformSphere(u0, u1), 1.01 * kUniformSpherePdf};
+      },
       uniformSpherePdf, o);
   EXPECT_EQ(mismatched.pdfMismatch, o.samples + 4) << "every sample and the four corners";
   EXPECT_FALSE(mismatched.passed());
@@ -142,7 +144,10 @@ TEST(SphereChiSquare, CountsInconsistentPdfsAndInvalidSamples) {
   EXPECT_FALSE(invalid.passed());
 
   const auto zeroPdf = sphereChiSquareTest(
-      [](float u0, float u1) { return DirectionSample{sampleUniformSphere(u0, u1), 0.0}; }, uniformSpherePdf, o);
+      [](float u0, float u1) {
+        return DirectionSample{sampleUniformSphere(u0, u1), 0.0};
+      },
+      uniformSpherePdf, o);
   EXPECT_EQ(zeroPdf.invalidSamples, o.samples + 4);
 }
 

@@ -98,7 +98,8 @@ TEST(ContentHashTest, PiecewiseFeedingEqualsOneCall) {
 
 TEST(ContentHashTest, EveryBitOfTheInputChangesTheDigest) {
   const std::vector<std::byte> data = randomBytes(64, 2);
-  std::set<std::pair<uint64_t, uint64_t>> digests{{ContentHash().bytes(data).digest().high, ContentHash().bytes(data).digest().low}};
+  std::set<std::pair<uint64_t, uint64_t>> digests{
+      {ContentHash().bytes(data).digest().high, ContentHash().bytes(data).digest().low}};
   for (std::size_t i = 0; i < data.size() * 8; ++i) {
     std::vector<std::byte> changed = data;
     changed[i / 8] ^= std::byte{static_cast<uint8_t>(1u << (i % 8))};

@@ -34,8 +34,7 @@ class WeightBound : public ::testing::TestWithParam<std::tuple<Fixture, double>>
 
 TEST_P(WeightBound, HoldsForEveryCellIn2DAnd3D) {
   const auto [fixture, rho] = GetParam();
-  for (const std::vector<uint32_t>& dims :
-       {std::vector<uint32_t>{128, 96}, std::vector<uint32_t>{24, 16, 20}}) {
+  for (const std::vector<uint32_t>& dims : {std::vector<uint32_t>{128, 96}, std::vector<uint32_t>{24, 16, 20}}) {
     const auto values = makeFixture(fixture, dims);
     CascadeOptions options;
     options.simplify.weightBound = rho;
@@ -50,8 +49,8 @@ TEST_P(WeightBound, HoldsForEveryCellIn2DAnd3D) {
 
 INSTANTIATE_TEST_SUITE_P(Fixtures, WeightBound,
                          ::testing::Combine(::testing::Values(Fixture::Smooth, Fixture::PeakedSun,
-                                                              Fixture::ZerosWithIslands,
-                                                              Fixture::Checkerboard, Fixture::Random),
+                                                              Fixture::ZerosWithIslands, Fixture::Checkerboard,
+                                                              Fixture::Random),
                                             ::testing::Values(1.5, 4.0)));
 
 TEST(WeightBoundCascade, HoldsPerConditioningSlice) {
@@ -77,8 +76,7 @@ TEST(WeightBoundCascade, RowsWithDifferentConditionalsAreNotMerged) {
   const uint32_t rows = 64, cols = 32;
   std::vector<float> values(rows * cols);
   for (uint32_t i = 0; i < rows; ++i)
-    for (uint32_t j = 0; j < cols; ++j)
-      values[i * cols + j] = ((i / 8) % 2 == 0) == (j < cols / 2) ? 1.0f : 0.0f;
+    for (uint32_t j = 0; j < cols; ++j) values[i * cols + j] = ((i / 8) % 2 == 0) == (j < cols / 2) ? 1.0f : 0.0f;
   CascadeOptions options;
   options.simplify.weightBound = 1.5;
   const Cascade c(values, {GridAxis(rows), GridAxis(cols)}, options);
@@ -87,8 +85,7 @@ TEST(WeightBoundCascade, RowsWithDifferentConditionalsAreNotMerged) {
   CascadeOptions unbounded = options;
   unbounded.simplify.weightBound = 0.0;
   const Cascade loose(values, {GridAxis(rows), GridAxis(cols)}, unbounded);
-  EXPECT_GE(compareCellProbabilities(exactProbabilities(values), loose.cellProbabilities(0)).maxWeightRatio,
-            1.9)
+  EXPECT_GE(compareCellProbabilities(exactProbabilities(values), loose.cellProbabilities(0)).maxWeightRatio, 1.9)
       << "without the bound the merged rows halve every lit cell's probability";
 }
 

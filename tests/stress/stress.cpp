@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/environment_light.h"
@@ -80,8 +80,9 @@ Input makeInput(const std::string& name, uint32_t width, uint32_t height, const 
 std::vector<Input> adversarialInputs() {
   std::vector<Input> inputs;
   // Log-uniform over 60 decades.
-  inputs.push_back(makeInput("range 1e-30..1e30", 1024, 512,
-                             [](uint64_t i) { return static_cast<float>(std::pow(10.0, -30.0 + 60.0 * unitHash(i))); }));
+  inputs.push_back(makeInput("range 1e-30..1e30", 1024, 512, [](uint64_t i) {
+    return static_cast<float>(std::pow(10.0, -30.0 + 60.0 * unitHash(i)));
+  }));
   // One lit cell in 4096 × 2048, inside the first kMax1DCells values (the 1D tables see it too).
   constexpr uint64_t kLit = 311ull * 4096 + 3071;
   inputs.push_back(makeInput("one lit cell 4096x2048", 4096, 2048, [](uint64_t i) { return i == kLit ? 1.0f : 0.0f; }));
@@ -92,7 +93,8 @@ std::vector<Input> adversarialInputs() {
     std::memcpy(&v, &bits, sizeof v);
     return v;
   }));
-  inputs.push_back(makeInput("alternating zeros", 1024, 512, [](uint64_t i) { return (i + i / 1024) % 2 ? 0.0f : 1.0f; }));
+  inputs.push_back(
+      makeInput("alternating zeros", 1024, 512, [](uint64_t i) { return (i + i / 1024) % 2 ? 0.0f : 1.0f; }));
   inputs.push_back(makeInput("1e6 equal cells", 1000, 1000, [](uint64_t) { return 1.0f; }));
   return inputs;
 }
@@ -245,25 +247,31 @@ std::vector<Row> stressDistributions(const std::vector<Input>& inputs, uint64_t 
   for (const Input& in : inputs) {
     const std::span<const float> flat(in.values.data(), in.cells1D);
     const std::vector<GridAxis> axes = {GridAxis(in.height), GridAxis(in.width)};
-    rows.push_back(measure("PiecewiseConstant1D", in.name, [&] { return std::make_unique<PiecewiseConstant1D>(flat); },
-                           [&](const auto& d) { return stress1D(d, samples); }));
-    rows.push_back(measure("AdaptiveCdf1D", in.name, [&] { return std::make_unique<AdaptiveCdf1D>(flat); },
-                           [&](const auto& d) { return stress1D(d, samples); }));
-    rows.push_back(measure("AliasTable1D", in.name, [&] { return std::make_unique<AliasTable1D>(flat); },
-                           [&](const auto& d) { return stress1D(d, samples); }));
-    rows.push_back(measure("AliasGrid", in.name, [&] { return std::make_unique<AliasGrid>(in.values, axes); },
-                           [&](const auto& d) { return stress2D(d, axes, samples); }));
-    rows.push_back(measure("HierarchicalWarp2D", in.name, [&] { return std::make_unique<HierarchicalWarp2D>(in.values, axes); },
-                           [&](const auto& d) { return stress2D(d, axes, samples); }));
+    rows.push_back(measure(
+        "PiecewiseConstant1D", in.name, [&] { return std::make_unique<PiecewiseConstant1D>(flat); },
+        [&](const auto& d) { return stress1D(d, samples); }));
+    rows.push_back(measure(
+        "AdaptiveCdf1D", in.name, [&] { return std::make_unique<AdaptiveCdf1D>(flat); },
+        [&](const auto& d) { return stress1D(d, samples); }));
+    rows.push_back(measure(
+        "AliasTable1D", in.name, [&] { return std::make_unique<AliasTable1D>(flat); },
+        [&](const auto& d) { return stress1D(d, samples); }));
+    rows.push_back(measure(
+        "AliasGrid", in.name, [&] { return std::make_unique<AliasGrid>(in.values, axes); },
+        [&](const auto& d) { return stress2D(d, axes, samples); }));
+    rows.push_back(measure(
+        "HierarchicalWarp2D", in.name, [&] { return std::make_unique<HierarchicalWarp2D>(in.values, axes); },
+        [&](const auto& d) { return stress2D(d, axes, samples); }));
     for (auto method : {DimensionMethod::Adaptive, DimensionMethod::Uniform}) {
       const bool adaptive = method == DimensionMethod::Adaptive;
-      rows.push_back(measure(adaptive ? "Cascade 2D adaptive" : "Cascade 2D uniform", in.name,
-                             [&] {
-                               CascadeOptions options;
-                               options.methods = {method, method};
-                               return std::make_unique<Cascade>(in.values, axes, options);
-                             },
-                             [&](const auto& d) { return stress2D(d, axes, samples); }));
+      rows.push_back(measure(
+          adaptive ? "Cascade 2D adaptive" : "Cascade 2D uniform", in.name,
+          [&] {
+            CascadeOptions options;
+            options.methods = {method, method};
+            return std::make_unique<Cascade>(in.values, axes, options);
+          },
+          [&](const auto& d) { return stress2D(d, axes, samples); }));
     }
     // The light sees the input as a gray map's radiance.
     std::vector<float> rgb(3 * in.values.size());
@@ -271,9 +279,10 @@ std::vector<Row> stressDistributions(const std::vector<Input>& inputs, uint64_t 
     const auto map = std::make_shared<const EnvironmentMap>(in.width, in.height, std::move(rgb));
     for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
                           EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
-      rows.push_back(measure("EnvironmentLight " + std::string(toString(strategy)), in.name,
-                             [&] { return std::make_unique<EnvironmentLight>(map, EnvironmentLightOptions{.strategy = strategy}); },
-                             [&](const auto& d) { return stressLight(d, samples); }));
+      rows.push_back(measure(
+          "EnvironmentLight " + std::string(toString(strategy)), in.name,
+          [&] { return std::make_unique<EnvironmentLight>(map, EnvironmentLightOptions{.strategy = strategy}); },
+          [&](const auto& d) { return stressLight(d, samples); }));
     }
   }
   return rows;
@@ -297,7 +306,8 @@ std::vector<float> skyMap(uint32_t width, uint32_t height) {
     for (uint32_t col = 0; col < width; ++col) {
       const double dr = (row - height * 0.3) / 6.0, dc = (col - width * 0.6) / 6.0;
       const double sun = 1e4 * std::exp(-(dr * dr + dc * dc));
-      v[std::size_t{row} * width + col] = static_cast<float>((0.5 + unitHash(std::size_t{row} * width + col) + sun) * sinTheta);
+      v[std::size_t{row} * width + col] =
+          static_cast<float>((0.5 + unitHash(std::size_t{row} * width + col) + sun) * sinTheta);
     }
   });
   return v;
@@ -333,10 +343,10 @@ std::vector<Accumulation> compareAccumulation() {
 
 struct AliasQuantisation {
   uint32_t log2Cells = 0;
-  uint32_t acceptanceBits = 0;   // 24 − log2(cells): what a float variate leaves for acceptance
-  double worstRelativeError = 0; // max over cells of |P_lattice − P| / P, exact over all 2^24 variates
-  double totalVariation = 0;     // ½ Σ |P_lattice − P|
-  ChiSquareResult chi2;          // sampled cell counts against P, one variate
+  uint32_t acceptanceBits = 0;      // 24 − log2(cells): what a float variate leaves for acceptance
+  double worstRelativeError = 0;    // max over cells of |P_lattice − P| / P, exact over all 2^24 variates
+  double totalVariation = 0;        // ½ Σ |P_lattice − P|
+  ChiSquareResult chi2;             // sampled cell counts against P, one variate
   ChiSquareResult chi2TwoVariates;  // the same with sample(uCell, uAccept)
   uint64_t samples = 0;
 };
@@ -389,12 +399,18 @@ AliasQuantisation aliasQuantisation(uint32_t log2Cells, uint64_t samples) {
 // ---------------------------------------------------------------------------------------------
 
 nlohmann::json toJson(const Row& r) {
-  return {{"distribution", r.distribution}, {"input", r.input},     {"note", r.note},
-          {"build_s", r.buildSeconds},       {"samples", r.stats.samples},
-          {"non_finite", r.stats.nonFinite}, {"outside_domain", r.stats.outside},
-          {"bad_pdf", r.stats.badPdf},       {"pdf_mismatches", r.stats.mismatches},
+  return {{"distribution", r.distribution},
+          {"input", r.input},
+          {"note", r.note},
+          {"build_s", r.buildSeconds},
+          {"samples", r.stats.samples},
+          {"non_finite", r.stats.nonFinite},
+          {"outside_domain", r.stats.outside},
+          {"bad_pdf", r.stats.badPdf},
+          {"pdf_mismatches", r.stats.mismatches},
           {"worst_relative_pdf_mismatch", r.stats.worstMismatch},
-          {"skipped_emits_nothing", r.stats.skipped}, {"ok", r.stats.ok()}};
+          {"skipped_emits_nothing", r.stats.skipped},
+          {"ok", r.stats.ok()}};
 }
 
 }  // namespace
@@ -406,7 +422,8 @@ int main(int argc, char** argv) {
   std::string jsonPath;
   bool contractOnly = false;
   app.add_option("--samples", samples, "samples per distribution and input")->check(CLI::PositiveNumber);
-  app.add_option("--chi-samples", chiSamples, "samples per alias-quantisation chi-square test")->check(CLI::PositiveNumber);
+  app.add_option("--chi-samples", chiSamples, "samples per alias-quantisation chi-square test")
+      ->check(CLI::PositiveNumber);
   app.add_option("--json", jsonPath, "write the results as JSON to this file");
   app.add_flag("--contract-only", contractOnly, "only the per-sample checks, not the precision studies (the ctest)");
   CLI11_PARSE(app, argc, argv);
@@ -422,14 +439,15 @@ int main(int argc, char** argv) {
   std::vector<AliasQuantisation> alias;
   if (!contractOnly) {
     accumulation = compareAccumulation();
-    for (uint32_t k : {12u, 16u, 19u, 21u, 23u}) alias.push_back(aliasQuantisation(k, static_cast<uint64_t>(chiSamples)));
+    for (uint32_t k : {12u, 16u, 19u, 21u, 23u})
+      alias.push_back(aliasQuantisation(k, static_cast<uint64_t>(chiSamples)));
   }
   std::printf("\n%.1f s for the distributions, %.1f s for the precision studies\n", distributionSeconds,
               seconds() - distributionSeconds);
 
   bool ok = true;
-  std::printf("\n%-29s %-24s %10s %7s %7s %7s %9s %12s %8s\n", "distribution", "input", "samples", "nonfin",
-              "outside", "badpdf", "mismatch", "worst rel", "build s");
+  std::printf("\n%-29s %-24s %10s %7s %7s %7s %9s %12s %8s\n", "distribution", "input", "samples", "nonfin", "outside",
+              "badpdf", "mismatch", "worst rel", "build s");
   for (const Row& r : rows) {
     ok = ok && r.stats.ok();
     std::printf("%-29s %-24s %10.3g %7llu %7llu %7llu %9llu %12.3g %8.2f %s\n", r.distribution.c_str(), r.input.c_str(),
@@ -442,9 +460,10 @@ int main(int argc, char** argv) {
               "total rel err", "worst CDF err");
   for (const Accumulation& a : accumulation)
     std::printf("%-8s %16.3g %16.3g\n", a.type.c_str(), a.totalRelativeError, a.worstCdfError);
-  std::printf("\nAlias acceptance quantisation: one float variate for slot and acceptance (exact over the 2^-24\n"
-              "lattice, and chi-square), and two variates (chi-square)\n%6s %5s %14s %12s %12s %14s %10s\n",
-              "cells", "bits", "worst rel err", "TV distance", "chi2 p", "chi2 p (two)", "samples");
+  std::printf(
+      "\nAlias acceptance quantisation: one float variate for slot and acceptance (exact over the 2^-24\n"
+      "lattice, and chi-square), and two variates (chi-square)\n%6s %5s %14s %12s %12s %14s %10s\n",
+      "cells", "bits", "worst rel err", "TV distance", "chi2 p", "chi2 p (two)", "samples");
   for (const AliasQuantisation& q : alias)
     std::printf("2^%-4u %5u %14.3g %12.3g %12.3g %14.3g %10.3g\n", q.log2Cells, q.acceptanceBits, q.worstRelativeError,
                 q.totalVariation, q.chi2.pvalue, q.chi2TwoVariates.pvalue, static_cast<double>(q.samples));
@@ -454,15 +473,19 @@ int main(int argc, char** argv) {
     j["samples_per_distribution"] = n;
     for (const Row& r : rows) j["distributions"].push_back(toJson(r));
     for (const Accumulation& a : accumulation)
-      j["accumulation"].push_back({{"type", a.type}, {"total_relative_error", a.totalRelativeError},
-                                   {"worst_cdf_error", a.worstCdfError}});
+      j["accumulation"].push_back(
+          {{"type", a.type}, {"total_relative_error", a.totalRelativeError}, {"worst_cdf_error", a.worstCdfError}});
     for (const AliasQuantisation& q : alias)
-      j["alias_quantisation"].push_back({{"log2_cells", q.log2Cells}, {"acceptance_bits", q.acceptanceBits},
+      j["alias_quantisation"].push_back({{"log2_cells", q.log2Cells},
+                                         {"acceptance_bits", q.acceptanceBits},
                                          {"worst_relative_error", q.worstRelativeError},
-                                         {"total_variation", q.totalVariation}, {"chi2_statistic", q.chi2.statistic},
-                                         {"chi2_dof", q.chi2.dof}, {"chi2_pvalue", q.chi2.pvalue},
+                                         {"total_variation", q.totalVariation},
+                                         {"chi2_statistic", q.chi2.statistic},
+                                         {"chi2_dof", q.chi2.dof},
+                                         {"chi2_pvalue", q.chi2.pvalue},
                                          {"chi2_two_variates_statistic", q.chi2TwoVariates.statistic},
-                                         {"chi2_two_variates_pvalue", q.chi2TwoVariates.pvalue}, {"samples", q.samples}});
+                                         {"chi2_two_variates_pvalue", q.chi2TwoVariates.pvalue},
+                                         {"samples", q.samples}});
     j["ok"] = ok;
     std::ofstream(jsonPath) << j.dump(2) << "\n";
   }

@@ -111,17 +111,17 @@ bool ChiSquareReport::integralValid() const {
 std::string ChiSquareReport::summary() const {
   std::ostringstream s;
   s.precision(6);
-  s << "chi2=" << chi2.statistic << " dof=" << chi2.dof << " pooledCells=" << chi2.pooledCells
-    << " p=" << chi2.pvalue << " (alpha=" << alpha << ", " << (chiSquarePassed() ? "pass" : "FAIL")
-    << "); samples=" << samples << " outsideDomain=" << outsideDomain << " badPdf=" << badPdf
-    << " pdfMismatch=" << pdfMismatch << " worstRelPdfMismatch=" << worstPdfMismatch
-    << "; integral=" << std::setprecision(10) << pdfIntegral << (integralValid() ? "" : " (FAIL)");
+  s << "chi2=" << chi2.statistic << " dof=" << chi2.dof << " pooledCells=" << chi2.pooledCells << " p=" << chi2.pvalue
+    << " (alpha=" << alpha << ", " << (chiSquarePassed() ? "pass" : "FAIL") << "); samples=" << samples
+    << " outsideDomain=" << outsideDomain << " badPdf=" << badPdf << " pdfMismatch=" << pdfMismatch
+    << " worstRelPdfMismatch=" << worstPdfMismatch << "; integral=" << std::setprecision(10) << pdfIntegral
+    << (integralValid() ? "" : " (FAIL)");
   if (!firstProblem.empty()) s << "; first problem: " << firstProblem;
   return s.str();
 }
 
-bool checkSample(std::span<const GridAxis> axes, std::span<const float> u, const SampleND& s,
-                 const PdfFn& pdf, double pdfTolerance, ChiSquareReport& report) {
+bool checkSample(std::span<const GridAxis> axes, std::span<const float> u, const SampleND& s, const PdfFn& pdf,
+                 double pdfTolerance, ChiSquareReport& report) {
   const std::size_t dims = axes.size();
   const std::span<const float> x(s.x.data(), dims);
   bool inside = true;
@@ -215,9 +215,8 @@ double integratePdf(std::span<const GridAxis> axes, const PdfFn& pdf, uint32_t s
   o.subPoints = subPoints;
   const std::vector<BinAxis> bins = binAxes(axes, o);
   double integral = 0.0;
-  forEachQuadraturePoint(axes, bins, [&](std::span<const float> x, std::size_t, double weight) {
-    integral += double(pdf(x)) * weight;
-  });
+  forEachQuadraturePoint(
+      axes, bins, [&](std::span<const float> x, std::size_t, double weight) { integral += double(pdf(x)) * weight; });
   return integral;
 }
 
@@ -228,9 +227,8 @@ std::vector<double> pdfCellProbabilities(std::span<const GridAxis> axes, const P
   std::size_t count = 1;
   for (const GridAxis& a : axes) count *= a.cells();
   std::vector<double> p(count, 0.0);
-  forEachQuadraturePoint(axes, bins, [&](std::span<const float> x, std::size_t bin, double weight) {
-    p[bin] += double(pdf(x)) * weight;
-  });
+  forEachQuadraturePoint(
+      axes, bins, [&](std::span<const float> x, std::size_t bin, double weight) { p[bin] += double(pdf(x)) * weight; });
   return p;
 }
 

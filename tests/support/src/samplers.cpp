@@ -41,23 +41,18 @@ Sampler wrap1D(std::shared_ptr<const T> d, std::string name) {
 
 std::string toString(Kind1D kind) {
   switch (kind) {
-    case Kind1D::PiecewiseConstant:
-      return "PiecewiseConstant1D";
-    case Kind1D::Alias:
-      return "AliasTable1D";
-    case Kind1D::Adaptive:
-      return "AdaptiveCdf1D";
+    case Kind1D::PiecewiseConstant: return "PiecewiseConstant1D";
+    case Kind1D::Alias: return "AliasTable1D";
+    case Kind1D::Adaptive: return "AdaptiveCdf1D";
   }
   return "?";
 }
 
-Sampler make1D(Kind1D kind, std::span<const float> values, float lo, float hi,
-               const SimplifyOptions& options) {
+Sampler make1D(Kind1D kind, std::span<const float> values, float lo, float hi, const SimplifyOptions& options) {
   switch (kind) {
     case Kind1D::PiecewiseConstant:
       return wrap1D(std::make_shared<const PiecewiseConstant1D>(values, lo, hi), toString(kind));
-    case Kind1D::Alias:
-      return wrap1D(std::make_shared<const AliasTable1D>(values, lo, hi), toString(kind));
+    case Kind1D::Alias: return wrap1D(std::make_shared<const AliasTable1D>(values, lo, hi), toString(kind));
     case Kind1D::Adaptive:
       return wrap1D(std::make_shared<const AdaptiveCdf1D>(values, lo, hi, options), toString(kind));
   }
@@ -101,32 +96,22 @@ Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, C
 
 std::string toString(Fixture fixture) {
   switch (fixture) {
-    case Fixture::Smooth:
-      return "smooth";
-    case Fixture::PeakedSun:
-      return "peakedSun";
-    case Fixture::ZerosWithIslands:
-      return "zerosWithIslands";
-    case Fixture::Checkerboard:
-      return "checkerboard";
-    case Fixture::Random:
-      return "random";
+    case Fixture::Smooth: return "smooth";
+    case Fixture::PeakedSun: return "peakedSun";
+    case Fixture::ZerosWithIslands: return "zerosWithIslands";
+    case Fixture::Checkerboard: return "checkerboard";
+    case Fixture::Random: return "random";
   }
   return "?";
 }
 
 std::vector<float> makeFixture(Fixture fixture, std::span<const uint32_t> dims) {
   switch (fixture) {
-    case Fixture::Smooth:
-      return fixtures::smooth(dims);
-    case Fixture::PeakedSun:
-      return fixtures::peakedSun(dims);
-    case Fixture::ZerosWithIslands:
-      return fixtures::zerosWithIslands(dims);
-    case Fixture::Checkerboard:
-      return fixtures::checkerboard(dims);
-    case Fixture::Random:
-      return fixtures::random(dims, 20261121);
+    case Fixture::Smooth: return fixtures::smooth(dims);
+    case Fixture::PeakedSun: return fixtures::peakedSun(dims);
+    case Fixture::ZerosWithIslands: return fixtures::zerosWithIslands(dims);
+    case Fixture::Checkerboard: return fixtures::checkerboard(dims);
+    case Fixture::Random: return fixtures::random(dims, 20261121);
   }
   throw std::logic_error("makeFixture: unknown fixture");
 }

@@ -22,10 +22,10 @@ struct AnalyticBrdf {
   enum class Kind { Conductor, CoatedDiffuse };
 
   Kind kind = Kind::Conductor;
-  double alpha = 0.1;                        // GGX roughness, > 0
-  std::array<double, 3> f0{1.0, 1.0, 1.0};   // Conductor: normal-incidence reflectance
+  double alpha = 0.1;                           // GGX roughness, > 0
+  std::array<double, 3> f0{1.0, 1.0, 1.0};      // Conductor: normal-incidence reflectance
   std::array<double, 3> albedo{0.5, 0.5, 0.5};  // CoatedDiffuse: the base's albedo
-  double ior = 1.5;                          // CoatedDiffuse: the coat's refractive index
+  double ior = 1.5;                             // CoatedDiffuse: the coat's refractive index
 
   // The BRDF at Rusinkiewicz angles (φh irrelevant). 0 when either direction is at or below
   // the horizon.

@@ -22,9 +22,9 @@
 namespace acdf {
 
 struct BrdfSample {
-  Vec3d wi;       // unit vector
-  Rgb weight;     // f(ωi, ωo)·max(cosθi, 0) / pdf
-  double pdf = 0; // per steradian, finite and > 0
+  Vec3d wi;        // unit vector
+  Rgb weight;      // f(ωi, ωo)·max(cosθi, 0) / pdf
+  double pdf = 0;  // per steradian, finite and > 0
 };
 
 class BrdfSampler {

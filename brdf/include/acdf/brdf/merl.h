@@ -12,8 +12,8 @@
 // three blocks of 90·90·180 little-endian float64 — red, green, blue — each in the order
 // index = θh_idx·90·180 + θd_idx·180 + φd_idx. Physical values are the stored ones times the
 // channel scales 1/1500, 1.15/1500, 1.66/1500. Like BRDFRead.cpp, only the product of the
-// dimensions is checked (each must be positive); the layout is always the one above. Real files hold −1 in cells with no measurement
-// (below the horizon); those read as 0 and are counted.
+// dimensions is checked (each must be positive); the layout is always the one above. Real files hold −1 in cells with
+// no measurement (below the horizon); those read as 0 and are counted.
 //
 // Storage: the raw (unscaled) values as float. Float's seven digits are far finer than the
 // measurement noise, and it halves the memory (17.5 MB) and the cache traffic of eval().

@@ -33,7 +33,7 @@ struct ReflectanceEstimate {
   // the estimate one sample can land (a firefly); 1 for a zero-variance sampler.
   double maxRelativeWeight = 0;
   uint64_t samples = 0;
-  double seconds = 0;   // wall-clock time drawing and weighting the samples (single thread)
+  double seconds = 0;  // wall-clock time drawing and weighting the samples (single thread)
 
   double nsPerSample() const { return samples ? seconds * 1e9 / samples : 0.0; }
   // 1 / (variance × seconds per sample): inverse of the time to reach unit variance.

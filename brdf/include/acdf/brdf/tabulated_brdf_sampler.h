@@ -62,7 +62,7 @@ struct TabulatedBrdfOptions {
   // isotropic table has phiHalfCells cells of Δφ over [0, 2π), i.e. phiHalfCells / 2 over
   // [0, π) when mirrored (phiHalfCells must then be even).
   uint32_t thetaOutCells = 32, phiOutCells = 16, thetaHalfCells = 256, phiHalfCells = 32;
-  bool mirror = true;  // Isotropic only
+  bool mirror = true;          // Isotropic only
   uint32_t supersampling = 2;  // stratified points per cell per axis, >= 1
   // Defensive mixture weight in [0, 1]. Every sample pays for it (E[Y²] grows by 1/(1 − w)), so
   // it is small: 0.05 gave the lowest variances of the adaptive table over the three materials

@@ -61,14 +61,14 @@ EnvironmentSampling parseEnvironmentSampling(std::string_view name);
 struct EnvironmentLightOptions {
   EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
   SimplifyOptions simplify{};  // Adaptive and Compensated
-  Rotation worldFromMap{};   // the map frame's directions in the world (default: the same)
-  float scale = 1.0f;        // radiance multiplier; finite and > 0
+  Rotation worldFromMap{};     // the map frame's directions in the world (default: the same)
+  float scale = 1.0f;          // radiance multiplier; finite and > 0
 };
 
 struct EnvironmentSample {
-  Vec3d direction;   // world frame, unit length
-  Rgb radiance;      // scale × the pixel's radiance
-  double pdf = 0;    // per steradian; 0 only for a light that emits nothing
+  Vec3d direction;  // world frame, unit length
+  Rgb radiance;     // scale × the pixel's radiance
+  double pdf = 0;   // per steradian; 0 only for a light that emits nothing
 };
 
 class EnvironmentLight {
@@ -123,19 +123,17 @@ class EnvironmentLight {
   // Density per steradian of pixel p's directions.
   double pixelPdf(PixelIndex p) const;
   // Density per steradian of a pixel of `row` chosen with `probability` (Alias, Hierarchical).
-  double probabilityPdf(double probability, uint32_t row) const {
-    return probability * pixels_ * pdfScale_[row];
-  }
+  double probabilityPdf(double probability, uint32_t row) const { return probability * pixels_ * pdfScale_[row]; }
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;
   std::vector<float> tabulated_;
   bool compensationFellBack_ = false;
-  std::optional<Cascade> cascade_;  // Uniform, Adaptive, Compensated
-  std::optional<PixelAlias> alias_;  // Alias
+  std::optional<Cascade> cascade_;          // Uniform, Adaptive, Compensated
+  std::optional<PixelAlias> alias_;         // Alias
   std::optional<HierarchicalWarp2D> warp_;  // Hierarchical
-  std::vector<double> pdfScale_;    // per row: 1 / (W H ΔΩ_row), table density → per steradian
-  double pixels_ = 0;               // W H
+  std::vector<double> pdfScale_;            // per row: 1 / (W H ΔΩ_row), table density → per steradian
+  double pixels_ = 0;                       // W H
 };
 
 }  // namespace acdf

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "acdf/sampling/rgb.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/envmap/lat_long.h"
+#include "acdf/sampling/rgb.h"
 
 namespace acdf {
 

@@ -31,10 +31,10 @@ class ImageFileError : public std::runtime_error {
 
 struct Image {
   uint32_t width = 0, height = 0;
-  uint32_t channels = 0;        // 3 (RGB) or 1 (gray)
-  std::vector<float> pixels;    // height × width × channels, row 0 = the top scanline
-  uint32_t fileChannels = 0;    // channels stored in the file
-  std::string format;           // OpenImageIO's format name, e.g. "openexr"
+  uint32_t channels = 0;              // 3 (RGB) or 1 (gray)
+  std::vector<float> pixels;          // height × width × channels, row 0 = the top scanline
+  uint32_t fileChannels = 0;          // channels stored in the file
+  std::string format;                 // OpenImageIO's format name, e.g. "openexr"
   std::size_t nonFiniteReplaced = 0;  // NaN / Inf channel values set to 0 (ImageReadOptions)
 };
 

@@ -5,8 +5,9 @@
 // Directions are turned back into the map frame (undoing the light's rotation) and then into
 // sphere.h's z-up frame, where their (θ, φ) are the map's (lat_long.h). Each (θ, φ) bin is a
 // k × k block of pixels (k the smallest common divisor of width and height that leaves at most
-// kMaxLightChiSquareBins bins, or their greatest common divisor if none does), and the expected counts use k × k points per bin: one per pixel,
-// so the midpoint rule is exact for the light's pdf, which is constant per pixel in solid angle.
+// kMaxLightChiSquareBins bins, or their greatest common divisor if none does), and the expected counts use k × k points
+// per bin: one per pixel, so the midpoint rule is exact for the light's pdf, which is constant per pixel in solid
+// angle.
 
 #include <cstdint>
 

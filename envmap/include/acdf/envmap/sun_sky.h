@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "acdf/sampling/rgb.h"
 #include "acdf/envmap/image_file.h"
+#include "acdf/sampling/rgb.h"
 
 namespace acdf {
 
@@ -36,9 +36,9 @@ struct SunSkyParameters {
   Rgb sunColor{1.0f, 0.95f, 0.88f};
   Rgb zenith{0.25f, 0.45f, 1.0f};
   Rgb horizon{0.8f, 0.85f, 1.0f};
-  double gradient = 0.5;        // > 0; smaller: the zenith colour reaches lower
-  double glow = 0.5;            // >= 0
-  double glowWidthDeg = 10;     // > 0
+  double gradient = 0.5;     // > 0; smaller: the zenith colour reaches lower
+  double glow = 0.5;         // >= 0
+  double glowWidthDeg = 10;  // > 0
   Rgb ground{0.12f, 0.1f, 0.08f};
 };
 

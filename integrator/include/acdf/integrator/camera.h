@@ -23,8 +23,8 @@ class Camera {
  public:
   // fovDegrees: vertical, in (0, 180). The crop must lie inside the frame and be non-empty;
   // throws std::invalid_argument otherwise (or for a degenerate look-at).
-  Camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovDegrees, uint32_t width,
-         uint32_t height, CropWindow crop);
+  Camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovDegrees, uint32_t width, uint32_t height,
+         CropWindow crop);
 
   // The ray through the full-frame film position (x, y) in pixels (x right, y down).
   Ray generateRay(double x, double y) const;

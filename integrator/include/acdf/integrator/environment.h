@@ -29,7 +29,7 @@ std::string toString(const EnvironmentStrategy& strategy);
 struct LightSample {
   Vec3d direction;  // world, unit
   Color radiance;
-  double pdf = 0;   // per steradian; 0: no sample
+  double pdf = 0;  // per steradian; 0: no sample
 };
 
 class Environment {

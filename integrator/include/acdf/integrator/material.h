@@ -19,9 +19,9 @@
 namespace acdf {
 
 struct MaterialSample {
-  Vec3d wi;       // local, unit
-  Color weight;   // f(ωi, ωo) · max(cosθi, 0) / pdf
-  double pdf = 0; // per steradian; 0: no sample (the path ends)
+  Vec3d wi;        // local, unit
+  Color weight;    // f(ωi, ωo) · max(cosθi, 0) / pdf
+  double pdf = 0;  // per steradian; 0: no sample (the path ends)
 };
 
 class Material {

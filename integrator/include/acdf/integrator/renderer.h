@@ -25,10 +25,10 @@ struct RenderOptions {
 };
 
 struct RenderStats {
-  uint32_t spp = 0;        // samples per pixel rendered
-  uint64_t paths = 0;      // camera paths traced
-  uint64_t rays = 0;       // rays cast (closest hit and shadow)
-  double seconds = 0;      // wall-clock render time
+  uint32_t spp = 0;    // samples per pixel rendered
+  uint64_t paths = 0;  // camera paths traced
+  uint64_t rays = 0;   // rays cast (closest hit and shadow)
+  double seconds = 0;  // wall-clock render time
 };
 
 // The film has the crop window's size.

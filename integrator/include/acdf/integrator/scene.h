@@ -38,7 +38,7 @@ MisMode parseMisMode(std::string_view name);
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
-  uint32_t maxDepth = 8;  // bounces; 1 = direct light only
+  uint32_t maxDepth = 8;       // bounces; 1 = direct light only
   uint32_t rouletteDepth = 3;  // Russian roulette from this bounce on
   MisMode mis = MisMode::Power;
 };
@@ -46,7 +46,7 @@ struct RenderSettings {
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
   std::optional<MisMode> mis;
-  std::optional<BrdfSampling> bsdfSampling;   // every measured material
+  std::optional<BrdfSampling> bsdfSampling;  // every measured material
   std::optional<EnvironmentStrategy> envSampling;
   std::optional<uint32_t> spp;
   std::optional<uint64_t> seed;

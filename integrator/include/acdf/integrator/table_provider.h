@@ -42,9 +42,9 @@ class TableProvider {
 
   // A sampler of `brdf`, whose identity for sharing is `brdfKey` (its file or preset). Cosine
   // sampling has no table; the table strategies use `table` with their method.
-  std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf, const std::string& brdfKey,
-                                                 MerlBrdf::Interpolation interpolation, BrdfSampling sampling,
-                                                 TabulatedBrdfOptions table);
+  std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf,
+                                                 const std::string& brdfKey, MerlBrdf::Interpolation interpolation,
+                                                 BrdfSampling sampling, TabulatedBrdfOptions table);
   // The sampling table of `map` (identity `mapKey`) under `options`.
   std::shared_ptr<const EnvironmentLight> environmentLight(const std::shared_ptr<const EnvironmentMap>& map,
                                                            const std::string& mapKey,

@@ -27,17 +27,21 @@ class SerializationError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The value types the byte streams carry: integers and floating point, little-endian.
+template <class T>
+concept Arithmetic = std::is_arithmetic_v<T>;
+
 namespace detail {
 // The unsigned integer with T's size, to move T's bits byte by byte.
 template <class T>
-using BitsOf = std::conditional_t<sizeof(T) == 1, uint8_t,
-               std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+using BitsOf = std::conditional_t<
+    sizeof(T) == 1, uint8_t,
+    std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
 }  // namespace detail
 
 class ByteWriter {
  public:
-  template <class T>
-    requires std::is_arithmetic_v<T>
+  template <Arithmetic T>
   void put(T value) {
     using Bits = detail::BitsOf<T>;
     const auto bits = std::bit_cast<Bits>(value);
@@ -63,8 +67,7 @@ class ByteReader {
   // `what` names the data in error messages, e.g. "cascade".
   ByteReader(std::span<const std::byte> bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
 
-  template <class T>
-    requires std::is_arithmetic_v<T>
+  template <Arithmetic T>
   T get() {
     need(sizeof(T), "a value");
     return decode<T>();
@@ -101,13 +104,15 @@ class ByteReader {
   T decode() {
     using Bits = detail::BitsOf<T>;
     Bits bits = 0;
-    for (std::size_t i = 0; i < sizeof(T); ++i) bits |= static_cast<Bits>(std::to_integer<Bits>(bytes_[pos_ + i]) << (8 * i));
+    for (std::size_t i = 0; i < sizeof(T); ++i)
+      bits |= static_cast<Bits>(std::to_integer<Bits>(bytes_[pos_ + i]) << (8 * i));
     pos_ += sizeof(T);
     return std::bit_cast<T>(bits);
   }
   void need(std::size_t count, const char* what) const {
-    if (count > remaining()) fail(std::string("truncated (") + what + " needs " + std::to_string(count) +
-                                  " bytes, " + std::to_string(remaining()) + " left)");
+    if (count > remaining())
+      fail(std::string("truncated (") + what + " needs " + std::to_string(count) + " bytes, " +
+           std::to_string(remaining()) + " left)");
   }
 
   std::span<const std::byte> bytes_;

@@ -142,7 +142,7 @@ class Cascade {
   CascadeOptions options_;
   std::vector<double> sliceIntegral_;
   std::vector<uint32_t> sliceRoot_;  // slice -> its distribution's root; empty: the identity
-  std::vector<Level> levels_;  // one per sampled axis
+  std::vector<Level> levels_;        // one per sampled axis
 };
 
 }  // namespace acdf

@@ -9,8 +9,8 @@ namespace acdf {
 
 struct ChiSquareResult {
   double statistic = 0;
-  uint32_t dof = 0;        // pooled cells − 1
-  double pvalue = 1;       // P(χ²_dof ≥ statistic); 0 if samples fell where nothing was expected
+  uint32_t dof = 0;   // pooled cells − 1
+  double pvalue = 1;  // P(χ²_dof ≥ statistic); 0 if samples fell where nothing was expected
   uint32_t pooledCells = 0;
 };
 

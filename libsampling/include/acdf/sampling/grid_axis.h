@@ -51,9 +51,7 @@ class GridAxis {
 
   // Density (w.r.t. this axis' length measure) of probability `mass` spread evenly over
   // `cellCount` cells. Used identically by sample() and pdf() so the two agree bit for bit.
-  double density(double mass, uint32_t cellCount) const {
-    return mass / (static_cast<double>(cellCount) * cellWidth_);
-  }
+  double density(double mass, uint32_t cellCount) const { return mass / (static_cast<double>(cellCount) * cellWidth_); }
 
   // The extreme coordinates place() returns: a 2^-24 fraction of a cell inside the domain (so a
   // sample at u = 0 is not a denormal when lo = 0, and sinθ-style Jacobians stay finite).

@@ -3,8 +3,8 @@
 // the histogram of sampled directions match the sampler's own pdf (per steradian)?
 //
 // Bins: thetaBins × phiBins over the whole sphere in the z-up frame of sphere.h (θ in [0, π], φ
-// in [0, 2π)); rows equal in θ, or in cos θ with equalAreaRows. A bin's expected count is N × ∫ pdf over the bin, by a subPoints × subPoints
-// midpoint rule in (θ, φ) with exact solid-angle weights (cos θa − cos θb)·Δφ per sub-cell. The
+// in [0, 2π)); rows equal in θ, or in cos θ with equalAreaRows. A bin's expected count is N × ∫ pdf over the bin, by a
+// subPoints × subPoints midpoint rule in (θ, φ) with exact solid-angle weights (cos θa − cos θb)·Δφ per sub-cell. The
 // rule is exact when the pdf is constant on those sub-cells (an environment map whose pixels
 // align with them); otherwise its error shrinks with subPoints, which should then be large
 // enough that the error stays well below the counts' noise (≈ 1/√expected).
@@ -40,7 +40,7 @@ struct SphereChiSquareOptions {
   // Rows equal in θ (pixel-aligned for lat-long maps), or equal in cos θ: every bin then has the
   // same solid angle, none tiny at the poles (for pdfs not aligned with any (θ, φ) grid).
   bool equalAreaRows = false;
-  double alpha = 0.01;     // level of this one test (apply sidakAlpha() for a family first)
+  double alpha = 0.01;  // level of this one test (apply sidakAlpha() for a family first)
   double pdfTolerance = 1e-4;
 };
 

@@ -59,8 +59,8 @@ class ContentHash {
  public:
   ContentHash& bytes(std::span<const std::byte> data);
   template <class T>
-    requires std::is_trivially_copyable_v<T>
   ContentHash& values(std::span<const T> data) {
+    static_assert(std::is_trivially_copyable_v<T>, "hashes the values' bytes");
     return bytes(std::as_bytes(data));
   }
   // Length first, so ("ab", "c") and ("a", "bc") differ.
@@ -73,7 +73,7 @@ class ContentHash {
   void word(uint64_t w);
 
   uint64_t a_ = 0x243f6a8885a308d3ull, b_ = 0x13198a2e03707344ull;  // digits of π: any fixed values
-  uint64_t pending_ = 0;      // bytes not yet forming a whole word, little-endian
+  uint64_t pending_ = 0;                                            // bytes not yet forming a whole word, little-endian
   unsigned pendingBytes_ = 0;
   uint64_t length_ = 0;
 };

@@ -14,7 +14,9 @@ class VertexIndices {
   VertexIndices() = default;
   // largestVertex: the largest index that will ever be stored (the grid's cell count).
   explicit VertexIndices(uint32_t largestVertex)
-      : width_(largestVertex <= 0xFFu ? 1 : largestVertex <= 0xFFFFu ? 2 : 4) {}
+      : width_(largestVertex <= 0xFFu     ? 1
+               : largestVertex <= 0xFFFFu ? 2
+                                          : 4) {}
 
   // Bytes per stored index: 1, 2 or 4.
   unsigned width() const { return width_; }
@@ -26,15 +28,21 @@ class VertexIndices {
   }
 
   void push_back(uint32_t vertex) {
-    if (width_ == 1) narrow8_.push_back(static_cast<uint8_t>(vertex));
-    else if (width_ == 2) narrow16_.push_back(static_cast<uint16_t>(vertex));
-    else wide32_.push_back(vertex);
+    if (width_ == 1)
+      narrow8_.push_back(static_cast<uint8_t>(vertex));
+    else if (width_ == 2)
+      narrow16_.push_back(static_cast<uint16_t>(vertex));
+    else
+      wide32_.push_back(vertex);
   }
   void append(const VertexIndices& other);
   void reserve(std::size_t n) {
-    if (width_ == 1) narrow8_.reserve(n);
-    else if (width_ == 2) narrow16_.reserve(n);
-    else wide32_.reserve(n);
+    if (width_ == 1)
+      narrow8_.reserve(n);
+    else if (width_ == 2)
+      narrow16_.reserve(n);
+    else
+      wide32_.reserve(n);
   }
   void shrink_to_fit() {
     narrow8_.shrink_to_fit();

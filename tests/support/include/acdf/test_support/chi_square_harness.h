@@ -75,8 +75,8 @@ ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sam
 
 // The per-sample checks of the harness, on one sample drawn with variates u: updates the sample
 // counters of `report` (and firstProblem). Returns false if x is outside the domain.
-bool checkSample(std::span<const GridAxis> axes, std::span<const float> u, const SampleND& sample,
-                 const PdfFn& pdf, double pdfTolerance, ChiSquareReport& report);
+bool checkSample(std::span<const GridAxis> axes, std::span<const float> u, const SampleND& sample, const PdfFn& pdf,
+                 double pdfTolerance, ChiSquareReport& report);
 
 // Adapters so 1D samplers (float -> Sample1D, float -> float) plug in directly.
 template <class F>
@@ -115,8 +115,7 @@ PdfFn toPdfFn(F f) {
 }
 
 template <class S, class P>
-ChiSquareReport runChiSquare(std::span<const GridAxis> axes, S sample, P pdf,
-                             const ChiSquareOptions& options) {
+ChiSquareReport runChiSquare(std::span<const GridAxis> axes, S sample, P pdf, const ChiSquareOptions& options) {
   return runChiSquare(axes, toSampleFn(std::move(sample)), toPdfFn(std::move(pdf)), options);
 }
 
