@@ -27,8 +27,12 @@ HalfVectorFrame::HalfVectorFrame(double thetaHalf, double phiHalf)
       cosTheta_(std::cos(-thetaHalf)),
       sinTheta_(std::sin(-thetaHalf)) {}
 
+Vec3d HalfVectorFrame::difference(const Vec3d& wi) const {
+  return rotateY(rotateZ(wi, cosPhi_, sinPhi_), cosTheta_, sinTheta_);
+}
+
 void HalfVectorFrame::diffAngles(const Vec3d& wi, double& thetaDiff, double& phiDiff) const {
-  const Vec3d d = rotateY(rotateZ(wi, cosPhi_, sinPhi_), cosTheta_, sinTheta_);
+  const Vec3d d = difference(wi);
   thetaDiff = polarAngle(d);
   phiDiff = signedAzimuth(d);
 }
@@ -41,7 +45,14 @@ HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
   HalfDiffAngles a;
   a.thetaHalf = degenerate ? 0.0 : polarAngle(sum);
   a.phiHalf = degenerate ? 0.0 : signedAzimuth(sum);
-  HalfVectorFrame(a.thetaHalf, a.phiHalf).diffAngles(wi, a.thetaDiff, a.phiDiff);
+  Vec3d d = HalfVectorFrame(a.thetaHalf, a.phiHalf).difference(wi);
+  // With either direction on the normal (θo = 0 or θi = 0), ωi, ωo and h lie in one plane with
+  // the normal, so d has no binormal component and φd is 0 or π exactly, MERL's φd cell 0 (as
+  // BRDFRead.cpp gives in exact arithmetic). The rotation leaves a rounding residue of either
+  // sign there instead, which picked cell 0 or 179 (12% apart on nickel) for the same directions.
+  if ((wo.x == 0.0 && wo.y == 0.0) || (wi.x == 0.0 && wi.y == 0.0)) d.y = 0.0;
+  a.thetaDiff = polarAngle(d);
+  a.phiDiff = signedAzimuth(d);
   return a;
 }
 

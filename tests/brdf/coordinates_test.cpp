@@ -65,6 +65,23 @@ TEST(Coordinates, NormalIncidenceIsAllZero) {
   EXPECT_EQ(a.phiHalf, 0.0);
 }
 
+// With either direction on the normal every pair lies on MERL's φd seam (the plane of the normal
+// and h contains both): φd exactly 0 or ±π, never a rounding residue of either sign, so MERL's φd
+// cell is 0 for every such pair, as BRDFRead.cpp gives in exact arithmetic.
+TEST(Coordinates, NormalIncidenceLiesExactlyOnThePhiDiffSeam) {
+  Hemisphere hemisphere;
+  for (int n = 0; n < 100000; ++n) {
+    const Vec3d w = hemisphere.direction();
+    for (const auto& [wi, wo] : {std::pair{w, Vec3d{0, 0, 1}}, std::pair{Vec3d{0, 0, 1}, w}}) {
+      const HalfDiffAngles a = toHalfDiff(wi, wo);
+      ASSERT_TRUE(a.phiDiff == 0.0 || std::abs(a.phiDiff) == kPi)
+          << a.phiDiff << ": " << wi.x << " " << wi.y << " " << wi.z << " / " << wo.x << " " << wo.y << " " << wo.z;
+      ASSERT_NEAR(a.thetaDiff, polarAngle(w) / 2, 1e-12);
+      ASSERT_NEAR(a.thetaHalf, polarAngle(w) / 2, 1e-12);
+    }
+  }
+}
+
 TEST(Coordinates, RetroreflectionHasZeroThetaDiff) {
   // ωi = ωo: the half vector is ωi itself, and d is the normal.
   for (double theta : {0.1, 0.7, 1.3}) {

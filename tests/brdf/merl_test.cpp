@@ -503,6 +503,23 @@ TEST_F(MerlEval, ZeroBelowTheHorizon) {
   }
 }
 
+// At exact normal incidence the lookup is deterministic: the φd = 0 cell, whatever the azimuth
+// of the other direction (rounding used to pick cell 0 or 179 for the same θ).
+TEST_F(MerlEval, NormalIncidenceLooksUpThePhiDiffZeroCell) {
+  const MerlBrdf& b = *brdf_;
+  const Vec3d normal{0, 0, 1};
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int n = 0; n < 20000; ++n) {
+    const Vec3d w = sphericalDirection(std::acos(1 - 0.999 * u(rng)), (2 * u(rng) - 1) * kPi);
+    const HalfDiffAngles a = toHalfDiff(w, normal);
+    const Rgb expected = expectedCell(
+        b, MerlBrdf::flatIndex(MerlBrdf::thetaHalfIndex(a.thetaHalf), MerlBrdf::thetaDiffIndex(a.thetaDiff), 0));
+    ASSERT_EQ(b.eval(w, normal, Interp::Nearest), expected) << n;
+    ASSERT_EQ(b.eval(normal, w, Interp::Nearest), expected) << n;
+  }
+}
+
 TEST(MerlBrdf, Reciprocity) {
   const MerlBrdf b = analyticTable().brdf();
   std::mt19937_64 rng(13);

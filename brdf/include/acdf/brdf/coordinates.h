@@ -9,6 +9,10 @@
 // i.e. ωi is rotated by −φh about z, then by −θh about y, which carries h onto the normal; d is
 // ωi seen from a frame in which the half vector is "up".
 //
+// On the seam. When ωi or ωo is the normal, every pair has φd = 0 or π exactly (d lies in the
+// plane of the normal and h): toHalfDiff returns exactly that, MERL's φd cell 0 as BRDFRead.cpp
+// gives in exact arithmetic, never a rounding residue's cell 0 or 179 at random.
+//
 // Directions are unit vectors in the local shading frame, z up (the normal). Computation is in
 // double: near θ = 0 the angles are ill-conditioned in float, and the table lookups need the
 // cell boundaries to be stable.
@@ -38,7 +42,9 @@ HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo);
 class HalfVectorFrame {
  public:
   HalfVectorFrame(double thetaHalf, double phiHalf);
-  // θd in [0, π] and φd in (−π, π] of the unit vector ωi, as toHalfDiff computes them.
+  // The difference vector d of the unit vector ωi: ωi in this frame.
+  Vec3d difference(const Vec3d& wi) const;
+  // θd in [0, π] and φd in (−π, π] of the unit vector ωi (d's angles).
   void diffAngles(const Vec3d& wi, double& thetaDiff, double& phiDiff) const;
   double thetaHalf() const { return thetaHalf_; }
 
