@@ -80,9 +80,9 @@ Command addEnvGen(CLI::App& parent) {
     presets += "  " + name + ": " + describe(sunSkyPreset(name)) + "\n";
   app->footer(
       "The map is equirectangular: row 0 is the zenith (+Y), column 0 looks along -Z, azimuth (phi) grows\n"
-      "to the right (OpenEXR's LatLong layout). Sky: horizon + (zenith - horizon) * cos(theta)^gradient plus\n"
-      "a glow around the sun; ground: a constant colour; sun: a disk of the given angular radius, its\n"
-      "pixels supersampled so that a sun smaller than a pixel covers the right fraction of it.\n"
+      "to the right, through +X at 90 degrees (OpenEXR's LatLong layout). Sky: horizon + (zenith - horizon)\n"
+      "* cos(theta)^gradient plus a glow around the sun; ground: a constant colour; sun: a disk of the given\n"
+      "angular radius, its pixels supersampled so that a sun smaller than a pixel covers the right fraction of it.\n"
       "The --sun-* options override the preset's values. Written to a temporary file renamed into place:\n"
       "a failure leaves no partial file.\n"
       "\n"
@@ -95,7 +95,7 @@ Command addEnvGen(CLI::App& parent) {
   app->add_option("--width", args->width, "Width in pixels")->capture_default_str();
   app->add_option("--height", args->height, "Height in pixels (default: width / 2)");
   app->add_option("--sun-elevation", args->sunElevation, "Sun elevation above the horizon, degrees [-90, 90]");
-  app->add_option("--sun-azimuth", args->sunAzimuth, "Sun azimuth phi, degrees (0: the left edge, -Z)");
+  app->add_option("--sun-azimuth", args->sunAzimuth, "Sun azimuth phi, degrees (0: the left edge, -Z; 90: +X)");
   app->add_option("--sun-radius", args->sunRadius, "Sun angular radius, degrees (0: no sun)");
   app->add_option("--sun-intensity", args->sunIntensity, "Sun radiance as a multiple of its colour (0: no sun)");
   return Command{app, [args] { return runEnvGen(*args); }};

@@ -172,6 +172,9 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
   for (double v : exact) total += v;
   for (double& v : exact) v /= total;
   const CompressionQuality quality = compareCellProbabilities(exact, adaptive.light->pixelProbabilities());
+  // The uniform table is the exact distribution up to its float CDFs: its divergence is the
+  // relative variance of L/pdf, which would be 0 with exact probabilities.
+  const CompressionQuality uniformQuality = compareCellProbabilities(exact, uniform.light->pixelProbabilities());
   exact = {};
 
   const std::vector<Vec3d> normals = fibonacciNormals();
@@ -227,6 +230,9 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
     j["compression"] = compression;
     j["chi2_divergence"] = quality.chi2Divergence;
     j["max_weight_ratio"] = quality.maxWeightRatio;
+    j["unreachable_mass"] = quality.unreachableMass;
+    j["uniform_chi2_divergence"] = uniformQuality.chi2Divergence;
+    j["uniform_unreachable_mass"] = uniformQuality.unreachableMass;
     j["negative_pixels_clamped"] = map->negativePixelsClamped();
     if (args.sanitize) j["nonfinite_pixels_replaced"] = map->nonFiniteReplaced();
     j["build_ms"] = {{"uniform", uniform.buildMs},
@@ -256,6 +262,10 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
     out += fmt::format("chi2 divergence    {:.6g} (variance added by the compression; 0 = exact)\n",
                        quality.chi2Divergence);
     out += fmt::format("max weight ratio   {:.6g}\n", quality.maxWeightRatio);
+    out += fmt::format("unreachable mass   {:.6g} (adaptive), {:.6g} (uniform): lit pixels of pdf 0\n",
+                       quality.unreachableMass, uniformQuality.unreachableMass);
+    out += fmt::format("uniform divergence {:.6g} (its float CDFs' variance of L/pdf; 0 = exact)\n",
+                       uniformQuality.chi2Divergence);
     out += fmt::format(
         "\nirradiance at {} normals, {} samples each (relative variance per sample; stratified: {} x {} "
         "jittered variates per estimate):\n",
@@ -284,7 +294,10 @@ Command addEnvmapStats(CLI::App& parent) {
       "FILE: an equirectangular environment map OpenImageIO reads (subimage 0, MIP level 0; +Y up, see\n"
       "README). Negative channels are clamped to 0 and counted; NaN/Inf is an error unless --sanitize.\n"
       "The tables sample pixels with probability proportional to luminance x solid angle.\n"
-      "chi2_divergence / max_weight_ratio: the adaptive table's pixel probabilities against the exact ones.\n"
+      "chi2_divergence / max_weight_ratio / unreachable_mass: the adaptive table's pixel probabilities against\n"
+      "the exact ones (unreachable_mass: the exact probability of pixels the table gives pdf 0; always 0).\n"
+      "uniform_chi2_divergence / uniform_unreachable_mass: the same for the uniform table, whose float CDFs\n"
+      "round the exact probabilities: its divergence is the relative variance of L/pdf (0 if exact).\n"
       "\n"
       "Estimator: irradiance E(n) = integral of Y(L) max(0, n.w) dw at {} normals (a Fibonacci lattice),\n"
       "{} one-sample estimates X each with variates from PCG32 seed {}. variance = mean over the normals\n"

@@ -65,9 +65,10 @@ Cascade cascadeOf(const std::vector<float>& values, const std::vector<GridAxis>&
   return table;
 }
 
-// Bump when the tabulated function changes (EnvironmentMap::pixelPower, the compensation): the
-// saved tables of the old one must not be used.
-constexpr int kTabulationVersion = 1;
+// Bump when the tabulated function changes (EnvironmentMap::pixelPower, the compensation, the
+// lat-long mapping): the saved tables of the old one must not be used. 2: OpenEXR's lat-long
+// directions (the old mapping was mirrored).
+constexpr int kTabulationVersion = 2;
 
 bool allZero(const std::vector<float>& values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return v == 0.0f; });

@@ -4,6 +4,7 @@
 // vertices) and each level of a Cascade (pooled 1D CDFs) are all views of this.
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -84,18 +85,38 @@ inline float invert(const BreakpointCdf& c, const GridAxis& axis, float x) {
 
 // Appends the n+1 values of the normalised CDF of `masses` to `out` and returns Σ masses.
 // Sums in double; the last value is exactly 1. Zero total mass gives the uniform CDF k/n.
+//
+// Every cell of positive mass gets a positive float step, so its pdf is never 0: rounding each
+// prefix sum to float alone would give a cell below the CDF's resolution there (6e-8 near F = 1)
+// a step of 0, leaving mass no sample can reach and biasing an estimator that uses this table
+// alone. Where rounding left such a step, the values after it are raised to the next float, and a
+// backward pass from the exact 1 lowers values where that ran into the end, so each positive cell
+// keeps at least one ulp of F. A zero-mass cell keeps a step of exactly 0. The cost: a cell's
+// probability is off by at most a few ulps of F (absolute), as rounding alone makes it; tiny
+// cells now err upwards instead of to 0.
 template <class T>
 double appendCdf(std::span<const T> masses, std::vector<float>& out) {
   double total = 0.0;
   for (T m : masses) total += static_cast<double>(m);
-  const std::size_t n = masses.size();
+  const std::size_t n = masses.size(), first = out.size();
   out.push_back(0.0f);
   double prefix = 0.0;
   for (std::size_t k = 1; k < n; ++k) {
     prefix += static_cast<double>(masses[k - 1]);
-    out.push_back(static_cast<float>(total > 0.0 ? prefix / total : static_cast<double>(k) / n));
+    float value = static_cast<float>(total > 0.0 ? prefix / total : static_cast<double>(k) / n);
+    value = std::max(value, out.back());  // an earlier value may have been raised
+    if (masses[k - 1] > 0 && value == out.back()) value = std::nextafter(value, 2.0f);
+    out.push_back(value);
   }
   out.push_back(1.0f);
+  if (total > 0.0) {
+    float* cdf = out.data() + first;
+    for (std::size_t k = n - 1; k >= 1; --k) {
+      const float limit = masses[k] > 0 ? std::nextafter(cdf[k + 1], 0.0f) : cdf[k + 1];
+      if (cdf[k] <= limit) break;  // the values below were not raised past their limits either
+      cdf[k] = limit;
+    }
+  }
   return total;
 }
 

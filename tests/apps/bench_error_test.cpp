@@ -51,8 +51,9 @@ class BenchErrorCli : public apptest::TempDirTest {
     writeScene(1);
   }
 
-  // A smooth sky with a soft bright patch: the strategies differ, without the fireflies of a sun
-  // that would make a single seed's error jump about.
+  // A smooth sky with a soft bright patch (high up to the camera's left, towards −X): the
+  // strategies differ, without the fireflies of a sun that would make a single seed's
+  // error jump about.
   static void writeSky(const std::string& file, uint32_t width, uint32_t height) {
     Image sky;
     sky.width = width;
@@ -60,7 +61,7 @@ class BenchErrorCli : public apptest::TempDirTest {
     sky.channels = 3;
     for (uint32_t y = 0; y < height; ++y)
       for (uint32_t x = 0; x < width; ++x) {
-        const double dx = (x + 0.5) / width - 0.3, dy = (y + 0.5) / height - 0.3;
+        const double dx = (x + 0.5) / width - 0.7, dy = (y + 0.5) / height - 0.3;
         const double patch = 4.0 * std::exp(-(dx * dx + dy * dy) / 0.01);
         sky.pixels.insert(sky.pixels.end(), {float(0.3 + patch), float(0.35 + 0.8 * patch), float(0.45 + 0.5 * patch)});
       }

@@ -109,6 +109,9 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
                                           "compression",
                                           "chi2_divergence",
                                           "max_weight_ratio",
+                                          "unreachable_mass",
+                                          "uniform_chi2_divergence",
+                                          "uniform_unreachable_mass",
                                           "negative_pixels_clamped",
                                           "build_ms",
                                           "uniform_sphere",
@@ -121,6 +124,10 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
   EXPECT_EQ(j["width"], 128);
   EXPECT_EQ(j["height"], 64);
   EXPECT_GT(j["compression"].get<double>(), 1.0);
+  // Every lit pixel is reachable, and the uniform table is the exact distribution up to float CDFs.
+  EXPECT_EQ(j["unreachable_mass"].get<double>(), 0.0);
+  EXPECT_EQ(j["uniform_unreachable_mass"].get<double>(), 0.0);
+  EXPECT_LT(j["uniform_chi2_divergence"].get<double>(), 1e-6);
   for (const char* method : {"uniform", "alias", "adaptive", "hierarchical"})
     EXPECT_GE(j["build_ms"][method].get<double>(), 0.0);
   for (const char* strategy : {"uniform_sphere", "cosine", "uniform", "alias", "adaptive", "hierarchical"}) {

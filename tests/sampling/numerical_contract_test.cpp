@@ -325,6 +325,54 @@ TEST(Magnitudes, DenormalOnlyInput) {
   }
 }
 
+// ---- Reachability: pdf > 0 wherever f > 0 -----------------------------------------------------
+
+// A cell far below the float CDF's resolution (6e-8 near F = 1) next to huge ones still gets a
+// positive pdf from the CDF classes, and a zero cell keeps pdf 0 in the uniform ones: an estimator
+// using the table alone must be able to reach all of f's mass. (The alias classes store each cell's probability as
+// a float, positive unless it is below 1e-45: not tested at this range.)
+TEST(Reachability, EveryCellOfPositiveMassHasPositivePdf) {
+  for (Class c : {Class::PiecewiseConstant1D, Class::AdaptiveCdf1D, Class::CascadeAdaptive, Class::CascadeUniform}) {
+    SCOPED_TRACE(name(c));
+    const std::vector<uint32_t> dims = is1D(c) ? std::vector<uint32_t>{1000} : std::vector<uint32_t>{64, 32};
+    const std::vector<float> v = dynamicRange(fixtures::cellCount(dims));
+    const Sampler s = build(c, v, dims);
+    const std::vector<double> q = pdfCellProbabilities(s.axes, s.pdf);
+    std::size_t unreachable = 0, zeroCellsSampled = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (v[i] > 0 && !(q[i] > 0)) ++unreachable;
+      if (v[i] == 0 && q[i] != 0) ++zeroCellsSampled;
+    }
+    EXPECT_EQ(unreachable, 0u) << "cells of positive value with pdf 0";
+    // The uniform tables keep a zero cell at pdf 0; an adaptive interval spreads its mass over
+    // the zero cells it merged, by design.
+    if (c == Class::PiecewiseConstant1D || c == Class::CascadeUniform) EXPECT_EQ(zeroCellsSampled, 0u);
+    EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
+    EXPECT_TRUE(checkSamples(s, 10'000).samplesValid());
+  }
+}
+
+// The same along one CDF as long as a map's row: a bright cell first, then 4095 cells each of
+// relative mass 1e-12, far below the CDF's resolution (2^-24) where it runs near 1.
+TEST(Reachability, TinyCellsAfterABrightOneKeepAPositiveStep) {
+  std::vector<float> v(4096, 1e-12f);
+  v[0] = 1.0f;
+  v[5] = 0.0f;
+  const PiecewiseConstant1D d(v);
+  const std::span<const float> cdf = d.cdf();
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (v[k] > 0)
+      ASSERT_LT(cdf[k], cdf[k + 1]) << "cell " << k;
+    else
+      ASSERT_EQ(cdf[k], cdf[k + 1]) << "cell " << k;
+  }
+  EXPECT_EQ(cdf.back(), 1.0f);
+  // The price: each tiny cell took at most about one ulp of F from the bright one.
+  const double exact = 1.0 / (1.0 + 4094 * 1e-12);
+  EXPECT_LT(cdf[1], exact);
+  EXPECT_GT(cdf[1], exact - 4096 * std::ldexp(1.0, -24));
+}
+
 // ---- Degenerate shapes -------------------------------------------------------------------------
 
 TEST(Shapes, AxesOfSizeOne) {

@@ -195,8 +195,9 @@ TEST_F(TableCacheTest, RejectsTruncatedChangedWrongVersionAndWrongKeyFiles) {
   expectRejected(longer, "truncated or overwritten");
 
   std::vector<std::byte> b = good;
-  b[8] = std::byte{2};
-  expectRejected(b, "cache format version 2, this build uses 1");
+  b[8] = std::byte{kTableCacheFormatVersion + 1};
+  expectRejected(b, "cache format version " + std::to_string(kTableCacheFormatVersion + 1) + ", this build uses " +
+                        std::to_string(kTableCacheFormatVersion));
   b = good;
   b[0] = std::byte{'X'};
   expectRejected(b, "wrong magic number");

@@ -13,7 +13,7 @@
 // supersampled (kSunSupersampling² points, uniform in solid angle), so a sun smaller than a pixel
 // still covers the right fraction of it.
 //
-// Presets (sunSkyPreset()):
+// Presets (sunSkyPreset()), azimuths as the map's φ (0: −Z, 90°: +X, 180°: +Z, 270°: −X):
 //   noon       sun 60° high at azimuth 90°, radius 0.27°, 1e5 × the zenith; blue sky.
 //   afternoon  sun 25° high at azimuth 200°, radius 0.27°, 5e4; paler sky, wider glow.
 //   sunset     sun 2° high at azimuth 270°, radius 0.4°, 5e3, orange; orange horizon, dark zenith.
@@ -30,7 +30,7 @@ namespace acdf {
 
 struct SunSkyParameters {
   double sunElevationDeg = 60;  // above the horizon, [−90, 90]
-  double sunAzimuthDeg = 90;    // the map's φ (lat_long.h), degrees
+  double sunAzimuthDeg = 90;    // the map's φ (lat_long.h), degrees: 0 is −Z, 90 is +X
   double sunRadiusDeg = 0.27;   // angular radius, >= 0 (0: no sun)
   double sunIntensity = 1e5;    // sun radiance / sunColor, >= 0 (0: no sun)
   Rgb sunColor{1.0f, 0.95f, 0.88f};

@@ -36,8 +36,10 @@
 
 namespace acdf {
 
-// Bumped whenever the file layout above changes; part of every key and of every file header.
-inline constexpr uint32_t kTableCacheFormatVersion = 1;
+// Bumped whenever the file layout above changes, or libsampling builds the same input into a
+// different table (2: every cell of positive mass keeps a positive CDF step), so that no table of
+// an older build is reused; part of every key and of every file header.
+inline constexpr uint32_t kTableCacheFormatVersion = 2;
 
 struct CacheKey {
   uint64_t high = 0, low = 0;
