@@ -4,7 +4,7 @@
 // Every Sobol call gets the arguments a renderer's sampler gives it: the pixel's sample number
 // (0 … 1023) as the index, the call site's dimension (0 … 15) and a per-pixel seed; the loop walks
 // 16 dimensions of one sample, then the next sample. Benchmarks (ns/op):
-// (each iteration is a chunk of 4096 operations; the counter per_op is the time of one)
+// (each iteration is a chunk of 4096 operations; the counter per_op is the CPU time of one)
 //   sobol/pcg32_1d, sobol/pcg32_2d         one and two nextFloat() calls
 //   sobol/unscrambled_1d                   bitsToUnitFloat(sobolBits(index, dimension))
 //   sobol/scrambled_1d                     sobolSample(index, dimension, seed)
@@ -85,7 +85,7 @@ void single(benchmark::State& st, const Contender& c) {
     c.run(rng, first, kChunk);
     first += kChunk;
   }
-  // Seconds per operation (printed as ns).
+  // CPU seconds per operation (Google Benchmark divides rates by CPU time).
   st.counters["per_op"] =
       benchmark::Counter(double(st.iterations()) * kChunk, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }

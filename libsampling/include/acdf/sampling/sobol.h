@@ -33,7 +33,9 @@
 // what importance-sampled integrands profit from; the global sequence's joint stratification over
 // many dimensions buys little for them and runs out after kSobolDimensions.
 //
-// Index range: a sequence has 2^32 points (32-bit generator matrices).
+// Seeds are hashed before use (SplitMix64), so pixel numbers can serve directly; fold the render's
+// seed in with a hash too, not by adding it. Index range: a sequence has 2^32 points (32-bit
+// generator matrices).
 
 #include <array>
 #include <cstdint>
