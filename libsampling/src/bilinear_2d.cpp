@@ -92,8 +92,6 @@ struct Bilinear2D::Strip {
     double near, far;        // the two rows' weights in the blended density
     double cdfNear, cdfFar;  // near · T_row, far · T_row+1
   };
-  uint32_t row = 0;
-  double down = 0;
   std::array<Rows, kMaxCorners> rows;
   std::size_t count = 0;
   double acrossRows = 0;  // the density over x[0] at this line (0 where the strip has no mass)
@@ -284,8 +282,6 @@ double Bilinear2D::rowMass(const Blend& b, uint32_t row) const {
 
 Bilinear2D::Strip Bilinear2D::strip(const Blend& b, uint32_t row, double down) const {
   Strip s;
-  s.row = row;
-  s.down = down;
   s.count = b.count;
   const std::size_t line0 = std::size_t{row} * columns_, line1 = line0 + columns_;
   for (std::size_t k = 0; k < b.count; ++k) {
