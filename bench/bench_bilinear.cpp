@@ -14,14 +14,16 @@
 //
 // Benchmarks:
 //   build-bilinear/<table>  construction (ms/op); counters bytes, bytes_vs_uniform (the cascade's)
-//   h2h-bilinear/<table>    sample and pdf of three contenders interleaved in chunks (HeadToHead):
-//                 uniform           the cascade, at parameter points anywhere in the range
-//                 bilinear_grid     Bilinear2D at parameter points on grid values (one slice)
-//                 bilinear_between  Bilinear2D at the same points as the cascade (2 or 4 slices
-//                                   blended)
-//                 median ns/op of each and the ratios to uniform (counters only). Variates and
-//                 parameter points come from pre-generated buffers; pdf() is evaluated at points
-//                 sampled beforehand from the bilinear table at the same parameters.
+// and for three contenders:
+//   uniform           the cascade, at parameter points anywhere in the range
+//   bilinear_grid     Bilinear2D at parameter points on grid values (one slice)
+//   bilinear_between  Bilinear2D at the same points as the cascade (2 or 4 slices blended)
+//   sample-bilinear/<contender>/<table>, pdf-bilinear/<contender>/<table>  one query (ns/op; the
+//                 CPU time column is the one to read on a loaded machine)
+//   h2h-bilinear/<table>    sample and pdf of the three interleaved in chunks (HeadToHead): median
+//                 ns/op of each and the ratios to uniform (counters only)
+// Variates and parameter points come from pre-generated buffers; pdf() is evaluated at points
+// sampled beforehand from the bilinear table at the same parameters.
 
 #include <benchmark/benchmark.h>
 
@@ -44,6 +46,9 @@ using namespace acdf;
 using namespace acdf::bench;
 
 constexpr float kPi = std::numbers::pi_v<float>;
+
+// Entry i of a buffer of pairs (variates, parameter points, coordinates).
+std::span<const float> pair(const std::vector<float>& v, std::size_t i) { return {&v[2 * i], 2}; }
 
 struct Shape {
   const char* name;
@@ -76,8 +81,7 @@ struct Tables {
       grid.push_back(nearest(theta, p[1]));
     }
     for (std::size_t i = 0; i < kVariates; ++i) {
-      const SampleND s =
-          bilinear.sample(std::span<const float>(&u[2 * i], 2), std::span<const float>(&between[2 * i], 2));
+      const SampleND s = bilinear.sample(pair(u, i), pair(between, i));
       points.push_back(s.x[0]);
       points.push_back(s.x[1]);
     }
@@ -155,47 +159,59 @@ void build(benchmark::State& st, const Shape* shape) {
   st.counters["bytes_vs_uniform"] = static_cast<double>(bytes) / static_cast<double>(t.cascade.bytes());
 }
 
+enum class Contender { Uniform, BilinearGrid, BilinearBetween };
+constexpr Contender kContenders[] = {Contender::Uniform, Contender::BilinearGrid, Contender::BilinearBetween};
+constexpr const char* kContenderName[] = {"uniform", "bilinear_grid", "bilinear_between"};
+
+// One sample() (Pdf false) or pdf() of a contender at buffer index i.
+template <bool Pdf>
+void query(const Tables& t, Contender c, std::size_t i) {
+  if (c == Contender::Uniform) {  // conditioned on the parameter point itself (φi, θi)
+    if constexpr (Pdf)
+      benchmark::DoNotOptimize(t.cascade.pdf(pair(t.between, i), pair(t.points, i)));
+    else
+      benchmark::DoNotOptimize(t.cascade.sample(pair(t.between, i), pair(t.u, i)));
+    return;
+  }
+  const std::vector<float>& params = c == Contender::BilinearGrid ? t.grid : t.between;
+  if constexpr (Pdf)
+    benchmark::DoNotOptimize(t.bilinear.pdf(pair(t.points, i), pair(params, i)));
+  else
+    benchmark::DoNotOptimize(t.bilinear.sample(pair(t.u, i), pair(params, i)));
+}
+
+template <bool Pdf>
+void perQuery(benchmark::State& st, const Shape* shape, Contender c) {
+  const Tables& t = tables(*shape);
+  std::size_t i = 0;
+  for (auto _ : st) {
+    query<Pdf>(t, c, i);
+    i = (i + 1) & kVariateMask;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
 constexpr std::size_t kChunk = 8192;
 
+template <bool Pdf>
+void addContenders(HeadToHead& h2h, const Tables& t) {
+  for (Contender c : kContenders)
+    h2h.add([&t, c](std::size_t offset) {
+      for (std::size_t k = 0; k < kChunk; ++k) query<Pdf>(t, c, (offset + k) & kVariateMask);
+    });
+}
+
 void headToHead(benchmark::State& st, const Shape* shape) {
-  Tables& t = tables(*shape);
+  const Tables& t = tables(*shape);
   HeadToHead h2h(kChunk);
-  const auto span2 = [](const std::vector<float>& v, std::size_t i) { return std::span<const float>(&v[2 * i], 2); };
-  // The cascade's condition is the parameter point itself (φi, θi), as for Bilinear2D.
-  h2h.add([&](std::size_t offset) {
-    for (std::size_t k = 0; k < kChunk; ++k) {
-      const std::size_t i = (offset + k) & kVariateMask;
-      benchmark::DoNotOptimize(t.cascade.sample(span2(t.between, i), span2(t.u, i)));
-    }
-  });
-  for (const std::vector<float>* params : {&t.grid, &t.between}) {
-    h2h.add([&t, params, span2](std::size_t offset) {
-      for (std::size_t k = 0; k < kChunk; ++k) {
-        const std::size_t i = (offset + k) & kVariateMask;
-        benchmark::DoNotOptimize(t.bilinear.sample(span2(t.u, i), span2(*params, i)));
-      }
-    });
-  }
-  h2h.add([&](std::size_t offset) {
-    for (std::size_t k = 0; k < kChunk; ++k) {
-      const std::size_t i = (offset + k) & kVariateMask;
-      benchmark::DoNotOptimize(t.cascade.pdf(span2(t.between, i), span2(t.points, i)));
-    }
-  });
-  for (const std::vector<float>* params : {&t.grid, &t.between}) {
-    h2h.add([&t, params, span2](std::size_t offset) {
-      for (std::size_t k = 0; k < kChunk; ++k) {
-        const std::size_t i = (offset + k) & kVariateMask;
-        benchmark::DoNotOptimize(t.bilinear.pdf(span2(t.points, i), span2(*params, i)));
-      }
-    });
-  }
+  addContenders<false>(h2h, t);
+  addContenders<true>(h2h, t);
   std::size_t offset = 0;
   for (auto _ : st) {
     h2h.round(offset);
     offset = (offset + kChunk) & kVariateMask;
   }
-  h2h.reportVsUniform(st, {"uniform", "bilinear_grid", "bilinear_between"});
+  h2h.reportVsUniform(st, {kContenderName, kContenderName + 3});
   st.counters["bytes_bilinear_vs_uniform"] =
       static_cast<double>(t.bilinear.bytes()) / static_cast<double>(t.cascade.bytes());
 }
@@ -207,6 +223,11 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark((std::string("build-bilinear/") + shape.name).c_str(), build, &shape)
         ->Unit(benchmark::kMillisecond)
         ->MinTime(0.3);
+    for (Contender c : kContenders) {
+      const std::string name = std::string(kContenderName[static_cast<int>(c)]) + "/" + shape.name;
+      benchmark::RegisterBenchmark(("sample-bilinear/" + name).c_str(), perQuery<false>, &shape, c)->MinTime(0.1);
+      benchmark::RegisterBenchmark(("pdf-bilinear/" + name).c_str(), perQuery<true>, &shape, c)->MinTime(0.1);
+    }
     // 6 contenders × 8192 ops per round; 100 rounds ≈ 0.8M ops of each kind.
     benchmark::RegisterBenchmark((std::string("h2h-bilinear/") + shape.name).c_str(), headToHead, &shape)
         ->Iterations(100)
