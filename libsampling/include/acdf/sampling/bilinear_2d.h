@@ -36,10 +36,13 @@
 // Precision. Built in double from the input, stored as float; every query runs in double
 // (parameter weights, blends, searches, quadratics) and rounds only the returned coordinates and
 // density to float.
-// - The CDFs are built by appendCdf (breakpoint_cdf.h): each row or column interval of positive
-//   mass keeps a positive float step, so pdf > 0 wherever the bilinear density is > 0, and
-//   every such region is reachable. A positive vertex value whose normalised density would
-//   underflow float is stored as the smallest denormal, never 0.
+// - The CDFs are built by appendCdf (breakpoint_cdf.h): each row strip, and each cell of a
+//   vertex row, with positive mass keeps a positive float step, and a positive vertex value whose
+//   normalised density would underflow float is stored as the smallest denormal, never 0. So
+//   pdf > 0 wherever the bilinear density is > 0. Blending (two vertex rows on a line, slices
+//   between parameter values) sums in double: a cell or strip whose share of the blend is below
+//   double resolution (≈ 1e-16, e.g. a row of 1 next to a row of 1e30) keeps pdf > 0 but gets no
+//   step of the blended CDF, so it is not sampled.
 // - The pdf is the density of the law sample() draws, computed from the stored CDF steps (row
 //   interval probability × linear shape × column interval probability × linear shape), as
 //   PiecewiseConstant1D derives its pdf from its CDF — not a second copy of the function. It
@@ -49,7 +52,7 @@
 //   probability they are sampled with.
 // - sample() evaluates its density at the returned float coordinates with the code pdf() runs,
 //   so pdf(sample(u).x, p) == sample(u, p).pdf bit for bit. The quadratic's root has a relative
-//   error of a few double ulps (the tests measure ≤ 2.3e-16 absolute against a brute-force
+//   error of a few double ulps (the tests measure ≤ 2.2e-16 absolute against a brute-force
 //   inversion); what limits invert(sample(u)) ≈ u is the float coordinate, |Δu| ≲ density ×
 //   ulp(x) / 2 plus the rounding of u: 6e-8 to 4e-7 on the test tables.
 // - Samples lie strictly inside (0, 1)², inside the cell whose density they report, with a
