@@ -81,7 +81,7 @@ struct Tables {
       grid.push_back(nearest(theta, p[1]));
     }
     for (std::size_t i = 0; i < kVariates; ++i) {
-      const SampleND s = bilinear.sample(pair(u, i), pair(between, i));
+      const SampleND s = bilinear.sample(pair(between, i), pair(u, i));
       points.push_back(s.x[0]);
       points.push_back(s.x[1]);
     }
@@ -175,9 +175,9 @@ void query(const Tables& t, Contender c, std::size_t i) {
   }
   const std::vector<float>& params = c == Contender::BilinearGrid ? t.grid : t.between;
   if constexpr (Pdf)
-    benchmark::DoNotOptimize(t.bilinear.pdf(pair(t.points, i), pair(params, i)));
+    benchmark::DoNotOptimize(t.bilinear.pdf(pair(params, i), pair(t.points, i)));
   else
-    benchmark::DoNotOptimize(t.bilinear.sample(pair(t.u, i), pair(params, i)));
+    benchmark::DoNotOptimize(t.bilinear.sample(pair(params, i), pair(t.u, i)));
 }
 
 template <bool Pdf>

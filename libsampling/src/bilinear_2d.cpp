@@ -308,7 +308,7 @@ Bilinear2D::Strip Bilinear2D::strip(const Blend& b, uint32_t row, double down) c
   return s;
 }
 
-SampleND Bilinear2D::sample(std::span<const float> u, std::span<const float> params) const {
+SampleND Bilinear2D::sample(std::span<const float> params, std::span<const float> u) const {
   if (u.size() != 2) throw error(std::to_string(u.size()) + " variates for 2 axes");
   const Blend b = blend(params);
 
@@ -344,7 +344,7 @@ SampleND Bilinear2D::sample(std::span<const float> u, std::span<const float> par
   return result;
 }
 
-float Bilinear2D::pdf(std::span<const float> x, std::span<const float> params) const {
+float Bilinear2D::pdf(std::span<const float> params, std::span<const float> x) const {
   if (x.size() != 2) throw error(std::to_string(x.size()) + " coordinates for 2 axes");
   const Blend b = blend(params);
   if (!axes_[0].contains(x[0]) || !axes_[1].contains(x[1])) return 0.0f;
@@ -353,7 +353,7 @@ float Bilinear2D::pdf(std::span<const float> x, std::span<const float> params) c
   return clampDensity(s.density(column, fraction(axes_[1], x[1], column)));
 }
 
-std::array<float, 2> Bilinear2D::invert(std::span<const float> x, std::span<const float> params) const {
+std::array<float, 2> Bilinear2D::invert(std::span<const float> params, std::span<const float> x) const {
   if (x.size() != 2) throw error(std::to_string(x.size()) + " coordinates for 2 axes");
   const Blend b = blend(params);
   const uint32_t row = axes_[0].cellOf(x[0]), column = axes_[1].cellOf(x[1]);

@@ -61,10 +61,10 @@ Sampler makeSampler(std::shared_ptr<const Bilinear2D> d, std::vector<float> para
   Sampler s;
   s.name = "Bilinear2D";
   s.axes = d->axes();
-  s.sample = [d, params](std::span<const float> u) { return d->sample(u, params); };
-  s.pdf = [d, params](std::span<const float> x) { return d->pdf(x, params); };
+  s.sample = [d, params](std::span<const float> u) { return d->sample(params, u); };
+  s.pdf = [d, params](std::span<const float> x) { return d->pdf(params, x); };
   s.invert = [d, params](std::span<const float> x, std::span<float> u) {
-    const std::array<float, 2> v = d->invert(x, params);
+    const std::array<float, 2> v = d->invert(params, x);
     u[0] = v[0];
     u[1] = v[1];
   };
@@ -453,7 +453,7 @@ TEST_P(Bilinear2DParameterTest, PdfIsTheBlendOfTheSlices) {
   for (int i = 0; i < 5000; ++i) {
     const float x[2] = {rng.nextFloat(), rng.nextFloat()};
     const std::vector<float>& p = GetParam().params;
-    ASSERT_NEAR(d->pdf(x, p), t.density(p, x[0], x[1]), t.tolerance(p, x[0], x[1])) << x[0] << ", " << x[1];
+    ASSERT_NEAR(d->pdf(p, x), t.density(p, x[0], x[1]), t.tolerance(p, x[0], x[1])) << x[0] << ", " << x[1];
   }
 }
 
@@ -475,7 +475,7 @@ TEST(Bilinear2D, ParameterSlicesAndFallback) {
   // On the zero slice itself: the uniform density.
   const float onZero[] = {0.5f, 1.0f};
   const float x[] = {0.3f, 0.8f};
-  EXPECT_NEAR(d->pdf(x, onZero), 1.0, 1e-6);
+  EXPECT_NEAR(d->pdf(onZero, x), 1.0, 1e-6);
   EXPECT_TRUE(checkSamples(makeSampler(d, {0.5f, 1.0f}), 10'000, 0.0).samplesValid());
 }
 
@@ -484,12 +484,12 @@ TEST(Bilinear2D, ParametersOutsideTheirRange) {
   const auto d = parameterTable().build();
   const float x[] = {0.4f, 0.6f};
   const float first[] = {0.0f, -1.0f}, nan[] = {NAN, NAN}, below[] = {-1.0f, -7.0f};
-  EXPECT_EQ(d->pdf(x, nan), d->pdf(x, first));
-  EXPECT_EQ(d->pdf(x, below), d->pdf(x, first));
+  EXPECT_EQ(d->pdf(nan, x), d->pdf(first, x));
+  EXPECT_EQ(d->pdf(below, x), d->pdf(first, x));
   const float last[] = {2.0f, 3.0f}, above[] = {9.0f, 1e30f};
-  EXPECT_EQ(d->pdf(x, above), d->pdf(x, last));
+  EXPECT_EQ(d->pdf(above, x), d->pdf(last, x));
   const float u[] = {0.3f, 0.7f};
-  EXPECT_EQ(d->sample(u, nan).x, d->sample(u, first).x);
+  EXPECT_EQ(d->sample(nan, u).x, d->sample(first, u).x);
 }
 
 // The RGL isotropic layout: φi has one value, θi several.
@@ -505,7 +505,7 @@ TEST(Bilinear2D, OneValueParameter) {
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   const float x[] = {0.55f, 0.45f};
-  EXPECT_NEAR(d->pdf(x, p), t.density(p, x[0], x[1]), t.tolerance(p, x[0], x[1]));
+  EXPECT_NEAR(d->pdf(p, x), t.density(p, x[0], x[1]), t.tolerance(p, x[0], x[1]));
 }
 
 // ---- Adversarial magnitudes ----------------------------------------------------------------
@@ -660,10 +660,10 @@ TEST(Bilinear2D, RejectsBadInput) {
   const Bilinear2D d(v, 2, 3, {{0.0f, 1.0f}});
   const float u[] = {0.5f, 0.5f}, three[] = {0.1f, 0.2f, 0.3f}, param[] = {0.5f};
   EXPECT_THROW(d.sample(u), std::invalid_argument);  // no parameter value
-  EXPECT_THROW(d.sample(three, param), std::invalid_argument);
-  EXPECT_THROW(d.pdf(three, param), std::invalid_argument);
-  EXPECT_THROW(d.invert(u, three), std::invalid_argument);
-  EXPECT_GT(d.sample(u, param).pdf, 0.0f);
+  EXPECT_THROW(d.sample(param, three), std::invalid_argument);
+  EXPECT_THROW(d.pdf(param, three), std::invalid_argument);
+  EXPECT_THROW(d.invert(three, u), std::invalid_argument);
+  EXPECT_GT(d.sample(param, u).pdf, 0.0f);
 }
 
 }  // namespace

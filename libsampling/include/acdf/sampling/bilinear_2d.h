@@ -51,7 +51,7 @@
 //   tables), more only for intervals below the CDF's resolution, which report the one-ulp
 //   probability they are sampled with.
 // - sample() evaluates its density at the returned float coordinates with the code pdf() runs,
-//   so pdf(sample(u).x, p) == sample(u, p).pdf bit for bit. The quadratic's root has a relative
+//   so pdf(p, sample(p, u).x) == sample(p, u).pdf bit for bit. The quadratic's root has a relative
 //   error of a few double ulps (the tests measure ≤ 2.2e-16 absolute against a brute-force
 //   inversion); what limits invert(sample(u)) ≈ u is the float coordinate, |Δu| ≲ density ×
 //   ulp(x) / 2 plus the rounding of u: 6e-8 to 4e-7 on the test tables.
@@ -87,12 +87,17 @@ class Bilinear2D {
   Bilinear2D(std::span<const float> values, uint32_t rows, uint32_t columns,
              std::vector<std::vector<float>> parameterValues = {});
 
-  // u: 2 variates in [0, 1) (u[0] rows, u[1] columns); params: parameters() values.
-  SampleND sample(std::span<const float> u, std::span<const float> params = {}) const;
+  // params: parameters() values, first, as a Cascade's condition; u: 2 variates in [0, 1) (u[0]
+  // rows, u[1] columns).
+  SampleND sample(std::span<const float> params, std::span<const float> u) const;
   // Density w.r.t. area on [0, 1]² at x (x[0] rows, x[1] columns); 0 outside [0, 1)².
-  float pdf(std::span<const float> x, std::span<const float> params = {}) const;
+  float pdf(std::span<const float> params, std::span<const float> x) const;
   // The variates sample() maps to x (up to float rounding; x is clamped into the domain).
-  std::array<float, 2> invert(std::span<const float> x, std::span<const float> params = {}) const;
+  std::array<float, 2> invert(std::span<const float> params, std::span<const float> x) const;
+  // Shorthands without parameters.
+  SampleND sample(std::span<const float> u) const { return sample({}, u); }
+  float pdf(std::span<const float> x) const { return pdf({}, x); }
+  std::array<float, 2> invert(std::span<const float> x) const { return invert({}, x); }
 
   uint32_t rows() const { return rows_; }
   uint32_t columns() const { return columns_; }
