@@ -17,7 +17,7 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
-Color PathIntegrator::radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays) const {
+Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
   const Environment& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool sampleLight = mis != MisMode::BsdfOnly;
@@ -45,7 +45,7 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays)
     const Vec3d wo = frame.toLocal(-ray.direction);
 
     if (sampleLight) {
-      const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+      const auto [u0, u1] = sampler.get2D();
       const LightSample light = env.sample(u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
       if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
@@ -61,7 +61,7 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays)
       }
     }
 
-    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const auto [u0, u1] = sampler.get2D();
     const MaterialSample s = material.sample(wo, u0, u1);
     if (!(s.pdf > 0) || s.weight.isBlack()) break;
     throughput *= s.weight;
@@ -71,7 +71,7 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays)
 
     if (depth + 1 >= scene_.settings.rouletteDepth) {
       const double survive = std::min(0.95, throughput.maxComponent());
-      if (rng.nextFloat() >= survive) break;
+      if (sampler.get1D() >= survive) break;
       throughput *= 1.0 / survive;
     }
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -14,19 +15,11 @@
 #endif
 
 #include "acdf/integrator/path_integrator.h"
-#include "acdf/sampling/rng.h"
+#include "acdf/integrator/sampler.h"
 
 namespace acdf {
 
 namespace {
-
-// SplitMix64's finaliser: decorrelates the seeds of consecutive sample indices.
-uint64_t mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 struct Tile {
   uint32_t x0, y0, x1, y1;  // in film pixels
@@ -70,6 +63,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
 
   const PathIntegrator integrator(scene);
   const Camera& camera = *scene.camera;
+  const IndependentSampler samplerPrototype(scene.settings.seed, camera.width());
   const CropWindow& crop = camera.crop();
   const std::vector<Tile> tiles = makeTiles(film, std::max(1u, options.tileSize));
   std::atomic<uint64_t> rays{0};
@@ -81,16 +75,16 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     tilesDone = 0;
     forEachTile(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
+      const std::unique_ptr<Sampler> sampler = samplerPrototype.clone();
       uint64_t tileRays = 0;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
-          const uint64_t stream = uint64_t{fy} * camera.width() + fx;
           for (uint32_t s = first; s < last; ++s) {
-            Pcg32 rng(mix(scene.settings.seed ^ mix(s)), stream);
-            const float jx = rng.nextFloat(), jy = rng.nextFloat();
+            sampler->startPixelSample(fx, fy, s);
+            const auto [jx, jy] = sampler->getPixel2D();
             const Ray ray = camera.generateRay(fx + jx, fy + jy);
-            film.add(x, y, integrator.radiance(ray, rng, tileRays));
+            film.add(x, y, integrator.radiance(ray, *sampler, tileRays));
           }
         }
       rays += tileRays;

@@ -10,13 +10,14 @@
 //   bsdf-only  w_bsdf = 1, no light samples        light-only  w_light = 1, escapes add nothing
 // (both densities per steradian). Camera rays that escape see the environment directly.
 // Russian roulette from RenderSettings::rouletteDepth on: survive with probability
-// min(0.95, max throughput channel), dividing the throughput by it.
+// min(0.95, max throughput channel), dividing the throughput by it. The random values come from a
+// Sampler, in the order sampler.h lists.
 
 #include <cstdint>
 
 #include "acdf/integrator/color.h"
+#include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
-#include "acdf/sampling/rng.h"
 
 namespace acdf {
 
@@ -24,8 +25,9 @@ class PathIntegrator {
  public:
   explicit PathIntegrator(const Scene& scene) : scene_(scene) {}
 
-  // Radiance arriving along the camera ray; `rays` counts the rays cast (intersect + shadow).
-  Color radiance(const Ray& cameraRay, Pcg32& rng, uint64_t& rays) const;
+  // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
+  // pixel dimensions taken; `rays` counts the rays cast (intersect + shadow).
+  Color radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const;
 
  private:
   // The MIS weight of a strategy with density `chosen` against one with density `other`.

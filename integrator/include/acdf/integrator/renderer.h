@@ -1,9 +1,9 @@
 #pragma once
 // Rendering a scene into a film: tiles of the crop window in parallel (oneTBB), one path per
-// sample. Sample s of full-frame pixel p draws its random numbers from its own PCG32 stream
-// (stream p, seeded by the scene seed and s), so the image is the same for any thread count,
-// tile order, and split into passes: --spp N and a time-limited render that reached N samples
-// produce the same pixels.
+// sample. Sample s of full-frame pixel p takes its random values from an IndependentSampler
+// (sampler.h) started on (p, s) with the scene seed, one clone per tile, so the image is the same
+// for any thread count, tile order, and split into passes: --spp N and a time-limited render that
+// reached N samples produce the same pixels.
 
 #include <cstdint>
 #include <functional>
