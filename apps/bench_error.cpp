@@ -66,7 +66,7 @@ struct BenchErrorArgs {
 // One strategy combination.
 struct Strategy {
   BrdfSampling bsdf;
-  EnvironmentStrategy env;
+  EnvironmentSampling env;
   MisMode mis;
 
   std::string label() const { return fmt::format("{} × {} × {}", toString(bsdf), toString(env), toString(mis)); }
@@ -180,14 +180,14 @@ std::vector<T> parseList(const std::vector<std::string>& names, const std::strin
 
 // The combinations to render, and those left out because another one renders the same image.
 std::pair<std::vector<Strategy>, std::vector<Skipped>> planStrategies(const std::vector<BrdfSampling>& bsdfs,
-                                                                      const std::vector<EnvironmentStrategy>& envs,
+                                                                      const std::vector<EnvironmentSampling>& envs,
                                                                       const std::vector<MisMode>& mises,
                                                                       bool sceneHasMeasured) {
   std::vector<Strategy> plan;
   std::vector<Skipped> skipped;
   for (MisMode mis : mises)
     for (BrdfSampling bsdf : bsdfs)
-      for (const EnvironmentStrategy& env : envs) {
+      for (EnvironmentSampling env : envs) {
         const Strategy s{bsdf, env, mis};
         if (!sceneHasMeasured && bsdf != bsdfs.front())
           skipped.push_back(
@@ -195,8 +195,6 @@ std::pair<std::vector<Strategy>, std::vector<Skipped>> planStrategies(const std:
         else if (mis == MisMode::BsdfOnly && env != envs.front())
           skipped.push_back({s, fmt::format("bsdf-only never samples the environment: the same image as {}",
                                             toString(envs.front()))});
-        else if (mis == MisMode::LightOnly && env == EnvironmentSampling::Compensated)
-          skipped.push_back({s, "light-only cannot use compensated sampling (pdf 0 where the map has light)"});
         else
           plan.push_back(s);
       }
@@ -312,10 +310,8 @@ class BenchError {
   void validate() {
     bsdfs_ = parseList<BrdfSampling>(args_.bsdf, "--bsdf-sampling", parseBrdfSampling,
                                      {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive});
-    envs_ = parseList<EnvironmentStrategy>(
-        args_.env, "--env-sampling", parseEnvironmentStrategy,
-        {std::nullopt, EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-         EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical});
+    envs_ = parseList<EnvironmentSampling>(args_.env, "--env-sampling", parseEnvironmentSampling,
+                                           {std::begin(kEnvironmentSamplings), std::end(kEnvironmentSamplings)});
     mises_ = parseList<MisMode>(args_.mis, "--mis", parseMisMode,
                                 {MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly});
     if (!args_.sppBudgets.empty()) {
@@ -381,7 +377,7 @@ class BenchError {
                 {"height", height_},
                 {"seed", scene.settings.seed},
                 {"bsdf_sampling", "scene"},
-                {"env_sampling", toString(scene.environment->strategy())},
+                {"env_sampling", toString(scene.environment->options().strategy)},
                 {"mis", toString(scene.settings.mis)}};
     referenceDescription_ = exr.string();
     if (const auto stored = readJsonFile(info)) {
@@ -469,7 +465,7 @@ class BenchError {
     for (const Strategy& s : plan_) {
       const auto pending = [&](double budget) {
         return !done_.contains(
-            rowKey(std::string(toString(s.bsdf)), toString(s.env), std::string(toString(s.mis)), budget));
+            rowKey(std::string(toString(s.bsdf)), std::string(toString(s.env)), std::string(toString(s.mis)), budget));
       };
       if (std::none_of(budgets_.begin(), budgets_.end(), pending)) {
         index += budgets_.size();
@@ -582,7 +578,7 @@ class BenchError {
   // combination's set-up time is that of its own tables.
   std::optional<TableProvider> tables_;
   std::vector<BrdfSampling> bsdfs_;
-  std::vector<EnvironmentStrategy> envs_;
+  std::vector<EnvironmentSampling> envs_;
   std::vector<MisMode> mises_;
   std::vector<double> budgets_;
   std::vector<Strategy> plan_;
@@ -608,8 +604,7 @@ Command addBenchError(CLI::App& parent) {
       "channels of (I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2). The tables are built (or read\n"
       "from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
       "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
-      "the first --env-sampling, BRDF strategies other than the first when no material is measured, and\n"
-      "light-only with compensated sampling (not allowed).\n"
+      "the first --env-sampling, and BRDF strategies other than the first when no material is measured.\n"
       "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
       "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
       "DIR gets results.csv and results.json (rewritten after every row: a stopped run resumes, skipping\n"

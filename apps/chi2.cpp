@@ -116,9 +116,10 @@ Command addChi2(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "chi2", "Chi-square goodness-of-fit test of a sampler against its own pdf (exit 0 pass, 1 fail).");
   app->footer(fmt::format(
-      "--envmap FILE --sampler uniform|alias|adaptive|compensated|hierarchical: the environment light of FILE\n"
-      "(a lat-long map OpenImageIO reads) sampled with that strategy. Directions are histogrammed on (theta,\n"
-      "phi) bins aligned to blocks of pixels (at most 10000 bins); expected counts integrate the light's pdf\n"
+      "--envmap FILE --sampler uniform-sphere|uniform|alias|adaptive|compensated|hierarchical: the environment\n"
+      "light of FILE (a lat-long map OpenImageIO reads) sampled with that strategy (compensated: its own\n"
+      "table, the one MIS uses). Directions are histogrammed on (theta, phi) bins aligned to blocks of pixels\n"
+      "(at most 10000 bins); expected counts integrate the light's pdf\n"
       "over each bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
       "direction, finite positive pdf equal to pdf(direction)); passed needs both.\n"
       "\n"

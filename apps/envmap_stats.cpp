@@ -167,14 +167,16 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
   const Table adaptive = build(map, EnvironmentSampling::Adaptive, args.epsilon);
   const Table hierarchical = build(map, EnvironmentSampling::Hierarchical, args.epsilon);
 
-  std::vector<double> exact(adaptive.light->tabulated().begin(), adaptive.light->tabulated().end());
+  const EnvironmentTable& adaptiveTable = adaptive.light->table({});
+  std::vector<double> exact(adaptiveTable.tabulated().begin(), adaptiveTable.tabulated().end());
   double total = 0;
   for (double v : exact) total += v;
   for (double& v : exact) v /= total;
-  const CompressionQuality quality = compareCellProbabilities(exact, adaptive.light->pixelProbabilities());
+  const CompressionQuality quality = compareCellProbabilities(exact, adaptiveTable.pixelProbabilities());
   // The uniform table is the exact distribution up to its float CDFs: its divergence is the
   // relative variance of L/pdf, which would be 0 with exact probabilities.
-  const CompressionQuality uniformQuality = compareCellProbabilities(exact, uniform.light->pixelProbabilities());
+  const CompressionQuality uniformQuality =
+      compareCellProbabilities(exact, uniform.light->table({}).pixelProbabilities());
   exact = {};
 
   const std::vector<Vec3d> normals = fibonacciNormals();
@@ -182,7 +184,7 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
   const EnvironmentLight& anyLight = *uniform.light;  // eval() does not depend on the strategy
   auto lightSampling = [](const EnvironmentLight& light) -> Estimate {
     return [&light](const Vec3d& n, float u0, float u1) {
-      const EnvironmentSample s = light.sample(u0, u1);
+      const LightSample s = light.sample({}, u0, u1);
       return s.radiance.luminance() * std::max(0.0, dot(n, s.direction)) / s.pdf;
     };
   };

@@ -44,7 +44,7 @@ int runRender(const RenderArgs& args) {
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
   if (!args.envSampling.empty())
-    overrides.envSampling = parseOption("render", "--env-sampling", args.envSampling, parseEnvironmentStrategy);
+    overrides.envSampling = parseOption("render", "--env-sampling", args.envSampling, parseEnvironmentSampling);
   overrides.spp = args.spp;
   overrides.seed = args.seed;
   if (!args.crop.empty()) {
@@ -90,7 +90,7 @@ int runRender(const RenderArgs& args) {
     j["rays_per_second"] = raysPerSecond;
     j["rays"] = stats.rays;
     j["mis"] = toString(scene.settings.mis);
-    j["env_sampling"] = toString(scene.environment->strategy());
+    j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
     j["tables_from_cache"] = tables.tablesFromCache();
     j["exr"] = args.output;

@@ -50,7 +50,7 @@ struct MapSet {
       const EnvironmentLight& uniform = light(EnvironmentSampling::Uniform);
       const std::vector<float> v = variates(2 * kVariates, 11);
       for (std::size_t i = 0; i < kVariates; ++i)
-        directions.push_back(uniform.sample(v[2 * i], v[2 * i + 1]).direction);
+        directions.push_back(uniform.sample({}, v[2 * i], v[2 * i + 1]).direction);
     }
     return directions;
   }
@@ -98,7 +98,7 @@ void headToHead(benchmark::State& st, const std::string& name) {
     h2h.add([u, &light](std::size_t offset) {
       for (std::size_t k = 0; k < kChunk; ++k) {
         const std::size_t i = (offset + k) & kVariateMask;
-        EnvironmentSample r = light.sample(u[2 * i], u[2 * i + 1]);
+        LightSample r = light.sample({}, u[2 * i], u[2 * i + 1]);
         benchmark::DoNotOptimize(r);
       }
     });
@@ -107,7 +107,7 @@ void headToHead(benchmark::State& st, const std::string& name) {
     const EnvironmentLight& light = s.light(method);
     h2h.add([w, &light](std::size_t offset) {
       for (std::size_t k = 0; k < kChunk; ++k) {
-        double p = light.pdf(w[(offset + k) & kVariateMask]);
+        double p = light.pdf({}, w[(offset + k) & kVariateMask]);
         benchmark::DoNotOptimize(p);
       }
     });

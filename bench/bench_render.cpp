@@ -91,6 +91,7 @@ RecordedRays recordRays(const Scene& scene) {
   RecordedRays rays;
   Pcg32 rng(1);
   const Camera& camera = *scene.camera;
+  const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene.settings.mis)};
   for (uint32_t y = 0; y < camera.height(); ++y)
     for (uint32_t x = 0; x < camera.width(); ++x) {
       Ray ray = camera.generateRay(x + rng.nextFloat(), y + rng.nextFloat());
@@ -99,7 +100,7 @@ RecordedRays recordRays(const Scene& scene) {
         const auto hit = scene.geometry->intersect(ray);
         if (!hit) break;
         const Frame frame(hit->normal, hit->tangentHint);
-        const LightSample light = scene.environment->sample(rng.nextFloat(), rng.nextFloat());
+        const LightSample light = scene.environment->sample(lightContext, rng.nextFloat(), rng.nextFloat());
         if (light.pdf > 0) rays.shadow.push_back({Geometry::offsetOrigin(*hit, light.direction), light.direction});
         const MaterialSample s =
             scene.materials[hit->material]->sample(frame.toLocal(-ray.direction), rng.nextFloat(), rng.nextFloat());

@@ -1,187 +1,63 @@
 #include "acdf/envmap/environment_light.h"
 
-#include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
-#include <string>
 #include <utility>
-
-#include "acdf/sampling/sample.h"
 
 namespace acdf {
 
-std::string_view toString(EnvironmentSampling strategy) {
-  switch (strategy) {
-    case EnvironmentSampling::Uniform: return "uniform";
-    case EnvironmentSampling::Alias: return "alias";
-    case EnvironmentSampling::Adaptive: return "adaptive";
-    case EnvironmentSampling::Compensated: return "compensated";
-    case EnvironmentSampling::Hierarchical: return "hierarchical";
-  }
-  return "?";
-}
-
-EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
-  for (auto s : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                 EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical})
-    if (toString(s) == name) return s;
-  throw std::invalid_argument("unknown environment sampling strategy '" + std::string(name) +
-                              "' (uniform, alias, adaptive, compensated or hierarchical)");
-}
-
-namespace {
-
-constexpr double kCompensationTolerance = 1e-6;
-
-// max(0, L − L̄) × ΔΩ per pixel with L̄ the mean luminance over the sphere (per steradian): the
-// uncompensated table is luminance × ΔΩ, so the compensated one subtracts L̄ × ΔΩ and clamps.
-// An excess within rounding of the mean (relative 1e-6) counts as none, so that a constant map
-// has nothing left and falls back, whatever the rounding of its sums.
-std::vector<float> compensated(const EnvironmentMap& map, const std::vector<float>& power) {
-  double integral = 0;
-  for (float p : power) integral += p;
-  const double mean = integral / (4.0 * std::numbers::pi);
-  std::vector<float> out(power.size());
-  for (uint32_t r = 0; r < map.height(); ++r) {
-    const double solidAngle = map.mapping().pixelSolidAngle(r);
-    for (uint32_t c = 0; c < map.width(); ++c) {
-      const std::size_t i = std::size_t{r} * map.width() + c;
-      const double excess = power[i] - mean * solidAngle;
-      out[i] = excess > kCompensationTolerance * mean * solidAngle ? static_cast<float>(excess) : 0.0f;
-    }
-  }
-  return out;
-}
-
-// The cascade of `values`: built, or read from `saved` and checked to have the grid and options
-// a build would use.
-Cascade cascadeOf(const std::vector<float>& values, const std::vector<GridAxis>& axes, const CascadeOptions& options,
-                  const std::span<const std::byte>* saved) {
-  if (!saved) return Cascade(values, axes, options);
-  Cascade table = Cascade::deserialize(*saved);
-  if (table.axes() != axes || !(table.options() == options))
-    throw SerializationError("environment light: the saved table is for another map size or other options");
-  return table;
-}
-
-// Bump when the tabulated function changes (EnvironmentMap::pixelPower, the compensation, the
-// lat-long mapping): the saved tables of the old one must not be used. 2: OpenEXR's lat-long
-// directions (the old mapping was mirrored).
-constexpr int kTabulationVersion = 2;
-
-bool allZero(const std::vector<float>& values) {
-  return std::all_of(values.begin(), values.end(), [](float v) { return v == 0.0f; });
-}
-
-}  // namespace
-
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
-    : EnvironmentLight(std::move(map), std::move(options), nullptr) {}
+    : EnvironmentLight(map, std::move(options), LightPdfs::Either,
+                       [&map](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+                         return std::make_shared<const EnvironmentTable>(map, strategy, simplify);
+                       }) {}
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
-                                   std::span<const std::byte> savedTable)
-    : EnvironmentLight(std::move(map), std::move(options), &savedTable) {
-  if (!cascade_ && !savedTable.empty())
-    throw SerializationError("environment light: a saved table for a strategy or map that has none");
-}
-
-EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
-                                   const std::span<const std::byte>* savedTable)
+                                   LightPdfs pdfs, const EnvironmentTableSource& tables)
     : map_(std::move(map)), options_(std::move(options)) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
   if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
     throw std::invalid_argument("EnvironmentLight: the scale must be finite and > 0");
   validate(options_.simplify);
-  if (map_->isBlack()) return;
-
-  const uint32_t width = map_->width(), height = map_->height();
-  pixels_ = static_cast<double>(width) * height;
-  pdfScale_.resize(height);
-  for (uint32_t r = 0; r < height; ++r)
-    pdfScale_[r] = 1.0 / (static_cast<double>(width) * height * map_->mapping().pixelSolidAngle(r));
-
-  tabulated_ = map_->pixelPower();
-  if (options_.strategy == EnvironmentSampling::Compensated) {
-    std::vector<float> values = compensated(*map_, tabulated_);
-    compensationFellBack_ = allZero(values);
-    if (!compensationFellBack_) tabulated_ = std::move(values);
-  }
-  // A black map has no table; a map whose non-zero pixels all underflow in the table would get
-  // the engine's uniform fallback, which no radiance matches: treat it as emitting nothing too.
-  if (allZero(tabulated_)) {
-    tabulated_.clear();
-    pdfScale_.clear();
+  auto get = [&](EnvironmentSampling strategy) {
+    std::shared_ptr<const EnvironmentTable> table = tables(strategy, options_.simplify);
+    if (!table || table->strategy() != strategy || table->map().width() != map_->width() ||
+        table->map().height() != map_->height())
+      throw std::invalid_argument("EnvironmentLight: the table source gave no table of this map and strategy");
+    return table;
+  };
+  if (options_.strategy != EnvironmentSampling::Compensated) {
+    complete_ = get(options_.strategy);
     return;
   }
-
-  // The cascades' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
-  const std::vector<GridAxis> axes{GridAxis(height), GridAxis(width)};
-  switch (options_.strategy) {
-    case EnvironmentSampling::Uniform: {
-      CascadeOptions uniform;
-      uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};
-      cascade_.emplace(cascadeOf(tabulated_, axes, uniform, savedTable));
-      break;
-    }
-    case EnvironmentSampling::Alias: alias_.emplace(tabulated_, width, height); break;
-    case EnvironmentSampling::Hierarchical: warp_.emplace(tabulated_, axes); break;
-    case EnvironmentSampling::Adaptive:
-    case EnvironmentSampling::Compensated: {
-      CascadeOptions adaptive;
-      adaptive.simplify = options_.simplify;
-      cascade_.emplace(cascadeOf(tabulated_, axes, adaptive, savedTable));
-      break;
+  // The compensated table for calls that allow an incomplete pdf, the Adaptive table of the same
+  // map (the function before compensation) for the others.
+  if (pdfs != LightPdfs::Complete) {
+    incomplete_ = get(EnvironmentSampling::Compensated);
+    if (incomplete_->complete()) {  // fell back to the uncompensated function: serves both
+      complete_ = std::move(incomplete_);
+      return;
     }
   }
+  if (pdfs != LightPdfs::Incomplete) complete_ = get(EnvironmentSampling::Adaptive);
 }
 
-double EnvironmentLight::pixelPdf(PixelIndex p) const {
-  if (alias_) return probabilityPdf(alias_->probability(p), p.row);
-  if (warp_) return probabilityPdf(warp_->probability(p.row, p.column), p.row);
-  // The cascade's density is constant on each pixel's grid cell: ask at its centre.
-  const float x[2] = {static_cast<float>((p.row + 0.5) / map_->height()),
-                      static_cast<float>((p.column + 0.5) / map_->width())};
-  return cascade_->pdf(x) * pdfScale_[p.row];
+const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& context) const {
+  if (context.allowIncompletePdf && incomplete_) return *incomplete_;
+  if (!complete_) throw std::logic_error("EnvironmentLight: asked for a complete pdf, made for incomplete ones only");
+  return *complete_;
 }
 
-EnvironmentSample EnvironmentLight::sample(float u0, float u1) const {
-  if (pdfScale_.empty()) return {};
-  PixelIndex p;
-  double fractionDown, fractionRight, pdf;
-  if (alias_) {
-    const PixelAlias::Pick pick = alias_->sample(clampUnit(u0), clampUnit(u1));
-    p = pick.pixel;
-    fractionDown = pick.fractionDown;
-    fractionRight = pick.fractionRight;
-    pdf = probabilityPdf(pick.probability, p.row);
-  } else if (warp_) {
-    // Double fractions straight from the descent: no float coordinate in between.
-    const HierarchicalWarp2D::CellSample pick = warp_->sampleCell(clampUnit(u0), clampUnit(u1));
-    p = {pick.row, pick.column};
-    fractionDown = pick.fractionDown;
-    fractionRight = pick.fractionRight;
-    pdf = probabilityPdf(pick.probability, p.row);
-  } else {
-    const float u[2] = {clampUnit(u0), clampUnit(u1)};
-    const SampleND s = cascade_->sample(u);
-    const std::vector<GridAxis>& axes = cascade_->axes();
-    p = {axes[0].cellOf(s.x[0]), axes[1].cellOf(s.x[1])};
-    // Where the table put the sample inside its cell (uniformly): reused for the position in
-    // the pixel, uniform in solid angle.
-    fractionDown = axes[0].gridCoordinate(s.x[0]) - p.row;
-    fractionRight = axes[1].gridCoordinate(s.x[1]) - p.column;
-    pdf = s.pdf * pdfScale_[p.row];
-  }
-  const Vec3d w = options_.worldFromMap.apply(map_->mapping().directionInPixel(p, fractionDown, fractionRight));
-  const Rgb L = map_->radiance(p);
+LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
+  const EnvironmentTable::Sample s = table(context).sample(u0, u1);
+  if (!(s.pdf > 0)) return {};
+  const Rgb L = map_->radiance(s.pixel);
   const float k = options_.scale;
-  return {w, {k * L.r, k * L.g, k * L.b}, pdf};
+  return {options_.worldFromMap.apply(s.direction), {k * L.r, k * L.g, k * L.b}, s.pdf};
 }
 
-double EnvironmentLight::pdf(const Vec3d& w) const {
-  if (pdfScale_.empty()) return 0.0;
-  return pixelPdf(map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w)));
+double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
+  return table(context).pdf(options_.worldFromMap.applyInverse(w));
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
@@ -190,42 +66,12 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
   return {k * L.r, k * L.g, k * L.b};
 }
 
+bool EnvironmentLight::emitsNothing() const {
+  return (!complete_ || complete_->emitsNothing()) && (!incomplete_ || incomplete_->emitsNothing());
+}
+
 std::size_t EnvironmentLight::tableBytes() const {
-  if (cascade_) return cascade_->bytes();
-  if (alias_) return alias_->bytes();
-  if (warp_) return warp_->bytes();
-  return 0;
-}
-
-std::vector<double> EnvironmentLight::pixelProbabilities() const {
-  if (cascade_) return cascade_->cellProbabilities(0);
-  if (alias_) return alias_->pixelProbabilities();
-  if (warp_) return warp_->cellProbabilities();
-  return {};
-}
-
-std::vector<std::byte> EnvironmentLight::serializeTable() const {
-  return cascade_ ? cascade_->serialize() : std::vector<std::byte>{};
-}
-
-CacheKey EnvironmentLight::tableKey(const EnvironmentMap& map, const EnvironmentLightOptions& options) {
-  ContentHash content;
-  content.number(map.width()).number(map.height()).values(std::span<const float>(map.rgb()));
-  return cacheKey(content, "environment-light tabulation=" + std::to_string(kTabulationVersion) + " strategy=" +
-                               std::string(toString(options.strategy)) + " " + describe(options.simplify) +
-                               " cascade-format=" + std::to_string(Cascade::kSerialVersion));
-}
-
-Cached<EnvironmentLight> EnvironmentLight::cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
-                                                  EnvironmentLightOptions options, std::string_view what) {
-  const bool cascade = options.strategy == EnvironmentSampling::Uniform ||
-                       options.strategy == EnvironmentSampling::Adaptive ||
-                       options.strategy == EnvironmentSampling::Compensated;
-  if (!cascade || map->isBlack()) return {EnvironmentLight(std::move(map), std::move(options)), false};
-  return cache.getOrBuild(
-      tableKey(*map, options), what, [&] { return EnvironmentLight(map, options); },
-      [](const EnvironmentLight& light) { return light.serializeTable(); },
-      [&](std::span<const std::byte> table) { return EnvironmentLight(map, options, table); });
+  return (complete_ ? complete_->bytes() : 0) + (incomplete_ ? incomplete_->bytes() : 0);
 }
 
 }  // namespace acdf

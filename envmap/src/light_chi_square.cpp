@@ -30,10 +30,10 @@ SphereChiSquareReport lightChiSquareTest(const EnvironmentLight& light, const Li
   auto fromTestFrame = [&](const Vec3d& zUp) { return worldFromMap.apply(LatLongMapping::fromZUp(zUp)); };
   return sphereChiSquareTest(
       [&](float u0, float u1) {
-        const EnvironmentSample s = light.sample(u0, u1);
+        const LightSample s = light.sample(options.context, u0, u1);
         return DirectionSample{toTestFrame(s.direction), s.pdf};
       },
-      [&](const Vec3d& zUp) { return light.pdf(fromTestFrame(zUp)); }, o);
+      [&](const Vec3d& zUp) { return light.pdf(options.context, fromTestFrame(zUp)); }, o);
 }
 
 }  // namespace acdf

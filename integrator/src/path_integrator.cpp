@@ -18,10 +18,11 @@ double PathIntegrator::misWeight(double chosen, double other) const {
 }
 
 Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
-  const Environment& env = *scene_.environment;
+  const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool sampleLight = mis != MisMode::BsdfOnly;
   const bool bsdfSeesLight = mis != MisMode::LightOnly;
+  const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(mis)};
 
   Color result, throughput(1.0);
   Ray ray = cameraRay;
@@ -31,10 +32,10 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t&
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (!hit) {
       if (depth == 0) {
-        result += throughput * env.eval(ray.direction);
+        result += throughput * Color(env.eval(ray.direction));
       } else if (bsdfSeesLight) {
-        const double weight = sampleLight ? misWeight(bsdfPdf, env.pdf(ray.direction)) : 1.0;
-        result += throughput * env.eval(ray.direction) * weight;
+        const double weight = sampleLight ? misWeight(bsdfPdf, env.pdf(lightContext, ray.direction)) : 1.0;
+        result += throughput * Color(env.eval(ray.direction)) * weight;
       }
       break;
     }
@@ -46,16 +47,17 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t&
 
     if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
-      const LightSample light = env.sample(u0, u1);
+      const LightSample light = env.sample(lightContext, u0, u1);
+      const Color lightRadiance(light.radiance);
       const Vec3d wi = frame.toLocal(light.direction);
-      if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
+      if (light.pdf > 0 && wi.z > 0 && !lightRadiance.isBlack()) {
         const Color f = material.eval(wo, wi);
         if (!f.isBlack()) {
           ++rays;
           if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
                                          std::numeric_limits<double>::infinity())) {
             const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wo, wi)) : 1.0;
-            result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
+            result += throughput * f * lightRadiance * (wi.z * weight / light.pdf);
           }
         }
       }

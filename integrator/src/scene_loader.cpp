@@ -335,7 +335,7 @@ struct EnvironmentSpec {
   std::optional<fs::path> file;
   Color constant{1.0};
   double scale = 1, rotationDegrees = 0;
-  EnvironmentStrategy strategy = EnvironmentSampling::Adaptive;
+  EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
   double epsilon = SimplifyOptions{}.epsilon;
 };
 
@@ -353,7 +353,7 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   }
   if (node.has("scale")) spec.scale = node["scale"].positive();
   if (node.has("rotation")) spec.rotationDegrees = node["rotation"].number();
-  if (node.has("sampling")) spec.strategy = node["sampling"].parsed(parseEnvironmentStrategy);
+  if (node.has("sampling")) spec.strategy = node["sampling"].parsed(parseEnvironmentSampling);
   if (node.has("epsilon")) {
     spec.epsilon = node["epsilon"].number();
     if (!(spec.epsilon >= 0)) node["epsilon"].fail("must be >= 0");
@@ -361,8 +361,9 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   return spec;
 }
 
-std::unique_ptr<Environment> buildEnvironment(const EnvironmentSpec& spec, TableProvider& tables,
-                                              const std::string& where) {
+// The light, with the tables the calls of `pdfs` use.
+std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, LightPdfs pdfs, TableProvider& tables,
+                                                   const std::string& where) {
   std::shared_ptr<const EnvironmentMap> map;
   std::string key;
   if (spec.file) {
@@ -383,17 +384,14 @@ std::unique_ptr<Environment> buildEnvironment(const EnvironmentSpec& spec, Table
     key = fmt::format("constant ({}, {}, {})", spec.constant.r, spec.constant.g, spec.constant.b);
   }
   EnvironmentLightOptions options;
+  options.strategy = spec.strategy;
   options.worldFromMap = Rotation::aboutY(spec.rotationDegrees * std::numbers::pi / 180.0);
   options.scale = static_cast<float>(spec.scale);
   options.simplify.epsilon = spec.epsilon;
-  std::shared_ptr<const EnvironmentLight> light;
-  if (spec.strategy && !map->isBlack()) {
-    options.strategy = *spec.strategy;
-    light = tables.environmentLight(map, key, options);
-  }
-  // A black map has nothing to sample: uniform-sphere NEE finds nothing, cheaply.
-  const EnvironmentStrategy strategy = light ? spec.strategy : std::nullopt;
-  return std::make_unique<Environment>(map, options.worldFromMap, options.scale, strategy, light);
+  return std::make_unique<EnvironmentLight>(map, options, pdfs,
+                                            [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+                                              return tables.environmentTable(map, key, strategy, simplify);
+                                            });
 }
 
 }  // namespace
@@ -531,11 +529,8 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   for (const MaterialSpec* spec : used)
     if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
   for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
-  scene.environment = buildEnvironment(envSpec, tables, "$.environment");
-  if (settings.mis == MisMode::LightOnly && scene.environment->needsMis())
-    throw SceneError(name,
-                     "light-only rendering cannot use compensated environment sampling (its pdf is 0 where the "
-                     "map is dimmer than its mean); choose another --env-sampling or --mis");
+  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings.mis) ? LightPdfs::Incomplete : LightPdfs::Complete;
+  scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
   } catch (const std::invalid_argument& e) {

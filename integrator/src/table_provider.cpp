@@ -101,21 +101,18 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
   return slot;
 }
 
-std::shared_ptr<const EnvironmentLight> TableProvider::environmentLight(
-    const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey,
-    const EnvironmentLightOptions& options) {
+std::shared_ptr<const EnvironmentTable> TableProvider::environmentTable(
+    const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey, EnvironmentSampling strategy,
+    const SimplifyOptions& simplify) {
+  if (strategy == EnvironmentSampling::UniformSphere || map->isBlack())
+    return std::make_shared<const EnvironmentTable>(map, strategy, simplify);
   ScopedTimer timer(milliseconds_);
-  // The light also carries the rotation and scale, which its table does not depend on (they are
-  // not in the cache key), but a light is one object: they tell lights apart here.
-  const Vec3d x = options.worldFromMap.apply({1, 0, 0}), y = options.worldFromMap.apply({0, 1, 0});
-  auto& slot = lights_[fmt::format("{} scale={:a} x=({:a},{:a},{:a}) y=({:a},{:a},{:a})",
-                                   EnvironmentLight::tableKey(*map, options).hex(), options.scale, x.x, x.y, x.z, y.x,
-                                   y.y, y.z)];
+  auto& slot = environmentTables_[EnvironmentTable::key(*map, strategy, simplify).hex()];
   if (!slot) {
-    const std::string what = fmt::format("envmap {} {}", toString(options.strategy), mapKey);
-    Cached<EnvironmentLight> light = EnvironmentLight::cached(cache_, map, options, what);
-    slot = std::make_shared<const EnvironmentLight>(std::move(light.value));
-    record(what, light.fromCache);
+    const std::string what = fmt::format("envmap {} {}", toString(strategy), mapKey);
+    Cached<EnvironmentTable> table = EnvironmentTable::cached(cache_, map, strategy, simplify, what);
+    slot = std::make_shared<const EnvironmentTable>(std::move(table.value));
+    record(what, table.fromCache);
   }
   return slot;
 }

@@ -177,7 +177,7 @@ TEST_F(EnvmapCli, DirtyAndBrokenMapsExitTwoWithOneLine) {
 
 TEST_F(EnvmapCli, Chi2PassesForEverySamplerAndRejectsBadUsage) {
   const std::string map = generated();
-  for (const char* sampler : {"uniform", "alias", "adaptive", "compensated", "hierarchical"}) {
+  for (const char* sampler : {"uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"}) {
     const RunResult r = run({"chi2", "--envmap", map, "--sampler", sampler, "--samples", "2e5", "--json"});
     ASSERT_EQ(r.exitCode, 0) << sampler << ": " << describe(r);
     const auto j = nlohmann::json::parse(r.out);

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/environment_map.h"
 
 namespace acdf::envmaptest {
@@ -23,6 +24,16 @@ std::shared_ptr<const EnvironmentMap> onePixelMap(uint32_t width, uint32_t heigh
 std::shared_ptr<const EnvironmentMap> constantMap(uint32_t width, uint32_t height, float value = 1.0f);
 // Smooth, strictly positive and different in every channel and pixel.
 std::shared_ptr<const EnvironmentMap> smoothMap(uint32_t width, uint32_t height);
+
+// Every strategy but uniform-sphere sampling (which has no table).
+inline constexpr EnvironmentSampling kTableStrategies[] = {
+    EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
+    EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical};
+// Both kinds of light call: a compensated light answers them from different tables.
+inline constexpr LightSampleContext kLightContexts[] = {{.allowIncompletePdf = false}, {.allowIncompletePdf = true}};
+inline std::string describe(const LightSampleContext& context) {
+  return context.allowIncompletePdf ? "incomplete pdf allowed" : "complete pdf";
+}
 
 // Path of a shared real map ("sunset_1024x512.exr", ...), or "" when the shared data are absent.
 std::string sharedEnvmap(const std::string& name);

@@ -21,6 +21,7 @@ namespace {
 
 using namespace acdf;
 using acdf::apptest::TempDirTest;
+using acdf::envmaptest::kLightContexts;
 namespace fs = std::filesystem;
 
 struct Layout {
@@ -154,16 +155,17 @@ TEST_F(ReadImage, AllBlackMapIsALightThatEmitsNothing) {
   const std::string file = writeRgb("black.exr", 8, 4, std::vector<float>(8 * 4 * 3, 0.0f));
   auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(file));
   EXPECT_TRUE(map->isBlack());
-  for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                        EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
+  for (EnvironmentSampling strategy : kEnvironmentSamplings) {
     const EnvironmentLight light(map, {.strategy = strategy});
     EXPECT_TRUE(light.emitsNothing());
     EXPECT_EQ(light.tableBytes(), 0u);
-    EXPECT_TRUE(light.pixelProbabilities().empty());
-    const EnvironmentSample s = light.sample(0.3f, 0.7f);
-    EXPECT_EQ(s.pdf, 0.0);
-    EXPECT_EQ(s.radiance, Rgb{});
-    EXPECT_EQ(light.pdf({0, 1, 0}), 0.0);
+    for (const LightSampleContext& context : kLightContexts) {
+      EXPECT_TRUE(light.table(context).pixelProbabilities().empty());
+      const LightSample s = light.sample(context, 0.3f, 0.7f);
+      EXPECT_EQ(s.pdf, 0.0);
+      EXPECT_EQ(s.radiance, Rgb{});
+      EXPECT_EQ(light.pdf(context, {0, 1, 0}), 0.0);
+    }
     EXPECT_EQ(light.eval({0.3, -0.2, 0.9}), Rgb{});
   }
 }
@@ -175,16 +177,16 @@ TEST_F(ReadImage, TinyMapsLoadAndSample) {
     auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(writeRgb("tiny.exr", width, height, rgb)));
     ASSERT_EQ(map->width(), width);
     ASSERT_EQ(map->height(), height);
-    for (auto strategy : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias, EnvironmentSampling::Adaptive,
-                          EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
+    for (EnvironmentSampling strategy : kEnvironmentSamplings) {
       const EnvironmentLight light(map, {.strategy = strategy});
-      for (float u0 : {0.0f, 0.5f, kOneMinusEpsilon})
-        for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
-          const EnvironmentSample s = light.sample(u0, u1);
-          ASSERT_TRUE(s.pdf > 0 && std::isfinite(s.pdf)) << width << "x" << height << " " << toString(strategy);
-          EXPECT_EQ(light.pdf(s.direction), s.pdf);
-          EXPECT_EQ(light.eval(s.direction), s.radiance);
-        }
+      for (const LightSampleContext& context : kLightContexts)
+        for (float u0 : {0.0f, 0.5f, kOneMinusEpsilon})
+          for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
+            const LightSample s = light.sample(context, u0, u1);
+            ASSERT_TRUE(s.pdf > 0 && std::isfinite(s.pdf)) << width << "x" << height << " " << toString(strategy);
+            EXPECT_EQ(light.pdf(context, s.direction), s.pdf);
+            EXPECT_EQ(light.eval(s.direction), s.radiance);
+          }
     }
   }
 }

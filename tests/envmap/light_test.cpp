@@ -1,14 +1,17 @@
 // The lat-long mapping and the light's sampling: documented directions, a known map, zero variance
-// with the uniform table, pdf/eval/sample agreement, rotation and scale, MIS compensation, the
-// sun-and-sky generator, and the compression quality on the real maps.
+// with the uniform table, pdf/eval/sample agreement, rotation and scale, uniform-sphere sampling,
+// MIS compensation and the table each call uses, lights sharing tables, the sun-and-sky
+// generator, and the compression quality on the real maps.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,9 +30,7 @@ using namespace acdf;
 using namespace acdf::envmaptest;
 constexpr double kPi = std::numbers::pi;
 
-constexpr EnvironmentSampling kAllStrategies[] = {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
-                                                  EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated,
-                                                  EnvironmentSampling::Hierarchical};
+constexpr LightSampleContext kComplete{.allowIncompletePdf = false}, kIncomplete{.allowIncompletePdf = true};
 
 void expectNear(const Vec3d& a, const Vec3d& b, double tolerance) {
   EXPECT_NEAR(a.x, b.x, tolerance);
@@ -80,38 +81,40 @@ TEST(LatLong, DirectionsInAPixelMapBackToIt) {
 }
 
 // One lit pixel in a 100 × 10 map, at row 2 (θ ∈ [0.2π, 0.3π)) and column 30 (φ ∈ [0.6π, 0.62π)):
-// every strategy samples only directions in that cell, which the eval agrees is lit.
+// every table strategy samples only directions in that cell, which the eval agrees is lit.
 TEST(KnownMap, OneLitPixelLightsTheDocumentedDirection) {
   const auto map = onePixelMap(100, 10, 2, 30, 7.0f);
   // Its centre by the documented formula, written out here.
   const double theta = kPi * 2.5 / 10, phi = 2 * kPi * 30.5 / 100;
   const Vec3d centre{std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
-  for (EnvironmentSampling strategy : kAllStrategies) {
-    const EnvironmentLight light(map, {.strategy = strategy});
-    EXPECT_EQ(light.eval(centre), (Rgb{7, 7, 7}));
-    EXPECT_GT(light.pdf(centre), 0.0);
-    // Just outside the pixel on each side: dark and never sampled.
-    for (auto [dt, dp] : {std::pair{-0.06, 0.0}, std::pair{0.06, 0.0}, std::pair{0.0, -0.07}, std::pair{0.0, 0.07}}) {
-      const double t2 = theta + dt * kPi, p2 = phi + dp;
-      const Vec3d w{std::sin(t2) * std::sin(p2), std::cos(t2), -std::sin(t2) * std::cos(p2)};
-      EXPECT_EQ(light.eval(w), Rgb{});
-      if (strategy != EnvironmentSampling::Alias) {
-        EXPECT_EQ(light.pdf(w), 0.0) << toString(strategy);
+  for (EnvironmentSampling strategy : kTableStrategies)
+    for (const LightSampleContext& context : kLightContexts) {
+      SCOPED_TRACE(std::string(toString(strategy)) + ", " + describe(context));
+      const EnvironmentLight light(map, {.strategy = strategy});
+      EXPECT_EQ(light.eval(centre), (Rgb{7, 7, 7}));
+      EXPECT_GT(light.pdf(context, centre), 0.0);
+      // Just outside the pixel on each side: dark and never sampled.
+      for (auto [dt, dp] : {std::pair{-0.06, 0.0}, std::pair{0.06, 0.0}, std::pair{0.0, -0.07}, std::pair{0.0, 0.07}}) {
+        const double t2 = theta + dt * kPi, p2 = phi + dp;
+        const Vec3d w{std::sin(t2) * std::sin(p2), std::cos(t2), -std::sin(t2) * std::cos(p2)};
+        EXPECT_EQ(light.eval(w), Rgb{});
+        if (strategy != EnvironmentSampling::Alias) {
+          EXPECT_EQ(light.pdf(context, w), 0.0);
+        }
+      }
+      Pcg32 rng(7);
+      for (int i = 0; i < 20000; ++i) {
+        const LightSample s = light.sample(context, rng.nextFloat(), rng.nextFloat());
+        const double sTheta = std::acos(s.direction.y);
+        double sPhi = std::atan2(s.direction.x, -s.direction.z);
+        if (sPhi < 0) sPhi += 2 * kPi;
+        ASSERT_GE(sTheta, 0.2 * kPi);
+        ASSERT_LT(sTheta, 0.3 * kPi);
+        ASSERT_GE(sPhi, 0.6 * kPi);
+        ASSERT_LT(sPhi, 0.62 * kPi);
+        ASSERT_EQ(s.radiance, (Rgb{7, 7, 7}));
       }
     }
-    Pcg32 rng(7);
-    for (int i = 0; i < 20000; ++i) {
-      const EnvironmentSample s = light.sample(rng.nextFloat(), rng.nextFloat());
-      const double sTheta = std::acos(s.direction.y);
-      double sPhi = std::atan2(s.direction.x, -s.direction.z);
-      if (sPhi < 0) sPhi += 2 * kPi;
-      ASSERT_GE(sTheta, 0.2 * kPi);
-      ASSERT_LT(sTheta, 0.3 * kPi);
-      ASSERT_GE(sPhi, 0.6 * kPi);
-      ASSERT_LT(sPhi, 0.62 * kPi);
-      ASSERT_EQ(s.radiance, (Rgb{7, 7, 7}));
-    }
-  }
 }
 
 // With the uniform table and nearest lookup, L(ω) / pdf(ω) = ∫ L dω for every sample; so with
@@ -125,7 +128,7 @@ TEST(ZeroVariance, UniformTableGivesTheSameWeightForEverySample) {
       Pcg32 rng(11);
       double worst = 0;
       for (int i = 0; i < 100000; ++i) {
-        const EnvironmentSample s = light.sample(rng.nextFloat(), rng.nextFloat());
+        const LightSample s = light.sample({}, rng.nextFloat(), rng.nextFloat());
         worst = std::max(worst, std::abs(s.radiance.luminance() / s.pdf / integral - 1.0));
       }
       EXPECT_LT(worst, 1e-4) << toString(strategy) << " " << width << "x" << height;
@@ -136,16 +139,19 @@ TEST(Sampling, PdfAndEvalAgreeWithEverySample) {
   const Image sky = sunSkyImage(128, 64, sunSkyPreset("noon"));
   const auto sunSky = std::make_shared<const EnvironmentMap>(128, 64, sky.pixels);
   for (const auto& map : {smoothMap(64, 32), sunSky, onePixelMap(3, 2, 1, 2)})
-    for (EnvironmentSampling strategy : kAllStrategies) {
+    for (EnvironmentSampling strategy : kEnvironmentSamplings) {
       const EnvironmentLight light(map, {.strategy = strategy});
-      Pcg32 rng(3);
-      for (int i = 0; i < 20000; ++i) {
-        const float u0 = i < 2 ? 0.0f : rng.nextFloat(), u1 = i % 2 ? kOneMinusEpsilon : rng.nextFloat();
-        const EnvironmentSample s = light.sample(u0, u1);
-        ASSERT_TRUE(s.pdf > 0 && std::isfinite(s.pdf)) << toString(strategy);
-        ASSERT_NEAR(length(s.direction), 1.0, 1e-12);
-        ASSERT_EQ(light.pdf(s.direction), s.pdf) << toString(strategy) << " u " << u0 << ", " << u1;
-        ASSERT_EQ(light.eval(s.direction), s.radiance);
+      for (const LightSampleContext& context : kLightContexts) {
+        SCOPED_TRACE(std::string(toString(strategy)) + ", " + describe(context));
+        Pcg32 rng(3);
+        for (int i = 0; i < 20000; ++i) {
+          const float u0 = i < 2 ? 0.0f : rng.nextFloat(), u1 = i % 2 ? kOneMinusEpsilon : rng.nextFloat();
+          const LightSample s = light.sample(context, u0, u1);
+          ASSERT_TRUE(s.pdf > 0 && std::isfinite(s.pdf));
+          ASSERT_NEAR(length(s.direction), 1.0, 1e-12);
+          ASSERT_EQ(light.pdf(context, s.direction), s.pdf) << "u " << u0 << ", " << u1;
+          ASSERT_EQ(light.eval(s.direction), s.radiance);
+        }
       }
     }
 }
@@ -158,11 +164,11 @@ TEST(Sampling, RotationTurnsSamplesAndScaleMultipliesRadiance) {
   Pcg32 rng(5);
   for (int i = 0; i < 1000; ++i) {
     const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
-    const EnvironmentSample a = plain.sample(u0, u1), b = turned.sample(u0, u1);
+    const LightSample a = plain.sample({}, u0, u1), b = turned.sample({}, u0, u1);
     expectNear(b.direction, r.apply(a.direction), 1e-12);
     EXPECT_EQ(b.pdf, a.pdf);
     EXPECT_EQ(b.radiance, (Rgb{2.5f * a.radiance.r, 2.5f * a.radiance.g, 2.5f * a.radiance.b}));
-    EXPECT_EQ(turned.pdf(r.apply(a.direction)), plain.pdf(a.direction));
+    EXPECT_EQ(turned.pdf({}, r.apply(a.direction)), plain.pdf({}, a.direction));
   }
   // What the map shows in direction w, the turned light shows in direction R w.
   const Vec3d w = LatLongMapping::direction(1.0, 2.0);
@@ -170,34 +176,82 @@ TEST(Sampling, RotationTurnsSamplesAndScaleMultipliesRadiance) {
   EXPECT_THROW(EnvironmentLight(map, {.scale = 0.0f}), std::invalid_argument);
 }
 
+TEST(UniformSphere, SamplesTheSphereWithoutATable) {
+  const auto map = smoothMap(64, 32);
+  const Rotation r = Rotation::aboutAxis({1, 2, 3}, 0.7);
+  const EnvironmentLight light(map, {.strategy = EnvironmentSampling::UniformSphere, .worldFromMap = r});
+  EXPECT_EQ(light.tableBytes(), 0u);
+  EXPECT_TRUE(light.table({}).tabulated().empty());
+  EXPECT_FALSE(light.emitsNothing());
+  Pcg32 rng(9);
+  Vec3d mean{};
+  for (int i = 0; i < 100000; ++i) {
+    const LightSample s = light.sample({}, rng.nextFloat(), rng.nextFloat());
+    ASSERT_EQ(s.pdf, kUniformSpherePdf);
+    ASSERT_EQ(s.radiance, light.eval(s.direction));
+    mean = mean + s.direction * 1e-5;
+  }
+  // The mean direction of 1e5 uniform ones: each coordinate has standard deviation 1/√(3·1e5).
+  EXPECT_LT(length(mean), 5 * std::sqrt(1.0 / 3e5));
+  EXPECT_EQ(light.pdf({}, {0, 0, 1}), kUniformSpherePdf);
+  // A black map emits nothing whatever the strategy.
+  const EnvironmentLight black(constantMap(8, 4, 0.0f), {.strategy = EnvironmentSampling::UniformSphere});
+  EXPECT_TRUE(black.emitsNothing());
+  EXPECT_EQ(black.sample({}, 0.5f, 0.5f).pdf, 0.0);
+  EXPECT_EQ(black.pdf({}, {0, 1, 0}), 0.0);
+}
+
 TEST(Compensation, DirectionsDimmerThanTheMeanAreLeftToOtherTechniques) {
   const auto map = smoothMap(64, 32);
   const double mean = map->luminanceIntegral() / (4 * kPi);
   const EnvironmentLight light(map, {.strategy = EnvironmentSampling::Compensated});
-  EXPECT_FALSE(light.compensationFellBack());
+  const EnvironmentTable& table = light.table(kIncomplete);
+  EXPECT_EQ(table.strategy(), EnvironmentSampling::Compensated);
+  EXPECT_FALSE(table.compensationFellBack());
+  EXPECT_FALSE(table.complete());
   double total = 0;
-  for (double p : light.pixelProbabilities()) total += p;
+  for (double p : table.pixelProbabilities()) total += p;
   EXPECT_NEAR(total, 1.0, 1e-6);
   std::size_t dark = 0;
   for (uint32_t r = 0; r < map->height(); ++r)
     for (uint32_t c = 0; c < map->width(); ++c) {
       const Vec3d w = map->mapping().directionInPixel({r, c}, 0.5, 0.5);
       const double L = map->radiance(PixelIndex{r, c}).luminance();
+      EXPECT_GT(light.pdf(kComplete, w), 0.0);  // the complete table leaves nothing out
       if (L < 0.999 * mean) ++dark;
       if (L > 1.001 * mean) {
-        EXPECT_GT(light.pdf(w), 0.0);
+        EXPECT_GT(light.pdf(kIncomplete, w), 0.0);
       }
     }
   EXPECT_GT(dark, 0u);
   // The compensated table is zero exactly where the luminance is below the mean.
-  for (std::size_t i = 0; i < light.tabulated().size(); ++i) {
+  for (std::size_t i = 0; i < table.tabulated().size(); ++i) {
     const float* v = &map->rgb()[3 * i];
     const double L = Rgb{v[0], v[1], v[2]}.luminance();
     if (L < mean * (1 - 1e-6)) {
-      EXPECT_EQ(light.tabulated()[i], 0.0f) << i;
+      EXPECT_EQ(table.tabulated()[i], 0.0f) << i;
     } else if (L > mean * (1 + 1e-6)) {
-      EXPECT_GT(light.tabulated()[i], 0.0f) << i;
+      EXPECT_GT(table.tabulated()[i], 0.0f) << i;
     }
+  }
+}
+
+// Calls that need a complete pdf get the Adaptive table of the same map and options, bit for bit.
+TEST(Compensation, CompletePdfsComeFromTheAdaptiveTable) {
+  const auto map = smoothMap(64, 32);
+  const Rotation r = Rotation::aboutY(0.3);
+  const EnvironmentLight compensated(map, {.strategy = EnvironmentSampling::Compensated, .worldFromMap = r});
+  const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive, .worldFromMap = r});
+  EXPECT_EQ(compensated.table(kComplete).strategy(), EnvironmentSampling::Adaptive);
+  EXPECT_EQ(compensated.table(kComplete).pixelProbabilities(), adaptive.table(kComplete).pixelProbabilities());
+  EXPECT_EQ(compensated.tableBytes(), compensated.table(kComplete).bytes() + compensated.table(kIncomplete).bytes());
+  Pcg32 rng(4);
+  for (int i = 0; i < 1000; ++i) {
+    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const LightSample a = compensated.sample(kComplete, u0, u1), b = adaptive.sample(kIncomplete, u0, u1);
+    ASSERT_EQ(a.direction, b.direction);
+    ASSERT_EQ(a.pdf, b.pdf);
+    ASSERT_EQ(compensated.pdf(kComplete, a.direction), adaptive.pdf(kIncomplete, a.direction));
   }
 }
 
@@ -205,10 +259,57 @@ TEST(Compensation, ConstantMapFallsBackToTheUncompensatedTable) {
   const auto map = constantMap(16, 8, 3.0f);
   const EnvironmentLight compensated(map, {.strategy = EnvironmentSampling::Compensated});
   const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive});
-  EXPECT_TRUE(compensated.compensationFellBack());
+  const EnvironmentTable& table = compensated.table(kIncomplete);
+  EXPECT_TRUE(table.compensationFellBack());
+  EXPECT_TRUE(table.complete());
   EXPECT_FALSE(compensated.emitsNothing());
-  EXPECT_EQ(compensated.pixelProbabilities(), adaptive.pixelProbabilities());
-  EXPECT_NEAR(compensated.pdf({0, 0, 1}), 1 / (4 * kPi), 1e-6);
+  // One table serves both kinds of call.
+  EXPECT_EQ(&table, &compensated.table(kComplete));
+  EXPECT_EQ(compensated.tableBytes(), adaptive.tableBytes());
+  EXPECT_EQ(table.pixelProbabilities(), adaptive.table({}).pixelProbabilities());
+  EXPECT_NEAR(compensated.pdf(kIncomplete, {0, 0, 1}), 1 / (4 * kPi), 1e-6);
+}
+
+// A light asks its table source for what its calls use, and nothing else; lights of one map under
+// other rotations and scales share the tables.
+TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
+  const auto map = smoothMap(32, 16);
+  std::vector<EnvironmentSampling> asked;
+  std::map<EnvironmentSampling, std::shared_ptr<const EnvironmentTable>> built;
+  const EnvironmentTableSource source = [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+    asked.push_back(strategy);
+    auto& table = built[strategy];
+    if (!table) table = std::make_shared<const EnvironmentTable>(map, strategy, simplify);
+    return table;
+  };
+  using enum EnvironmentSampling;
+  auto tablesFor = [&](EnvironmentSampling strategy, LightPdfs pdfs) {
+    asked.clear();
+    EnvironmentLight light(map, {.strategy = strategy}, pdfs, source);
+    return asked;
+  };
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Incomplete), std::vector{Compensated});
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Complete), std::vector{Adaptive});
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Either), (std::vector{Compensated, Adaptive}));
+  for (EnvironmentSampling s : {UniformSphere, Uniform, Alias, Adaptive, Hierarchical})
+    for (LightPdfs pdfs : {LightPdfs::Complete, LightPdfs::Incomplete, LightPdfs::Either})
+      EXPECT_EQ(tablesFor(s, pdfs), std::vector{s}) << toString(s);
+
+  // A light made for incomplete pdfs only cannot answer a call that needs a complete one.
+  const EnvironmentLight mis(map, {.strategy = Compensated}, LightPdfs::Incomplete, source);
+  EXPECT_THROW((void)mis.sample(kComplete, 0.5f, 0.5f), std::logic_error);
+  EXPECT_EQ(mis.tableBytes(), built.at(Compensated)->bytes());
+
+  const EnvironmentLight plain(map, {.strategy = Adaptive}, LightPdfs::Either, source);
+  const EnvironmentLight turned(map, {.strategy = Adaptive, .worldFromMap = Rotation::aboutY(1.0), .scale = 2.0f},
+                                LightPdfs::Either, source);
+  EXPECT_EQ(&plain.table({}), &turned.table({}));
+
+  // The source must give a table of the light's map size and the strategy asked for.
+  const EnvironmentTableSource wrong = [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+    return std::make_shared<const EnvironmentTable>(smoothMap(16, 16), strategy, simplify);
+  };
+  EXPECT_THROW(EnvironmentLight(map, {}, LightPdfs::Either, wrong), std::invalid_argument);
 }
 
 TEST(SunSky, PresetsPutTheSunWhereTheySay) {
@@ -256,7 +357,7 @@ void expectEveryLitPixelReachable(const std::shared_ptr<const EnvironmentMap>& m
       EnvironmentLightOptions options{.strategy = strategy};
       options.simplify.epsilon = epsilon;
       const EnvironmentLight light(map, options);
-      const CompressionQuality q = compareCellProbabilities(exact, light.pixelProbabilities());
+      const CompressionQuality q = compareCellProbabilities(exact, light.table({}).pixelProbabilities());
       EXPECT_EQ(q.unreachableMass, 0.0) << what << " " << toString(strategy) << " epsilon " << epsilon;
     }
   // The pdf the renderer sees, at every lit pixel's centre.
@@ -265,7 +366,7 @@ void expectEveryLitPixelReachable(const std::shared_ptr<const EnvironmentMap>& m
   for (uint32_t r = 0; r < map->height(); ++r)
     for (uint32_t c = 0; c < map->width(); ++c)
       if (exact[std::size_t{r} * map->width() + c] > 0 &&
-          !(adaptive.pdf(map->mapping().directionInPixel({r, c}, 0.5, 0.5)) > 0))
+          !(adaptive.pdf({}, map->mapping().directionInPixel({r, c}, 0.5, 0.5)) > 0))
         ++dark;
   EXPECT_EQ(dark, 0u) << what << ": lit pixels of pdf 0";
 }
@@ -310,7 +411,7 @@ TEST(ZeroVariance, UniformTableDivergenceFromTheExactProbabilitiesIsTiny) {
     for (const char* name : kSharedEnvmaps)
       maps.emplace_back(name, std::make_shared<const EnvironmentMap>(EnvironmentMap::load(sharedEnvmap(name))));
   for (const auto& [name, map] : maps) {
-    const EnvironmentLight uniform(map, {.strategy = EnvironmentSampling::Uniform});
+    const EnvironmentTable uniform(map, EnvironmentSampling::Uniform, {});
     std::vector<double> exact(uniform.tabulated().begin(), uniform.tabulated().end());
     double total = 0;
     for (double v : exact) total += v;
@@ -329,11 +430,12 @@ TEST(Quality, AdaptiveTablesOfTheRealMapsAreSmallAndAccurate) {
     const auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(sharedEnvmap(name)));
     const EnvironmentLight uniform(map, {.strategy = EnvironmentSampling::Uniform});
     const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive});
-    std::vector<double> exact(adaptive.tabulated().begin(), adaptive.tabulated().end());
+    const EnvironmentTable& table = adaptive.table({});
+    std::vector<double> exact(table.tabulated().begin(), table.tabulated().end());
     double total = 0;
     for (double v : exact) total += v;
     for (double& v : exact) v /= total;
-    const CompressionQuality q = compareCellProbabilities(exact, adaptive.pixelProbabilities());
+    const CompressionQuality q = compareCellProbabilities(exact, table.pixelProbabilities());
     const double compression = double(uniform.tableBytes()) / double(adaptive.tableBytes());
     std::cout << name << ": compression " << compression << "x, chi2 divergence " << q.chi2Divergence
               << ", max weight ratio " << q.maxWeightRatio << "\n";

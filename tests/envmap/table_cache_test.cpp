@@ -1,7 +1,7 @@
-// Saved environment-light tables: a light rebuilt from serializeTable() samples and evaluates bit
-// for bit like the original (every cascade strategy, a fallen-back compensation), mismatched or
-// corrupt tables throw SerializationError, the key follows the pixels and every table option,
-// and EnvironmentLight::cached builds once and loads afterwards.
+// Saved environment tables: a table rebuilt from serialize() samples bit for bit like the
+// original (every cascade strategy, a fallen-back compensation), mismatched or corrupt tables
+// throw SerializationError, the key follows the pixels and every table option, and
+// EnvironmentTable::cached builds once and loads afterwards.
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/environment_table.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/table_cache.h"
 #include "acdf/test_support/option_variants.h"
@@ -22,24 +22,19 @@ namespace {
 using namespace acdf;
 using namespace acdf::envmaptest;
 
-EnvironmentLightOptions withStrategy(EnvironmentSampling s) {
-  EnvironmentLightOptions o;
-  o.strategy = s;
-  return o;
-}
-
 uint64_t bitsOf(double v) { return std::bit_cast<uint64_t>(v); }
 
-void expectSameLight(const EnvironmentLight& a, const EnvironmentLight& b) {
-  ASSERT_EQ(a.serializeTable(), b.serializeTable());
-  EXPECT_EQ(a.tableBytes(), b.tableBytes());
+void expectSameTable(const EnvironmentTable& a, const EnvironmentTable& b) {
+  ASSERT_EQ(a.serialize(), b.serialize());
+  EXPECT_EQ(a.bytes(), b.bytes());
   EXPECT_EQ(a.compensationFellBack(), b.compensationFellBack());
   EXPECT_EQ(a.tabulated(), b.tabulated());
   Pcg32 rng(3);
   for (int i = 0; i < 2000; ++i) {
     const float u0 = i == 0 ? 0.0f : rng.nextFloat(), u1 = i == 0 ? kOneMinusEpsilon : rng.nextFloat();
-    const EnvironmentSample s = a.sample(u0, u1), t = b.sample(u0, u1);
+    const EnvironmentTable::Sample s = a.sample(u0, u1), t = b.sample(u0, u1);
     ASSERT_EQ(bitsOf(s.pdf), bitsOf(t.pdf)) << i;
+    ASSERT_EQ(s.pixel, t.pixel);
     ASSERT_EQ(bitsOf(s.direction.x), bitsOf(t.direction.x));
     ASSERT_EQ(bitsOf(s.direction.y), bitsOf(t.direction.y));
     ASSERT_EQ(bitsOf(s.direction.z), bitsOf(t.direction.z));
@@ -52,34 +47,34 @@ TEST(EnvironmentTable, RoundTripsAreBitIdentical) {
   for (EnvironmentSampling s :
        {EnvironmentSampling::Uniform, EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated}) {
     SCOPED_TRACE(std::string(toString(s)));
-    const EnvironmentLight built(map, withStrategy(s));
-    const std::vector<std::byte> table = built.serializeTable();
-    ASSERT_FALSE(table.empty());
-    expectSameLight(built, EnvironmentLight(map, withStrategy(s), table));
+    const EnvironmentTable built(map, s);
+    const std::vector<std::byte> saved = built.serialize();
+    ASSERT_FALSE(saved.empty());
+    expectSameTable(built, EnvironmentTable(map, s, {}, saved));
   }
   // A constant map's compensation falls back to the plain adaptive table.
   const auto constant = constantMap(32, 16, 2.0f);
-  const EnvironmentLight fellBack(constant, withStrategy(EnvironmentSampling::Compensated));
+  const EnvironmentTable fellBack(constant, EnvironmentSampling::Compensated);
   ASSERT_TRUE(fellBack.compensationFellBack());
-  expectSameLight(
-      fellBack, EnvironmentLight(constant, withStrategy(EnvironmentSampling::Compensated), fellBack.serializeTable()));
+  expectSameTable(fellBack, EnvironmentTable(constant, EnvironmentSampling::Compensated, {}, fellBack.serialize()));
 }
 
 TEST(EnvironmentTable, StrategiesWithoutACascadeSaveNothing) {
   const auto map = smoothMap(16, 8);
-  for (EnvironmentSampling s : {EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical}) {
-    const EnvironmentLight light(map, withStrategy(s));
-    EXPECT_TRUE(light.serializeTable().empty());
-    expectSameLight(light, EnvironmentLight(map, withStrategy(s), std::span<const std::byte>{}));
+  for (EnvironmentSampling s :
+       {EnvironmentSampling::UniformSphere, EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical}) {
+    const EnvironmentTable table(map, s);
+    EXPECT_TRUE(table.serialize().empty());
+    expectSameTable(table, EnvironmentTable(map, s, {}, std::span<const std::byte>{}));
   }
-  const EnvironmentLight black(constantMap(16, 8, 0.0f), withStrategy(EnvironmentSampling::Adaptive));
-  EXPECT_TRUE(black.serializeTable().empty());
+  const EnvironmentTable black(constantMap(16, 8, 0.0f), EnvironmentSampling::Adaptive);
+  EXPECT_TRUE(black.serialize().empty());
 }
 
-std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, const EnvironmentLightOptions& options,
-                      std::span<const std::byte> table) {
+std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, EnvironmentSampling strategy,
+                      const SimplifyOptions& simplify, std::span<const std::byte> saved) {
   try {
-    EnvironmentLight light(map, options, table);
+    EnvironmentTable table(map, strategy, simplify, saved);
   } catch (const SerializationError& e) {
     return e.what();
   }
@@ -88,44 +83,36 @@ std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, const En
 
 TEST(EnvironmentTable, MismatchedOrCorruptTablesThrow) {
   const auto map = smoothMap(32, 16);
-  const EnvironmentLightOptions adaptive = withStrategy(EnvironmentSampling::Adaptive);
-  const std::vector<std::byte> table = EnvironmentLight(map, adaptive).serializeTable();
-  EXPECT_NE(problemOf(smoothMap(16, 16), adaptive, table).find("another map size or other options"), std::string::npos);
-  EXPECT_NE(problemOf(map, withStrategy(EnvironmentSampling::Uniform), table).find("other options"), std::string::npos);
-  EnvironmentLightOptions finer = adaptive;
-  finer.simplify.epsilon *= 0.5;
-  EXPECT_NE(problemOf(map, finer, table).find("other options"), std::string::npos);
-  EXPECT_NE(problemOf(map, withStrategy(EnvironmentSampling::Alias), table).find("has none"), std::string::npos);
-  EXPECT_NE(problemOf(map, adaptive, std::span(table).first(table.size() / 2)).find("truncated"), std::string::npos);
-  EXPECT_NE(problemOf(map, adaptive, {}).find("truncated"), std::string::npos);
+  constexpr EnvironmentSampling adaptive = EnvironmentSampling::Adaptive;
+  const std::vector<std::byte> table = EnvironmentTable(map, adaptive).serialize();
+  EXPECT_NE(problemOf(smoothMap(16, 16), adaptive, {}, table).find("another map size or other options"),
+            std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentSampling::Uniform, {}, table).find("other options"), std::string::npos);
+  SimplifyOptions finer;
+  finer.epsilon *= 0.5;
+  EXPECT_NE(problemOf(map, adaptive, finer, table).find("other options"), std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentSampling::Alias, {}, table).find("has none"), std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentSampling::UniformSphere, {}, table).find("has none"), std::string::npos);
+  EXPECT_NE(problemOf(map, adaptive, {}, std::span(table).first(table.size() / 2)).find("truncated"),
+            std::string::npos);
+  EXPECT_NE(problemOf(map, adaptive, {}, {}).find("truncated"), std::string::npos);
 }
 
 TEST(EnvironmentTable, KeyFollowsPixelsAndEveryTableOption) {
   const auto map = smoothMap(32, 16);
-  const EnvironmentLightOptions base;
-  std::set<std::string> keys{EnvironmentLight::tableKey(*map, base).hex()};
-  auto add = [&](const EnvironmentMap& m, const EnvironmentLightOptions& o) {
-    EXPECT_TRUE(keys.insert(EnvironmentLight::tableKey(m, o).hex()).second);
+  constexpr EnvironmentSampling base = EnvironmentSampling::Adaptive;
+  std::set<std::string> keys{EnvironmentTable::key(*map, base, {}).hex()};
+  auto add = [&](const EnvironmentMap& m, EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+    EXPECT_TRUE(keys.insert(EnvironmentTable::key(m, strategy, simplify).hex()).second);
   };
-  for (EnvironmentSampling s : {EnvironmentSampling::Uniform, EnvironmentSampling::Alias,
-                                EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical}) {
-    add(*map, withStrategy(s));
-  }
-  EnvironmentLightOptions o = base;
-  for (const SimplifyOptions& s : test_support::simplifyVariants(base.simplify)) {
-    o.simplify = s;
-    add(*map, o);
-  }
+  for (EnvironmentSampling s : kEnvironmentSamplings)
+    if (s != base) add(*map, s, {});
+  for (const SimplifyOptions& s : test_support::simplifyVariants(SimplifyOptions{})) add(*map, base, s);
   // The pixels: one channel of one pixel, and the same pixels in another shape.
   std::vector<float> rgb = map->rgb();
   rgb[3 * 77 + 2] = std::nextafter(rgb[3 * 77 + 2], 10.0f);
-  add(EnvironmentMap(32, 16, rgb), base);
-  add(EnvironmentMap(16, 32, map->rgb()), base);
-  // Placement in the world does not change the table.
-  o = base;
-  o.scale = 3.0f;
-  o.worldFromMap = Rotation::aboutY(0.5);
-  EXPECT_EQ(EnvironmentLight::tableKey(*map, o), EnvironmentLight::tableKey(*map, base));
+  add(EnvironmentMap(32, 16, rgb), base, {});
+  add(EnvironmentMap(16, 32, map->rgb()), base, {});
 }
 
 class EnvironmentTableCache : public apptest::TempDirTest {};
@@ -134,16 +121,17 @@ TEST_F(EnvironmentTableCache, CachedBuildsOnceThenLoads) {
   std::vector<std::string> warnings;
   TableCache cache(dir_ / "cache", [&](const std::string& w) { warnings.push_back(w); });
   const auto map = smoothMap(64, 32);
-  const EnvironmentLightOptions options;
-  const Cached<EnvironmentLight> first = EnvironmentLight::cached(cache, map, options, "sky");
-  const Cached<EnvironmentLight> second = EnvironmentLight::cached(cache, map, options, "sky");
+  constexpr EnvironmentSampling adaptive = EnvironmentSampling::Adaptive;
+  const Cached<EnvironmentTable> first = EnvironmentTable::cached(cache, map, adaptive, {}, "sky");
+  const Cached<EnvironmentTable> second = EnvironmentTable::cached(cache, map, adaptive, {}, "sky");
   EXPECT_FALSE(first.fromCache);
   EXPECT_TRUE(second.fromCache);
-  expectSameLight(first.value, second.value);
+  expectSameTable(first.value, second.value);
   // Strategies whose table is not worth saving are built, and leave nothing in the cache.
   const std::size_t files = std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {});
-  for (EnvironmentSampling s : {EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical})
-    EXPECT_FALSE(EnvironmentLight::cached(cache, map, withStrategy(s), "sky").fromCache);
+  for (EnvironmentSampling s :
+       {EnvironmentSampling::UniformSphere, EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical})
+    EXPECT_FALSE(EnvironmentTable::cached(cache, map, s, {}, "sky").fromCache);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {}), files);
   EXPECT_TRUE(warnings.empty());
 }

@@ -201,9 +201,11 @@ Stats stress2D(const Distribution& d, const std::vector<GridAxis>& axes, uint64_
 
 // Directions have no grid domain: "inside" means unit length. pdf(ω) is recomputed from the
 // direction, whose pixel lookup may land in a neighbour at a pixel edge: the mismatch measures it.
+// The light's own strategy's table is stressed (compensated: the compensated one).
 Stats stressLight(const EnvironmentLight& light, uint64_t samples) {
+  constexpr LightSampleContext context{.allowIncompletePdf = true};
   return runSamples(samples, [&](float u0, float u1, Stats& s) {
-    const EnvironmentSample e = light.sample(u0, u1);
+    const LightSample e = light.sample(context, u0, u1);
     if (light.emitsNothing()) {
       ++s.skipped;
       if (e.pdf != 0.0) ++s.badPdf;
@@ -212,7 +214,7 @@ Stats stressLight(const EnvironmentLight& light, uint64_t samples) {
     const Vec3d& w = e.direction;
     const bool finite = std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z);
     const double length = std::sqrt(dot(w, w));
-    s.check(finite, std::fabs(length - 1.0) < 1e-6, e.pdf, light.pdf(w));
+    s.check(finite, std::fabs(length - 1.0) < 1e-6, e.pdf, light.pdf(context, w));
   });
 }
 

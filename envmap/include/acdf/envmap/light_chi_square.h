@@ -22,6 +22,8 @@ struct LightChiSquareOptions {
   uint64_t samples = 1'000'000;
   uint64_t seed = 0x2545F4914F6CDD1DULL;
   double alpha = 0.01;  // level of this one test
+  // The table the light's strategy names by default (compensated: the compensated one).
+  LightSampleContext context{.allowIncompletePdf = true};
 };
 
 // The light must emit something (throws std::invalid_argument otherwise).

@@ -10,8 +10,10 @@
 //   bsdf-only  w_bsdf = 1, no light samples        light-only  w_light = 1, escapes add nothing
 // (both densities per steradian). Camera rays that escape see the environment directly.
 // Russian roulette from RenderSettings::rouletteDepth on: survive with probability
-// min(0.95, max throughput channel), dividing the throughput by it. The random values come from a
-// Sampler, in the order sampler.h lists.
+// min(0.95, max throughput channel), dividing the throughput by it. Light sampling may use an
+// incomplete pdf (a compensated table) exactly when BSDF samples see the light too
+// (allowsIncompleteLightPdf); its samples and the MIS weights of escaped BSDF samples then use the
+// same one. The random values come from a Sampler, in the order sampler.h lists.
 
 #include <cstdint>
 

@@ -10,8 +10,9 @@
 //   per surface vertex:  get2D()   the light sample (next-event estimation; not under bsdf-only),
 //                        get2D()   the BSDF sample,
 //                        get1D()   Russian roulette (from RenderSettings::rouletteDepth on).
-// A path stops asking when it ends, so the dimension of a vertex's values depends on the vertices
-// before it: nothing in the independent sampler depends on that.
+// Which dimensions a vertex gets depends on the path before it (no light sample under bsdf-only,
+// roulette from rouletteDepth on): harmless for independent values, while a low-discrepancy
+// sampler needs a fixed allotment per bounce.
 
 #include <array>
 #include <cstdint>
@@ -32,7 +33,7 @@ class Sampler {
   // The position in the pixel, [0, 1)².
   virtual std::array<float, 2> getPixel2D() = 0;
 
-  // A sampler of the same kind and seed, with its own state (one per thread).
+  // A sampler of the same kind and seed, with its own state (one per thread or tile).
   virtual std::unique_ptr<Sampler> clone() const = 0;
 };
 

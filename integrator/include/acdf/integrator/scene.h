@@ -16,8 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "acdf/envmap/environment_light.h"
 #include "acdf/integrator/camera.h"
-#include "acdf/integrator/environment.h"
 #include "acdf/integrator/geometry.h"
 #include "acdf/integrator/material.h"
 #include "acdf/integrator/table_provider.h"
@@ -34,6 +34,9 @@ enum class MisMode {
 // "power", "balance", "bsdf-only", "light-only"; parse throws std::invalid_argument.
 std::string_view toString(MisMode mode);
 MisMode parseMisMode(std::string_view name);
+// Whether light sampling may have an incomplete pdf (LightSampleContext): when BSDF samples see
+// the light too, in every mode but light-only.
+inline bool allowsIncompleteLightPdf(MisMode mode) { return mode != MisMode::LightOnly; }
 
 struct RenderSettings {
   uint32_t spp = 16;
@@ -47,7 +50,7 @@ struct RenderSettings {
 struct SceneOverrides {
   std::optional<MisMode> mis;
   std::optional<BrdfSampling> bsdfSampling;  // every measured material
-  std::optional<EnvironmentStrategy> envSampling;
+  std::optional<EnvironmentSampling> envSampling;
   std::optional<uint32_t> spp;
   std::optional<uint64_t> seed;
   std::optional<CropWindow> crop;
@@ -68,7 +71,7 @@ struct Scene {
   std::unique_ptr<Camera> camera;
   std::unique_ptr<Geometry> geometry;
   std::vector<std::unique_ptr<Material>> materials;  // indexed by the shapes' material ids
-  std::unique_ptr<Environment> environment;
+  std::unique_ptr<EnvironmentLight> environment;
   RenderSettings settings;
 };
 

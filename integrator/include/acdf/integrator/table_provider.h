@@ -1,6 +1,6 @@
 #pragma once
 // The one place the renderer gets its inputs and sampling tables from: MERL files, environment
-// maps, BRDF sampling tables and environment-light tables. Each is made on first request and
+// maps, BRDF sampling tables and environment tables. Each is made on first request and
 // shared by later ones (two spheres of one material get one table). Tables come from the on-disk
 // TableCache when it holds them (docs/table-cache.md; a corrupt or stale file is rebuilt with a
 // warning) and are stored there once built; each is recorded as built or read from the cache,
@@ -17,8 +17,8 @@
 #include "acdf/brdf/brdf_sampler.h"
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
-#include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/environment_map.h"
+#include "acdf/envmap/environment_table.h"
 #include "acdf/sampling/table_cache.h"
 
 namespace acdf {
@@ -45,10 +45,12 @@ class TableProvider {
   std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf,
                                                  const std::string& brdfKey, MerlBrdf::Interpolation interpolation,
                                                  BrdfSampling sampling, TabulatedBrdfOptions table);
-  // The sampling table of `map` (identity `mapKey`) under `options`.
-  std::shared_ptr<const EnvironmentLight> environmentLight(const std::shared_ptr<const EnvironmentMap>& map,
-                                                           const std::string& mapKey,
-                                                           const EnvironmentLightOptions& options);
+  // The sampling table of `map` (identity `mapKey`) under `strategy`, shared by every light of the
+  // map whatever its rotation and scale. Uniform-sphere sampling and a black map have no table to
+  // build or record.
+  std::shared_ptr<const EnvironmentTable> environmentTable(const std::shared_ptr<const EnvironmentMap>& map,
+                                                           const std::string& mapKey, EnvironmentSampling strategy,
+                                                           const SimplifyOptions& simplify);
 
   // Names of the tables built, and read from the cache, so far, in order; how long all requests
   // took (ms).
@@ -63,7 +65,7 @@ class TableProvider {
   std::map<std::string, std::shared_ptr<const MerlBrdf>> merls_;
   std::map<std::string, std::shared_ptr<const EnvironmentMap>> maps_;
   std::map<std::string, std::shared_ptr<const BrdfSampler>> brdfSamplers_;
-  std::map<std::string, std::shared_ptr<const EnvironmentLight>> lights_;
+  std::map<std::string, std::shared_ptr<const EnvironmentTable>> environmentTables_;
   std::vector<std::string> built_, fromCache_;
   double milliseconds_ = 0;
 };

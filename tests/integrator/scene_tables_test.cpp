@@ -1,0 +1,85 @@
+// The environment tables a scene gets: the loader asks the TableProvider only for the tables its
+// light's calls use (a compensated light under MIS: the compensated table; under light-only: the
+// complete, adaptive one; uniform-sphere sampling: none), and lights of one map under other
+// rotations and scales share them.
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "acdf/integrator/scene.h"
+
+namespace acdf {
+namespace {
+
+nlohmann::json mapScene(const std::string& sampling, const std::string& mis, double rotation = 0, double scale = 1) {
+  return {
+      {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 30}, {"width", 4}, {"height", 4}}},
+      {"render", {{"mis", mis}}},
+      {"environment",
+       {{"type", "map"},
+        {"file", "data/envmaps/sunset_1024x512.exr"},
+        {"sampling", sampling},
+        {"rotation", rotation},
+        {"scale", scale}}},
+      {"materials", {{"m", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}},
+  };
+}
+
+Scene load(const nlohmann::json& scene, TableProvider& tables) {
+  return loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", {}, tables);
+}
+
+// The tables built, by strategy ("envmap adaptive <file>" → "adaptive").
+std::vector<std::string> strategiesBuilt(const TableProvider& tables) {
+  std::vector<std::string> out;
+  for (const std::string& name : tables.tablesBuilt()) out.push_back(name.substr(7, name.find(' ', 7) - 7));
+  return out;
+}
+
+TEST(SceneTables, CompensatedLightsGetTheTableTheirEstimatorUses) {
+  const LightSampleContext mis{.allowIncompletePdf = true}, lightOnly{.allowIncompletePdf = false};
+  {
+    TableProvider tables(TableCache::disabled());
+    const Scene scene = load(mapScene("compensated", "power"), tables);
+    EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"compensated"});
+    EXPECT_EQ(scene.environment->table(mis).strategy(), EnvironmentSampling::Compensated);
+    EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(mis).bytes());
+  }
+  {
+    TableProvider tables(TableCache::disabled());
+    const Scene scene = load(mapScene("compensated", "light-only"), tables);
+    EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"adaptive"});
+    EXPECT_EQ(scene.environment->table(lightOnly).strategy(), EnvironmentSampling::Adaptive);
+    EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(lightOnly).bytes());
+  }
+  {
+    TableProvider tables(TableCache::disabled());
+    const Scene scene = load(mapScene("uniform-sphere", "light-only"), tables);
+    EXPECT_TRUE(tables.tablesBuilt().empty());
+    EXPECT_EQ(scene.environment->tableBytes(), 0u);
+  }
+}
+
+TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {
+  TableProvider tables(TableCache::disabled());
+  const Scene plain = load(mapScene("adaptive", "power"), tables);
+  const Scene turned = load(mapScene("adaptive", "power", 90, 2.5), tables);
+  EXPECT_EQ(tables.tablesBuilt().size(), 1u);
+  EXPECT_EQ(&plain.environment->table({}), &turned.environment->table({}));
+  // The placement is the light's own: the same direction of the map, turned and brighter.
+  const Vec3d w = normalize(Vec3d{0.3, 0.5, -0.8});
+  const Vec3d turnedW = turned.environment->options().worldFromMap.apply(w);
+  EXPECT_EQ(turned.environment->eval(turnedW).r, 2.5f * plain.environment->eval(w).r);
+  EXPECT_EQ(turned.environment->pdf({}, turnedW), plain.environment->pdf({}, w));
+  // Another strategy of the same map is another table.
+  (void)load(mapScene("alias", "power", 45), tables);
+  EXPECT_EQ(tables.tablesBuilt().size(), 2u);
+}
+
+}  // namespace
+}  // namespace acdf
