@@ -351,7 +351,11 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   } else {
     node["type"].fail("unknown environment type \"" + type + "\" (map or constant)");
   }
-  if (node.has("scale")) spec.scale = node["scale"].positive();
+  if (node.has("scale")) {
+    spec.scale = node["scale"].positive();
+    // The light scales float radiance.
+    if (!std::isfinite(static_cast<float>(spec.scale))) node["scale"].fail("must be at most 3.4e38");
+  }
   if (node.has("rotation")) spec.rotationDegrees = node["rotation"].number();
   if (node.has("sampling")) spec.strategy = node["sampling"].parsed(parseEnvironmentSampling);
   if (node.has("epsilon")) {

@@ -165,6 +165,17 @@ TEST_F(RenderCli, WrongTypeNamesItsPath) {
   expectNoOutputs();
 }
 
+// A scale beyond float would make the light's radiance infinite: refused with its path, for every
+// strategy (it was an internal error, exit 1, or with uniform-sphere sampling an image of Inf).
+TEST_F(RenderCli, EnvironmentScaleBeyondFloatNamesItsPath) {
+  nlohmann::json scene = tinyScene();
+  scene["environment"]["scale"] = 1e39;
+  for (const char* sampling : {"uniform-sphere", "adaptive"})
+    expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--env-sampling", sampling}, dir_),
+                         "acdf: " + path("scene.json"), "$.environment.scale: must be at most 3.4e38");
+  expectNoOutputs();
+}
+
 TEST_F(RenderCli, InvalidJson) {
   apptest::writeFile(path("scene.json"), "{\"camera\": ");
   expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_),
