@@ -24,8 +24,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/merl.h"
 #include "acdf/envmap/image_file.h"
-#include "acdf/integrator/material.h"
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/sampling/table_cache.h"
@@ -128,8 +128,7 @@ TableMemory tableMemory(const Scene& scene) {
   TableMemory memory;
   std::set<const BrdfSampler*> samplers;
   for (const auto& material : scene.materials)
-    if (const auto* measured = dynamic_cast<const MeasuredMaterial*>(material.get()))
-      if (samplers.insert(&measured->sampler()).second) memory.brdf += measured->sampler().bytes();
+    if (samplers.insert(material.get()).second) memory.brdf += material->bytes();
   memory.environment = scene.environment->tableBytes();
   return memory;
 }
@@ -274,7 +273,7 @@ class BenchError {
     width_ = film.width();
     height_ = film.height();
     const bool hasMeasured = std::any_of(scene.materials.begin(), scene.materials.end(), [](const auto& m) {
-      return dynamic_cast<const MeasuredMaterial*>(m.get()) != nullptr;
+      return dynamic_cast<const MerlBrdf*>(&m->model()) != nullptr;
     });
     std::tie(plan_, skipped_) = planStrategies(bsdfs_, envs_, mises_, hasMeasured);
     if (!args_.reference.empty()) loadGivenReference();

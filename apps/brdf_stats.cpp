@@ -65,6 +65,10 @@ std::string humanBytes(double bytes) {
   return fmt::format("{:.2f} MiB", bytes / (1024.0 * 1024));
 }
 
+MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args) {
+  return args.interpolation == "trilinear" ? MerlBrdf::Interpolation::Trilinear : MerlBrdf::Interpolation::Nearest;
+}
+
 struct BrdfStatsArgs {
   std::string input;
   BrdfTableArgs table;
@@ -94,12 +98,11 @@ nlohmann::ordered_json samplerJson(const SamplerRow& row) {
 }
 
 int runBrdfStats(const BrdfStatsArgs& args) {
-  const MerlBrdf::Interpolation interpolation = brdfInterpolation(args.table);
   // Validate every flag before the slow part (reading 35 MB, tabulating).
   brdfTableOptions(args.table, DimensionMethod::Uniform);
-  const MerlBrdf brdf = loadMerlBrdf(args.input);
+  const std::shared_ptr<const MerlBrdf> brdf = loadMerlBrdf(args.input, args.table);
 
-  const CosineBrdfSampler cosine(brdf, interpolation);
+  const CosineBrdfSampler cosine(brdf);
   const auto uniform = makeTabulatedSampler(brdf, args.table, DimensionMethod::Uniform);
   const auto adaptive = makeTabulatedSampler(brdf, args.table, DimensionMethod::Adaptive);
 
@@ -205,24 +208,20 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
   return o;
 }
 
-MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args) {
-  return args.interpolation == "trilinear" ? MerlBrdf::Interpolation::Trilinear : MerlBrdf::Interpolation::Nearest;
-}
-
-std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(const MerlBrdf& brdf, const BrdfTableArgs& args,
-                                                           DimensionMethod method) {
+std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const BrdfModel> model,
+                                                           const BrdfTableArgs& args, DimensionMethod method) {
   const TabulatedBrdfOptions options = brdfTableOptions(args, method);
   // The constructor documents std::invalid_argument for inconsistent options only.
   try {
-    return std::make_unique<TabulatedBrdfSampler>(brdf, brdfInterpolation(args), options);
+    return std::make_unique<TabulatedBrdfSampler>(std::move(model), options);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
 }
 
-MerlBrdf loadMerlBrdf(const std::string& path) {
+std::shared_ptr<const MerlBrdf> loadMerlBrdf(const std::string& path, const BrdfTableArgs& args) {
   try {
-    return MerlBrdf::load(path);
+    return std::make_shared<const MerlBrdf>(MerlBrdf::load(path, brdfInterpolation(args)));
   } catch (const BrdfFileError& e) {
     throw InputError(e.file(), e.problem());
   }

@@ -39,14 +39,14 @@ std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args
 // The table options the flags describe, with `method`. Throws UsageError for a malformed --res
 // or an --epsilon < 0.
 TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method);
-MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args);
 
-// A tabulated sampler of `brdf`; options the sampler rejects (an odd φ count for a mirrored
+// A tabulated sampler of `model`; options the sampler rejects (an odd φ count for a mirrored
 // isotropic table, say) become UsageError.
-std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(const MerlBrdf& brdf, const BrdfTableArgs& args,
-                                                           DimensionMethod method);
+std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const BrdfModel> model,
+                                                           const BrdfTableArgs& args, DimensionMethod method);
 
-// MerlBrdf::load with its errors as InputError ("<file>: <problem>", exit 2).
-MerlBrdf loadMerlBrdf(const std::string& path);
+// MerlBrdf::load with the flags' interpolation, its errors as InputError ("<file>: <problem>",
+// exit 2).
+std::shared_ptr<const MerlBrdf> loadMerlBrdf(const std::string& path, const BrdfTableArgs& args);
 
 }  // namespace acdf::app

@@ -63,11 +63,10 @@ SphereChiSquareReport testBrdf(const Chi2Args& args) {
     throw UsageError(fmt::format("chi2 --brdf: --theta-o must be in [0, 90) degrees, got {}", args.thetaOutDegrees));
   // Flag errors before the slow part (reading the file, tabulating).
   brdfTableOptions(args.table, DimensionMethod::Uniform);
-  const MerlBrdf brdf = loadMerlBrdf(args.brdf);
-  const MerlBrdf::Interpolation interpolation = brdfInterpolation(args.table);
+  const std::shared_ptr<const MerlBrdf> brdf = loadMerlBrdf(args.brdf, args.table);
   std::unique_ptr<BrdfSampler> sampler;
   if (args.sampler == "cosine")
-    sampler = std::make_unique<CosineBrdfSampler>(brdf, interpolation);
+    sampler = std::make_unique<CosineBrdfSampler>(brdf);
   else
     sampler = makeTabulatedSampler(brdf, args.table,
                                    args.sampler == "uniform" ? DimensionMethod::Uniform : DimensionMethod::Adaptive);

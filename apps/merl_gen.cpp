@@ -58,13 +58,11 @@ int runMerlGen(const MerlGenArgs& args) {
     std::vector<double> table;
     std::string what;
     if (!args.preset.empty()) {
-      AnalyticBrdf brdf;
       try {
-        brdf = AnalyticBrdf::preset(args.preset);
+        table = AnalyticBrdf::preset(args.preset).merlTable();
       } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("merl-gen: ") + e.what());
       }
-      table = brdf.merlTable();
       what = "preset '" + args.preset + "'";
     } else {
       table = NeuralBrdf::load(args.weights, args.material).merlTable();

@@ -50,7 +50,6 @@ using namespace acdf;
 using namespace acdf::bench;
 using Layout = TabulatedBrdfOptions::Layout;
 
-constexpr auto kInterpolation = MerlBrdf::Interpolation::Nearest;
 constexpr std::size_t kDirections = 4096;  // a power of two: cycled with a mask
 constexpr double kMaxThetaOut = 85.0 * std::numbers::pi / 180.0;
 
@@ -63,19 +62,21 @@ TabulatedBrdfOptions tableOptions(const std::string& name) {
   return o;
 }
 
-const MerlBrdf& nickel() {
-  static const MerlBrdf brdf = [] {
+// Nearest-cell evaluation, MerlBrdf's default.
+const std::shared_ptr<const MerlBrdf>& nickel() {
+  static const std::shared_ptr<const MerlBrdf> brdf = [] {
     const std::vector<double> table = NeuralBrdf::load(ACDF_NBRDF_WEIGHTS, "nickel").merlTable();
     const std::span<const double> all(table);
-    return MerlBrdf(all.subspan(0, MerlBrdf::kCells), all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
-                    all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
+    return std::make_shared<const MerlBrdf>(all.subspan(0, MerlBrdf::kCells),
+                                            all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
+                                            all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
   }();
   return brdf;
 }
 
 std::unique_ptr<BrdfSampler> makeSampler(const std::string& name) {
-  if (name == "cosine") return std::make_unique<CosineBrdfSampler>(nickel(), kInterpolation);
-  return std::make_unique<TabulatedBrdfSampler>(nickel(), kInterpolation, tableOptions(name));
+  if (name == "cosine") return std::make_unique<CosineBrdfSampler>(nickel());
+  return std::make_unique<TabulatedBrdfSampler>(nickel(), tableOptions(name));
 }
 
 // Samplers are built once and shared by the query benchmarks.
@@ -131,7 +132,7 @@ std::size_t uniformBytes(const std::string& name) {
 }
 
 void buildTable(benchmark::State& st, const std::string& name) {
-  const MerlBrdf& brdf = nickel();
+  const std::shared_ptr<const MerlBrdf>& brdf = nickel();
   const std::size_t reference = uniformBytes(name);  // built before the peak-memory probe
   std::optional<TabulatedBrdfSampler> s;
   double cpuSeconds = 0, tabulationMs = 0, buildMs = 0;
@@ -144,7 +145,7 @@ void buildTable(benchmark::State& st, const std::string& name) {
       st.ResumeTiming();
     }
     const double cpu0 = processCpuSeconds();
-    s.emplace(brdf, kInterpolation, tableOptions(name));
+    s.emplace(brdf, tableOptions(name));
     benchmark::DoNotOptimize(&*s);
     cpuSeconds += processCpuSeconds() - cpu0;
     tabulationMs += s->tabulationMs();

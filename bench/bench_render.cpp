@@ -102,7 +102,7 @@ RecordedRays recordRays(const Scene& scene) {
         const Frame frame(hit->normal, hit->tangentHint);
         const LightSample light = scene.environment->sample(lightContext, rng.nextFloat(), rng.nextFloat());
         if (light.pdf > 0) rays.shadow.push_back({Geometry::offsetOrigin(*hit, light.direction), light.direction});
-        const MaterialSample s =
+        const BrdfSample s =
             scene.materials[hit->material]->sample(frame.toLocal(-ray.direction), rng.nextFloat(), rng.nextFloat());
         if (!(s.pdf > 0) || s.weight.isBlack()) break;
         const Vec3d direction = normalize(frame.toWorld(s.wi));

@@ -23,7 +23,7 @@ void checkEval(const acdf::MerlBrdf& brdf, acdf::fuzz::Bytes& angles) {
     const double th = angles.take<double>(), td = angles.take<double>(), pd = angles.take<double>();
     if (!std::isfinite(th) || !std::isfinite(td) || !std::isfinite(pd)) continue;
     for (auto mode : {acdf::MerlBrdf::Interpolation::Nearest, acdf::MerlBrdf::Interpolation::Trilinear}) {
-      const acdf::Rgb v = brdf.evalHalfDiff(std::fabs(th), std::fabs(td), pd, mode);
+      const acdf::Rgb v = brdf.withInterpolation(mode).evalHalfDiff(std::fabs(th), std::fabs(td), pd);
       for (float c : {v.r, v.g, v.b})
         acdf::fuzz::require(std::isfinite(c) && c >= 0.0f, "merl: eval not finite and >= 0");
     }

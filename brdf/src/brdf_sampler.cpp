@@ -1,8 +1,14 @@
 #include "acdf/brdf/brdf_sampler.h"
 
+#include <stdexcept>
+
 #include "acdf/sampling/sample.h"
 
 namespace acdf {
+
+BrdfSampler::BrdfSampler(std::shared_ptr<const BrdfModel> model) : model_(std::move(model)) {
+  if (!model_) throw std::invalid_argument("BRDF sampler: no BRDF model");
+}
 
 BrdfSample BrdfSampler::sample(const Vec3d& wo, float u0, float u1) const {
   BrdfSample s;
@@ -10,11 +16,7 @@ BrdfSample BrdfSampler::sample(const Vec3d& wo, float u0, float u1) const {
   // The pdf of the final direction, not of the path that produced it: mixtures and half-vector
   // reflections reach ωi in more than one way, and pdf() sums them all.
   s.pdf = pdf(wo, s.wi);
-  if (s.wi.z > 0.0 && wo.z > 0.0) {
-    const Rgb f = brdf_.eval(s.wi, wo, interpolation_);
-    const auto scale = static_cast<float>(s.wi.z / s.pdf);
-    s.weight = {f.r * scale, f.g * scale, f.b * scale};
-  }
+  if (s.wi.z > 0.0 && wo.z > 0.0) s.weight = model_->eval(wo, s.wi) * static_cast<float>(s.wi.z / s.pdf);
   return s;
 }
 

@@ -37,7 +37,7 @@ void HalfVectorFrame::diffAngles(const Vec3d& wi, double& thetaDiff, double& phi
   phiDiff = signedAzimuth(d);
 }
 
-HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo) {
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi) {
   const Vec3d sum = wi + wo;
   // Normalising h is not needed for its angles (atan2 is scale-free), but the degenerate
   // ωi = −ωo has no half vector at all; take the normal, so the result stays finite.
@@ -61,7 +61,7 @@ DirectionPair fromHalfDiff(const HalfDiffAngles& a) {
   const Vec3d wi = rotateZ(rotateY(sphericalDirection(a.thetaDiff, a.phiDiff), a.thetaHalf), a.phiHalf);
   // ωo is ωi reflected about h: then normalize(ωi + ωo) = h whenever ωi·h > 0.
   const double twoCos = 2.0 * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
-  return {wi, {twoCos * h.x - wi.x, twoCos * h.y - wi.y, twoCos * h.z - wi.z}};
+  return {{twoCos * h.x - wi.x, twoCos * h.y - wi.y, twoCos * h.z - wi.z}, wi};
 }
 
 }  // namespace acdf

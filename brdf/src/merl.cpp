@@ -109,7 +109,46 @@ BrdfFileError::BrdfFileError(const std::string& file, const std::string& problem
 // ---------------------------------------------------------------------------------------------
 // Construction and validation
 
-MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue) {
+namespace {
+
+// The one pass over a channel's data, shared by the constructor and load(): converts kCells
+// doubles (read from `bytes`, little-endian, possibly unaligned) into `out`, adding the negatives
+// to `negativeEntries`. Returns the index of the first NaN / Inf / beyond-float value, or kCells
+// if there is none. Written so that GCC vectorises it (the checks are on the float, the counters
+// int): it then costs a fraction of the read. A bad channel is rescanned for the first bad index.
+// memcpy because the file's doubles start at offset 12, not 8-byte aligned; it compiles to a
+// plain unaligned load.
+std::size_t convertChannel(const unsigned char* bytes, float* out, std::size_t& negativeEntries) {
+  constexpr float kFloatMax = std::numeric_limits<float>::max();
+  const auto narrowed = [bytes](std::size_t i) {
+    double v;
+    std::memcpy(&v, bytes + i * sizeof(double), sizeof(double));
+    return static_cast<float>(v);  // IEEE (is_iec559): beyond float range rounds to ±Inf
+  };
+  int negatives = 0, bad = 0;  // kCells < 2^31
+  for (std::size_t i = 0; i < MerlBrdf::kCells; ++i) {
+    const float f = narrowed(i);
+    bad |= !(std::fabs(f) <= kFloatMax);  // NaN, Inf, or a double beyond float range
+    negatives += f < 0.0f;
+    out[i] = f > 0.0f ? f : 0.0f;  // negatives (and −0) become +0
+  }
+  if (bad) {
+    for (std::size_t i = 0; i < MerlBrdf::kCells; ++i)
+      if (!(std::fabs(narrowed(i)) <= kFloatMax)) return i;
+  }
+  negativeEntries += static_cast<std::size_t>(negatives);
+  return MerlBrdf::kCells;
+}
+
+// Uninitialised: every entry is overwritten, and zero-filling 17.5 MB first would cost a third of
+// the read.
+std::shared_ptr<float[]> allocateValues() { return std::make_shared_for_overwrite<float[]>(3 * MerlBrdf::kCells); }
+
+}  // namespace
+
+MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue,
+                   Interpolation interpolation)
+    : interpolation_(interpolation) {
   const std::span<const double> channels[3] = {red, green, blue};
   for (int c = 0; c < 3; ++c) {
     if (channels[c].size() != kCells) {
@@ -118,41 +157,20 @@ MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, s
                                   " (90 x 90 x 180)");
     }
   }
-  values_.resize(3 * kCells);
+  const std::shared_ptr<float[]> values = allocateValues();
   for (int c = 0; c < 3; ++c) {
-    const std::size_t bad = convertChannel(c, reinterpret_cast<const unsigned char*>(channels[c].data()));
+    const std::size_t bad = convertChannel(reinterpret_cast<const unsigned char*>(channels[c].data()),
+                                           values.get() + c * kCells, negativeEntries_);
     if (bad != kCells) throw std::invalid_argument("MERL BRDF: " + badValueProblem(c, bad, channels[c][bad]));
   }
+  values_ = values;
 }
 
-std::size_t MerlBrdf::convertChannel(int c, const unsigned char* bytes) {
-  // The one pass over the data: narrow, check, clamp. Written so that GCC vectorises it (the
-  // checks are on the float, the counters int): it then costs a fraction of the read. A bad file
-  // is rescanned for the first bad index. memcpy because the file's doubles start at offset 12,
-  // not 8-byte aligned; it compiles to a plain unaligned load.
-  constexpr float kFloatMax = std::numeric_limits<float>::max();
-  float* out = values_.data() + static_cast<std::size_t>(c) * kCells;
-  const auto narrowed = [bytes](std::size_t i) {
-    double v;
-    std::memcpy(&v, bytes + i * sizeof(double), sizeof(double));
-    return static_cast<float>(v);  // IEEE (is_iec559): beyond float range rounds to ±Inf
-  };
-  int negatives = 0, bad = 0;  // kCells < 2^31
-  for (std::size_t i = 0; i < kCells; ++i) {
-    const float f = narrowed(i);
-    bad |= !(std::fabs(f) <= kFloatMax);  // NaN, Inf, or a double beyond float range
-    negatives += f < 0.0f;
-    out[i] = f > 0.0f ? f : 0.0f;  // negatives (and −0) become +0
-  }
-  if (bad) {
-    for (std::size_t i = 0; i < kCells; ++i)
-      if (!(std::fabs(narrowed(i)) <= kFloatMax)) return i;
-  }
-  negativeEntries_ += static_cast<std::size_t>(negatives);
-  return kCells;
+MerlBrdf MerlBrdf::withInterpolation(Interpolation interpolation) const {
+  return MerlBrdf(values_, negativeEntries_, interpolation);
 }
 
-MerlBrdf MerlBrdf::load(const fs::path& path) {
+MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
   const std::string name = path.string();
   if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
 
@@ -204,18 +222,18 @@ MerlBrdf MerlBrdf::load(const fs::path& path) {
   }
   checkDimensions(bytes.get());
 
-  MerlBrdf brdf;
-  brdf.values_.resize(3 * kCells);
+  const std::shared_ptr<float[]> values = allocateValues();
+  std::size_t negativeEntries = 0;
   for (int c = 0; c < 3; ++c) {
     const unsigned char* channelBytes = bytes.get() + kHeaderBytes + c * kChannelBytes;
-    const std::size_t bad = brdf.convertChannel(c, channelBytes);
+    const std::size_t bad = convertChannel(channelBytes, values.get() + c * kCells, negativeEntries);
     if (bad != kCells) {
       double v;
       std::memcpy(&v, channelBytes + bad * sizeof(double), sizeof(double));
       throw BrdfFileError(name, badValueProblem(c, bad, v));
     }
   }
-  return brdf;
+  return MerlBrdf(values, negativeEntries, interpolation);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -233,7 +251,7 @@ void MerlBrdf::save(const fs::path& path) const {
   const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(kFileBytes);
   const int32_t dims[3] = {kThetaHalfCells, kThetaDiffCells, kPhiDiffCells};
   std::memcpy(bytes.get(), dims, kHeaderBytes);
-  for (std::size_t i = 0; i < values_.size(); ++i) {
+  for (std::size_t i = 0; i < 3 * kCells; ++i) {
     const double v = values_[i];
     std::memcpy(bytes.get() + kHeaderBytes + i * sizeof(double), &v, sizeof(double));
   }
@@ -334,14 +352,19 @@ double MerlBrdf::thetaHalfCentre(int k) {
 double MerlBrdf::thetaDiffCentre(int k) { return (k + 0.5) / kThetaDiffCells * kHalfPi; }
 double MerlBrdf::phiDiffCentre(int k) { return (k + 0.5) / kPhiDiffCells * std::numbers::pi; }
 
-Rgb MerlBrdf::eval(const Vec3d& wi, const Vec3d& wo, Interpolation mode) const {
+Rgb MerlBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wi.z > 0 && wo.z > 0)) return {};
-  const HalfDiffAngles a = toHalfDiff(wi, wo);
-  return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff, mode);
+  const HalfDiffAngles a = toHalfDiff(wo, wi);
+  return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
 }
 
-Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff, Interpolation mode) const {
-  if (mode == Interpolation::Nearest) {
+std::string MerlBrdf::addToKey(ContentHash& content) const {
+  for (int c = 0; c < 3; ++c) content.values(channel(c));
+  return interpolation_ == Interpolation::Nearest ? "interpolation=nearest" : "interpolation=trilinear";
+}
+
+Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const {
+  if (interpolation_ == Interpolation::Nearest) {
     return cell(flatIndex(thetaHalfIndex(thetaHalf), thetaDiffIndex(thetaDiff), phiDiffIndex(phiDiff)));
   }
   // Trilinear on the cell-centred grid. θh is interpolated in √θh, the variable its cells are

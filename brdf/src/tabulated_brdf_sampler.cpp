@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "acdf/brdf/coordinates.h"
+#include "acdf/brdf/half_vector.h"
 #include "acdf/sampling/sample.h"
 
 namespace acdf {
@@ -33,7 +34,7 @@ bool mirrored(const TabulatedBrdfOptions& o) { return o.layout == Layout::Isotro
 uint32_t phiCells(const TabulatedBrdfOptions& o) { return mirrored(o) ? o.phiHalfCells / 2 : o.phiHalfCells; }
 double phiRange(const TabulatedBrdfOptions& o) { return mirrored(o) ? kPi : kTwoPi; }
 
-const TabulatedBrdfOptions& validated(const TabulatedBrdfOptions& o) {
+const TabulatedBrdfOptions& validated(const BrdfModel& model, const TabulatedBrdfOptions& o) {
   if (o.thetaOutCells == 0 || o.thetaHalfCells == 0 || o.phiHalfCells == 0 ||
       (o.layout == Layout::Full4D && o.phiOutCells == 0))
     throw std::invalid_argument("BRDF table: every axis needs at least one cell");
@@ -43,6 +44,8 @@ const TabulatedBrdfOptions& validated(const TabulatedBrdfOptions& o) {
   if (!(o.cosineWeight >= 0.0 && o.cosineWeight <= 1.0))
     throw std::invalid_argument("BRDF table: the cosine mixture weight must be in [0, 1]");
   validate(o.simplify);
+  if (o.layout == Layout::Isotropic && !model.isotropic())
+    throw std::invalid_argument("BRDF table: the isotropic layout needs an isotropic BRDF model");
   return o;
 }
 
@@ -112,11 +115,22 @@ struct AzimuthLattice {
   }
 };
 
+// The target density's integrand at one (ωo, ωh): f·cosθi · 4(ωo·ωh) · `jacobian` (π s sinθh),
+// with `luminance(ωi)` the model's; 0 where ωi = reflect(ωo, ωh) is at or below the horizon.
+template <class Luminance>
+double targetIntegrand(const Vec3d& wo, const Vec3d& wh, double jacobian, const Luminance& luminance) {
+  const double cosOutHalf = dot(wo, wh);
+  if (!(cosOutHalf > 0.0)) return 0.0;
+  const Vec3d wi = reflect(wo, wh);
+  if (!(wi.z > 0.0)) return 0.0;
+  const double f = luminance(wi);
+  return f * wi.z * 4.0 * cosOutHalf * jacobian;
+}
+
 // f·cosθi · 4(ωo·ωh) · π s sinθh averaged over each cell's sub-points: the target density in
 // (s, φh), row-major over (θo[, φo], s, φh). θo cells in parallel; each cell's sum in double in a
-// fixed order.
-std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                            const TabulatedBrdfOptions& o) {
+// fixed order. An isotropic model, on the azimuth lattice.
+std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdfOptions& o) {
   const uint32_t per = o.supersampling;
   const uint32_t sCells = o.thetaHalfCells, pCells = phiCells(o);
   const bool full = o.layout == Layout::Full4D;
@@ -125,12 +139,12 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
 
   // The half vectors of the lattice: direction, frame and Jacobian π s sinθh.
   const std::vector<double> sValues = subPoints(sCells, per, 1.0);
-  struct HalfVector {
+  struct HalfVectorPoint {
     Vec3d direction;
     HalfVectorFrame frame;
     double jacobian;
   };
-  std::vector<HalfVector> halfVectors;
+  std::vector<HalfVectorPoint> halfVectors;
   halfVectors.reserve(sValues.size() * lattice.points);
   for (double s : sValues) {
     const double thetaHalf = s * s * kHalfPi;
@@ -154,15 +168,12 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
       const Vec3d wo = sphericalDirection(thetaOut[thetaCell * per + a], 0.0);
       double* row = target.data() + std::size_t{a} * halfVectors.size();
       for (std::size_t k = 0; k < halfVectors.size(); ++k) {
-        const HalfVector& h = halfVectors[k];
-        const double cosOutHalf = dot(wo, h.direction);
-        if (!(cosOutHalf > 0.0)) continue;  // ωi would be below the horizon
-        const Vec3d wi = reflect(wo, h.direction);
-        if (!(wi.z > 0.0)) continue;
-        double thetaDiff, phiDiff;
-        h.frame.diffAngles(wi, thetaDiff, phiDiff);
-        const double f = brdf.evalHalfDiff(h.frame.thetaHalf(), thetaDiff, phiDiff, interpolation).luminance();
-        row[k] = f * wi.z * 4.0 * cosOutHalf * h.jacobian;
+        const HalfVectorPoint& h = halfVectors[k];
+        row[k] = targetIntegrand(wo, h.direction, h.jacobian, [&](const Vec3d& wi) {
+          double thetaDiff, phiDiff;
+          h.frame.diffAngles(wi, thetaDiff, phiDiff);
+          return model.evalHalfDiff(h.frame.thetaHalf(), thetaDiff, phiDiff).luminance();
+        });
       }
     }
     std::vector<double> sums(sliceCells);
@@ -185,6 +196,53 @@ std::vector<float> tabulate(const MerlBrdf& brdf, MerlBrdf::Interpolation interp
   return values;
 }
 
+// The same for a model that is not isotropic (a Full4D table): f at every 4D sub-point.
+std::vector<float> tabulateEveryPoint(const BrdfModel& model, const TabulatedBrdfOptions& o) {
+  const uint32_t per = o.supersampling;
+  const uint32_t sCells = o.thetaHalfCells, pCells = o.phiHalfCells;
+  const std::vector<double> sValues = subPoints(sCells, per, 1.0);
+  const std::vector<double> phiHalf = subPoints(pCells, per, kTwoPi);
+  struct HalfVectorPoint {
+    Vec3d direction;
+    double jacobian;  // π s sinθh
+  };
+  std::vector<HalfVectorPoint> halfVectors;
+  halfVectors.reserve(sValues.size() * phiHalf.size());
+  for (double s : sValues) {
+    const double thetaHalf = s * s * kHalfPi;
+    for (double phi : phiHalf)
+      halfVectors.push_back({sphericalDirection(thetaHalf, phi), kPi * s * std::sin(thetaHalf)});
+  }
+  const std::vector<double> thetaOut = subPoints(o.thetaOutCells, per, kHalfPi);
+  const std::vector<double> phiOut = subPoints(o.phiOutCells, per, kTwoPi);
+  const std::size_t sliceCells = std::size_t{sCells} * pCells;
+  std::vector<float> values(std::size_t{o.thetaOutCells} * o.phiOutCells * sliceCells);
+  const double subPointsPerCell = std::pow(static_cast<double>(per), 4);
+
+  tbb::parallel_for(uint32_t{0}, o.thetaOutCells, [&](uint32_t thetaCell) {
+    std::vector<double> sums(sliceCells);
+    for (uint32_t phiCell = 0; phiCell < o.phiOutCells; ++phiCell) {
+      std::fill(sums.begin(), sums.end(), 0.0);
+      for (uint32_t a = 0; a < per; ++a)
+        for (uint32_t b = 0; b < per; ++b) {
+          const Vec3d wo = sphericalDirection(thetaOut[thetaCell * per + a], phiOut[phiCell * per + b]);
+          for (std::size_t k = 0; k < halfVectors.size(); ++k) {
+            const HalfVectorPoint& h = halfVectors[k];
+            sums[k / phiHalf.size() / per * pCells + k % phiHalf.size() / per] +=
+                targetIntegrand(wo, h.direction, h.jacobian, [&](const Vec3d& wi) { return model.luminance(wo, wi); });
+          }
+        }
+      float* out = values.data() + (std::size_t{thetaCell} * o.phiOutCells + phiCell) * sliceCells;
+      for (std::size_t c = 0; c < sliceCells; ++c) out[c] = static_cast<float>(sums[c] / subPointsPerCell);
+    }
+  });
+  return values;
+}
+
+std::vector<float> tabulate(const BrdfModel& model, const TabulatedBrdfOptions& o) {
+  return model.isotropic() ? tabulateOnLattice(model, o) : tabulateEveryPoint(model, o);
+}
+
 // Bump when tabulate() changes its values: cached tables of the old ones must not be used.
 constexpr int kTabulationVersion = 2;  // 2: 4D tables rotated from the isotropic target
 
@@ -197,10 +255,9 @@ CascadeOptions cascadeOptions(const TabulatedBrdfOptions& o) {
   return cascade;
 }
 
-Cascade buildTable(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation, const TabulatedBrdfOptions& o,
-                   double& tabulationMs, double& buildMs) {
+Cascade buildTable(const BrdfModel& model, const TabulatedBrdfOptions& o, double& tabulationMs, double& buildMs) {
   Clock::time_point start = Clock::now();
-  const std::vector<float> values = tabulate(brdf, interpolation, o);
+  const std::vector<float> values = tabulate(model, o);
   tabulationMs = millisecondsSince(start);
   start = Clock::now();
   Cascade table(values, tableAxes(o), cascadeOptions(o));
@@ -231,34 +288,30 @@ std::string TabulatedBrdfOptions::name() const {
          (layout == Layout::Full4D ? "-4d" : "-iso");
 }
 
-TabulatedBrdfSampler::TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                                           const TabulatedBrdfOptions& options)
-    : BrdfSampler(brdf, interpolation),
-      options_(validated(options)),
-      table_(buildTable(brdf, interpolation, options_, tabulationMs_, buildMs_)),
+TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options)
+    : BrdfSampler(std::move(model)),
+      options_(validated(this->model(), options)),
+      table_(buildTable(this->model(), options_, tabulationMs_, buildMs_)),
       capAreas_(capAreasOf(options_)) {}
 
-TabulatedBrdfSampler::TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                                           const TabulatedBrdfOptions& options, Cascade table)
-    : BrdfSampler(brdf, interpolation),
-      options_(validated(options)),
+TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options,
+                                           Cascade table)
+    : BrdfSampler(std::move(model)),
+      options_(validated(this->model(), options)),
       table_(checkedTable(std::move(table), options_)),
       capAreas_(capAreasOf(options_)) {}
 
-Cascade TabulatedBrdfSampler::buildCascade(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                                           const TabulatedBrdfOptions& options) {
+Cascade TabulatedBrdfSampler::buildCascade(const BrdfModel& model, const TabulatedBrdfOptions& options) {
   double tabulationMs, buildMs;
-  return buildTable(brdf, interpolation, validated(options), tabulationMs, buildMs);
+  return buildTable(model, validated(model, options), tabulationMs, buildMs);
 }
 
-CacheKey TabulatedBrdfSampler::tableKey(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                                        const TabulatedBrdfOptions& o) {
+CacheKey TabulatedBrdfSampler::tableKey(const BrdfModel& model, const TabulatedBrdfOptions& o) {
   ContentHash content;
-  for (int c = 0; c < 3; ++c) content.values(brdf.channel(c));
+  const std::string modelParameters = model.addToKey(content);
   const std::string parameters =
-      "brdf-half-vector-table tabulation=" + std::to_string(kTabulationVersion) +
-      " interpolation=" + (interpolation == MerlBrdf::Interpolation::Nearest ? "nearest" : "trilinear") +
-      " layout=" + (o.layout == Layout::Full4D ? "full-4d" : "isotropic") +
+      "brdf-half-vector-table tabulation=" + std::to_string(kTabulationVersion) + " " + modelParameters +
+      (model.isotropic() ? "" : " every-point") + " layout=" + (o.layout == Layout::Full4D ? "full-4d" : "isotropic") +
       " cells=" + std::to_string(o.thetaOutCells) + "x" + std::to_string(o.phiOutCells) + "x" +
       std::to_string(o.thetaHalfCells) + "x" + std::to_string(o.phiHalfCells) + " mirror=" + std::to_string(o.mirror) +
       " supersampling=" + std::to_string(o.supersampling) + " " + describe(cascadeOptions(o));
@@ -323,16 +376,9 @@ double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wo.z > 0.0)) return cosineHemispherePdf(wi.z);
   const double w = options_.cosineWeight;
   double p = w * cosineHemispherePdf(wi.z);
-  const Vec3d sum = wi + wo;
-  const double len = length(sum);
-  if (w < 1.0 && len > 0.0) {
-    // Reflecting ωo about h or −h gives the same ωi; the table covers the upper hemisphere only,
-    // so exactly one of the two can have been sampled.
-    Vec3d h = sum * (1.0 / len);
-    if (h.z < 0.0) h = -h;
-    const double cosOutHalf = std::fabs(dot(wo, h));
-    if (cosOutHalf > 0.0) p += (1.0 - w) * halfVectorPdf(wo, h) / (4.0 * cosOutHalf);
-  }
+  if (w < 1.0)
+    if (const std::optional<HalfVector> h = halfVectorOf(wo, wi))
+      p += h->incidentPdf((1.0 - w) * halfVectorPdf(wo, h->direction));
   return p;
 }
 

@@ -4,20 +4,23 @@
 
 namespace acdf {
 
-Color Film::mean(uint32_t x, uint32_t y) const {
+Rgb Film::mean(uint32_t x, uint32_t y) const {
   const Pixel& p = pixels_[std::size_t{y} * width_ + x];
-  return p.samples ? p.sum * (1.0 / static_cast<double>(p.samples)) : Color{};
+  if (!p.samples) return {};
+  const double scale = 1.0 / static_cast<double>(p.samples);
+  return {static_cast<float>(p.sum[0] * scale), static_cast<float>(p.sum[1] * scale),
+          static_cast<float>(p.sum[2] * scale)};
 }
 
-Color Film::standardError(uint32_t x, uint32_t y) const {
+Rgb Film::standardError(uint32_t x, uint32_t y) const {
   const Pixel& p = pixels_[std::size_t{y} * width_ + x];
   if (p.samples < 2) return {};
   const double n = static_cast<double>(p.samples);
-  auto se = [n](double sum, double squares) {
-    const double variance = std::fmax(0.0, (squares - sum * sum / n) / (n - 1.0));
-    return std::sqrt(variance / n);
+  auto se = [&](int c) {
+    const double variance = std::fmax(0.0, (p.sumSquares[c] - p.sum[c] * p.sum[c] / n) / (n - 1.0));
+    return static_cast<float>(std::sqrt(variance / n));
   };
-  return {se(p.sum.r, p.sumSquares.r), se(p.sum.g, p.sumSquares.g), se(p.sum.b, p.sumSquares.b)};
+  return {se(0), se(1), se(2)};
 }
 
 Image Film::image() const {
@@ -28,9 +31,8 @@ Image Film::image() const {
   image.pixels.reserve(pixels_.size() * 3);
   for (uint32_t y = 0; y < height_; ++y)
     for (uint32_t x = 0; x < width_; ++x) {
-      const Color c = mean(x, y);
-      image.pixels.insert(image.pixels.end(),
-                          {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)});
+      const Rgb c = mean(x, y);
+      image.pixels.insert(image.pixels.end(), {c.r, c.g, c.b});
     }
   return image;
 }

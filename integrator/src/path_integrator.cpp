@@ -17,14 +17,14 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
-Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
+Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool sampleLight = mis != MisMode::BsdfOnly;
   const bool bsdfSeesLight = mis != MisMode::LightOnly;
   const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(mis)};
 
-  Color result, throughput(1.0);
+  Rgb result, throughput{1, 1, 1};
   Ray ray = cameraRay;
   double bsdfPdf = 0;  // density of the BSDF sample that produced `ray`; 0 for the camera ray
   for (uint32_t depth = 0;; ++depth) {
@@ -32,39 +32,38 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t&
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (!hit) {
       if (depth == 0) {
-        result += throughput * Color(env.eval(ray.direction));
+        result += throughput * env.eval(ray.direction);
       } else if (bsdfSeesLight) {
         const double weight = sampleLight ? misWeight(bsdfPdf, env.pdf(lightContext, ray.direction)) : 1.0;
-        result += throughput * Color(env.eval(ray.direction)) * weight;
+        result += throughput * env.eval(ray.direction) * weight;
       }
       break;
     }
     if (depth >= scene_.settings.maxDepth) break;
 
-    const Material& material = *scene_.materials[hit->material];
+    const BrdfSampler& material = *scene_.materials[hit->material];
     const Frame frame(hit->normal, hit->tangentHint);
     const Vec3d wo = frame.toLocal(-ray.direction);
 
     if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
       const LightSample light = env.sample(lightContext, u0, u1);
-      const Color lightRadiance(light.radiance);
       const Vec3d wi = frame.toLocal(light.direction);
-      if (light.pdf > 0 && wi.z > 0 && !lightRadiance.isBlack()) {
-        const Color f = material.eval(wo, wi);
+      if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
+        const Rgb f = material.eval(wo, wi);
         if (!f.isBlack()) {
           ++rays;
           if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
                                          std::numeric_limits<double>::infinity())) {
             const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wo, wi)) : 1.0;
-            result += throughput * f * lightRadiance * (wi.z * weight / light.pdf);
+            result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
           }
         }
       }
     }
 
     const auto [u0, u1] = sampler.get2D();
-    const MaterialSample s = material.sample(wo, u0, u1);
+    const BrdfSample s = material.sample(wo, u0, u1);
     if (!(s.pdf > 0) || s.weight.isBlack()) break;
     throughput *= s.weight;
     bsdfPdf = s.pdf;
@@ -72,9 +71,9 @@ Color PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t&
     ray = {Geometry::offsetOrigin(*hit, direction), direction};
 
     if (depth + 1 >= scene_.settings.rouletteDepth) {
-      const double survive = std::min(0.95, throughput.maxComponent());
+      const double survive = std::min<double>(0.95, throughput.maxComponent());
       if (sampler.get1D() >= survive) break;
-      throughput *= 1.0 / survive;
+      throughput *= static_cast<float>(1.0 / survive);
     }
   }
   return result;

@@ -2,6 +2,7 @@
 // into plain descriptions first, so a typo at the end of the file is reported before a
 // 35 MB material is loaded; then the used materials, the shapes and the light are built.
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -15,6 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/analytic.h"
+#include "acdf/brdf/ggx_sampler.h"
+#include "acdf/brdf/lambertian.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/scene.h"
 
@@ -92,16 +95,16 @@ class Node {
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) fail("must be finite");
     return v;
   }
-  // A number (gray) or [r, g, b]; each channel in [0, maximum].
-  Color color(double maximum) const {
-    Color c;
+  // A number (gray) or [r, g, b]; each channel in [0, maximum]. In double, as written.
+  std::array<double, 3> color(double maximum) const {
+    std::array<double, 3> c;
     if (isNumber()) {
-      c = Color(number());
+      c.fill(number());
     } else {
       const Vec3d v = vec3();
       c = {v.x, v.y, v.z};
     }
-    for (double x : {c.r, c.g, c.b})
+    for (double x : c)
       if (!(x >= 0 && x <= maximum)) fail(fmt::format("each channel must be in [0, {}]", maximum));
     return c;
   }
@@ -251,7 +254,7 @@ TabulatedBrdfOptions readTableOptions(const Node& node) {
 struct MaterialSpec {
   std::string path;              // JSON path, for messages
   std::optional<fs::path> file;  // the data file it needs, checked once the material is used
-  std::function<std::unique_ptr<Material>(TableProvider&)> build;
+  std::function<std::shared_ptr<const BrdfSampler>(TableProvider&)> build;
 };
 
 MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const SceneOverrides& overrides) {
@@ -259,8 +262,11 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
   MaterialSpec spec{node.path(), std::nullopt, {}};
   if (type == "diffuse") {
     node.object({"type", "albedo"});
-    const Color albedo = node["albedo"].color(1.0);
-    spec.build = [albedo](TableProvider&) { return std::make_unique<DiffuseMaterial>(albedo); };
+    const std::array<double, 3> a = node["albedo"].color(1.0);
+    const Rgb albedo{static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
+    spec.build = [albedo](TableProvider&) {
+      return std::make_shared<const CosineBrdfSampler>(std::make_shared<const LambertianBrdf>(albedo));
+    };
   } else if (type == "measured") {
     node.object({"type", "file", "preset", "sampling", "interpolation", "table"});
     if (node.has("file") == node.has("preset"))
@@ -291,39 +297,38 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     }
     const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
     const std::string where = node.path();
-    spec.build = [=](TableProvider& tables) -> std::unique_ptr<Material> {
+    spec.build = [=](TableProvider& tables) {
       std::shared_ptr<const MerlBrdf> brdf;
       std::string key;
       if (file) {
         try {
-          brdf = tables.merlFile(*file);
+          brdf = tables.merlFile(*file, interpolation);
         } catch (const BrdfFileError& e) {
           throw SceneError(e.file(), e.problem() + " (referenced by " + where + ")");
         }
         key = file->string();
       } else {
-        brdf = tables.merlPreset(preset);
+        brdf = tables.merlPreset(preset, interpolation);
         key = "preset " + preset;
       }
-      return std::make_unique<MeasuredMaterial>(brdf, tables.brdfSampler(brdf, key, interpolation, sampling, table));
+      return tables.brdfSampler(brdf, key, sampling, table);
     };
   } else if (type == "ggx-conductor") {
     node.object({"type", "preset", "alpha", "f0"});
-    AnalyticBrdf brdf;
+    std::shared_ptr<const AnalyticBrdf> brdf;
     if (node.has("preset")) {
       if (node.has("alpha") || node.has("f0")) node.fail("give either \"preset\" or \"alpha\" and \"f0\"");
       try {
-        brdf = AnalyticBrdf::preset(node["preset"].string());
+        brdf = std::make_shared<const AnalyticBrdf>(AnalyticBrdf::preset(node["preset"].string()));
       } catch (const std::invalid_argument& e) {
         node["preset"].fail(e.what());
       }
-      if (brdf.kind != AnalyticBrdf::Kind::Conductor) node["preset"].fail("not a conductor preset");
+      if (brdf->kind() != AnalyticBrdf::Kind::Conductor) node["preset"].fail("not a conductor preset");
     } else {
-      brdf.alpha = node["alpha"].positive();
-      const Color f0 = node["f0"].color(1.0);
-      brdf.f0 = {f0.r, f0.g, f0.b};
+      const double alpha = node["alpha"].positive();
+      brdf = std::make_shared<const AnalyticBrdf>(AnalyticBrdf::conductor(alpha, node["f0"].color(1.0)));
     }
-    spec.build = [brdf](TableProvider&) { return std::make_unique<GgxConductorMaterial>(brdf); };
+    spec.build = [brdf](TableProvider&) { return std::make_shared<const GgxBrdfSampler>(brdf); };
   } else {
     node["type"].fail("unknown material type \"" + type + "\" (diffuse, measured or ggx-conductor)");
   }
@@ -333,7 +338,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
 // The environment: its map (file or constant) and how it is placed and sampled.
 struct EnvironmentSpec {
   std::optional<fs::path> file;
-  Color constant{1.0};
+  std::array<double, 3> constant{1.0, 1.0, 1.0};
   double scale = 1, rotationDegrees = 0;
   EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
   double epsilon = SimplifyOptions{}.epsilon;
@@ -382,10 +387,10 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
     constexpr uint32_t kWidth = 16, kHeight = 8;
     std::vector<float> rgb;
     for (uint32_t i = 0; i < kWidth * kHeight; ++i)
-      rgb.insert(rgb.end(), {static_cast<float>(spec.constant.r), static_cast<float>(spec.constant.g),
-                             static_cast<float>(spec.constant.b)});
+      rgb.insert(rgb.end(), {static_cast<float>(spec.constant[0]), static_cast<float>(spec.constant[1]),
+                             static_cast<float>(spec.constant[2])});
     map = std::make_shared<const EnvironmentMap>(kWidth, kHeight, std::move(rgb));
-    key = fmt::format("constant ({}, {}, {})", spec.constant.r, spec.constant.g, spec.constant.b);
+    key = fmt::format("constant ({}, {}, {})", spec.constant[0], spec.constant[1], spec.constant[2]);
   }
   EnvironmentLightOptions options;
   options.strategy = spec.strategy;

@@ -43,16 +43,18 @@ BrdfSampling parseBrdfSampling(std::string_view name) {
   throw std::invalid_argument("unknown BRDF sampling '" + std::string(name) + "' (cosine, uniform or adaptive)");
 }
 
-std::shared_ptr<const MerlBrdf> TableProvider::merlFile(const std::filesystem::path& path) {
+std::shared_ptr<const MerlBrdf> TableProvider::merlFile(const std::filesystem::path& path,
+                                                        MerlBrdf::Interpolation interpolation) {
   auto& slot = merls_["file:" + path.string()];
   if (!slot) {
     ScopedTimer timer(milliseconds_);
     slot = std::make_shared<const MerlBrdf>(MerlBrdf::load(path));
   }
-  return slot;
+  return std::make_shared<const MerlBrdf>(slot->withInterpolation(interpolation));
 }
 
-std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& name) {
+std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& name,
+                                                          MerlBrdf::Interpolation interpolation) {
   auto& slot = merls_["preset:" + name];
   if (!slot) {
     ScopedTimer timer(milliseconds_);
@@ -62,7 +64,7 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& nam
                                             all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
                                             all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
   }
-  return slot;
+  return std::make_shared<const MerlBrdf>(slot->withInterpolation(interpolation));
 }
 
 std::shared_ptr<const EnvironmentMap> TableProvider::environmentMap(const std::filesystem::path& path) {
@@ -74,26 +76,25 @@ std::shared_ptr<const EnvironmentMap> TableProvider::environmentMap(const std::f
   return slot;
 }
 
-std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf,
-                                                              const std::string& brdfKey,
-                                                              MerlBrdf::Interpolation interpolation,
-                                                              BrdfSampling sampling, TabulatedBrdfOptions table) {
-  if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(*brdf, interpolation);
+std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_ptr<const BrdfModel>& model,
+                                                              const std::string& modelName, BrdfSampling sampling,
+                                                              TabulatedBrdfOptions table) {
+  if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(model);
   table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
   ScopedTimer timer(milliseconds_);
-  // The cache key covers the BRDF's values and every option that shapes the table; the defensive
+  // The cache key covers the model's values and every option that shapes the table; the defensive
   // mixture weight is applied at sample time, so it only tells samplers apart.
-  const CacheKey tableKey = TabulatedBrdfSampler::tableKey(*brdf, interpolation, table);
+  const CacheKey tableKey = TabulatedBrdfSampler::tableKey(*model, table);
   auto& slot = brdfSamplers_[fmt::format("{} w={:a}", tableKey.hex(), table.cosineWeight)];
   if (!slot) {
-    const std::string what = fmt::format("brdf {} {}", table.name(), brdfKey);
-    Cached<Cascade> cascade = cache_.getOrBuild(
-        tableKey, what, [&] { return TabulatedBrdfSampler::buildCascade(*brdf, interpolation, table); });
+    const std::string what = fmt::format("brdf {} {}", table.name(), modelName);
+    Cached<Cascade> cascade =
+        cache_.getOrBuild(tableKey, what, [&] { return TabulatedBrdfSampler::buildCascade(*model, table); });
     try {
-      slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table, std::move(cascade.value));
+      slot = std::make_shared<const TabulatedBrdfSampler>(model, table, std::move(cascade.value));
     } catch (const SerializationError&) {
       // A cached table of another shape under this key (a hash collision): never trusted.
-      slot = std::make_shared<const TabulatedBrdfSampler>(*brdf, interpolation, table);
+      slot = std::make_shared<const TabulatedBrdfSampler>(model, table);
       cascade.fromCache = false;
     }
     record(what, cascade.fromCache);

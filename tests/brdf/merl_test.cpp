@@ -303,8 +303,8 @@ TEST_F(MerlFiles, NegativeEntriesReadAsZeroAndAreCounted) {
   EXPECT_EQ(b.channel(1)[77], 0.0f);
   EXPECT_EQ(b.channel(0)[77], static_cast<float>(t.c[0][77]));
   // The below-horizon cell evaluates to 0.
-  const Rgb v = b.evalHalfDiff(MerlBrdf::thetaHalfCentre(89), MerlBrdf::thetaDiffCentre(89),
-                               MerlBrdf::phiDiffCentre(179), Interp::Nearest);
+  const Rgb v =
+      b.evalHalfDiff(MerlBrdf::thetaHalfCentre(89), MerlBrdf::thetaDiffCentre(89), MerlBrdf::phiDiffCentre(179));
   EXPECT_EQ(v, Rgb{});
   // The constructor treats them the same way.
   EXPECT_EQ(t.brdf().negativeEntries(), 3 * std::size(marked) + 1);
@@ -389,14 +389,14 @@ TEST_F(MerlEval, NearestAtCellCentresIsTheTable) {
     for (int d = 0; d < 90; ++d)
       for (int p = 0; p < 180; ++p) {
         const std::size_t i = MerlBrdf::flatIndex(h, d, p);
-        const Rgb v = b.evalHalfDiff(MerlBrdf::thetaHalfCentre(h), MerlBrdf::thetaDiffCentre(d),
-                                     MerlBrdf::phiDiffCentre(p), Interp::Nearest);
+        const Rgb v =
+            b.evalHalfDiff(MerlBrdf::thetaHalfCentre(h), MerlBrdf::thetaDiffCentre(d), MerlBrdf::phiDiffCentre(p));
         ASSERT_EQ(v, expectedCell(b, i)) << h << " " << d << " " << p;
       }
 }
 
 TEST_F(MerlEval, NearestFromDirectionsAtCellCentres) {
-  // Every cell whose centre is a pair of upper-hemisphere directions, reached through eval(ωi, ωo)
+  // Every cell whose centre is a pair of upper-hemisphere directions, reached through eval(ωo, ωi)
   // at a random φh, and with ωi and ωo swapped.
   const MerlBrdf& b = *brdf_;
   std::mt19937_64 rng(12);
@@ -410,8 +410,8 @@ TEST_F(MerlEval, NearestFromDirectionsAtCellCentres) {
         const DirectionPair w = fromHalfDiff(a);
         if (w.wi.z < 1e-3 || w.wo.z < 1e-3) continue;
         const Rgb expected = expectedCell(b, MerlBrdf::flatIndex(h, d, p));
-        ASSERT_EQ(b.eval(w.wi, w.wo, Interp::Nearest), expected) << h << " " << d << " " << p;
-        ASSERT_EQ(b.eval(w.wo, w.wi, Interp::Nearest), expected) << h << " " << d << " " << p;
+        ASSERT_EQ(b.eval(w.wo, w.wi), expected) << h << " " << d << " " << p;
+        ASSERT_EQ(b.eval(w.wi, w.wo), expected) << h << " " << d << " " << p;
         ++checked;
       }
   EXPECT_GT(checked, 100000u);
@@ -419,18 +419,20 @@ TEST_F(MerlEval, NearestFromDirectionsAtCellCentres) {
 
 TEST_F(MerlEval, TrilinearEqualsNearestAtCellCentres) {
   const MerlBrdf& b = *brdf_;
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   for (int h = 0; h < 90; ++h)
     for (int d = 0; d < 90; d += 7)
       for (int p = 0; p < 180; p += 5) {
         const double th = MerlBrdf::thetaHalfCentre(h), td = MerlBrdf::thetaDiffCentre(d),
                      pd = MerlBrdf::phiDiffCentre(p);
-        expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), b.evalHalfDiff(th, td, pd, Interp::Nearest), 1e-6,
+        expectRgbNear(trilinear.evalHalfDiff(th, td, pd), b.evalHalfDiff(th, td, pd), 1e-6,
                       std::to_string(h) + " " + std::to_string(d) + " " + std::to_string(p));
       }
 }
 
 TEST_F(MerlEval, TrilinearIsLinearInThetaDiffBetweenCentres) {
   const MerlBrdf& b = *brdf_;
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   const int h = 40, p = 100;
   const double th = MerlBrdf::thetaHalfCentre(h), pd = MerlBrdf::phiDiffCentre(p);
   for (int d = 0; d + 1 < 90; ++d) {
@@ -440,7 +442,7 @@ TEST_F(MerlEval, TrilinearIsLinearInThetaDiffBetweenCentres) {
       const double td = MerlBrdf::thetaDiffCentre(d) + t * (kPi / 2) / 90;
       const Rgb expected{static_cast<float>((1 - t) * lo.r + t * hi.r), static_cast<float>((1 - t) * lo.g + t * hi.g),
                          static_cast<float>((1 - t) * lo.b + t * hi.b)};
-      expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), expected, 1e-5,
+      expectRgbNear(trilinear.evalHalfDiff(th, td, pd), expected, 1e-5,
                     "d = " + std::to_string(d) + ", t = " + std::to_string(t));
     }
   }
@@ -449,45 +451,47 @@ TEST_F(MerlEval, TrilinearIsLinearInThetaDiffBetweenCentres) {
 TEST_F(MerlEval, TrilinearIsLinearInSqrtThetaHalf) {
   // Halfway between two θh centres in √θh, not in θh.
   const MerlBrdf& b = *brdf_;
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   const int d = 30, p = 60;
   for (int h : {0, 10, 50, 88}) {
     const Rgb lo = expectedCell(b, MerlBrdf::flatIndex(h, d, p)),
               hi = expectedCell(b, MerlBrdf::flatIndex(h + 1, d, p));
     const double s = (h + 1.0) / 90;  // √(θh / (π/2)) halfway between the centres
     const Rgb expected{(lo.r + hi.r) / 2, (lo.g + hi.g) / 2, (lo.b + hi.b) / 2};
-    expectRgbNear(
-        b.evalHalfDiff(s * s * kPi / 2, MerlBrdf::thetaDiffCentre(d), MerlBrdf::phiDiffCentre(p), Interp::Trilinear),
-        expected, 1e-5, "h = " + std::to_string(h));
+    expectRgbNear(trilinear.evalHalfDiff(s * s * kPi / 2, MerlBrdf::thetaDiffCentre(d), MerlBrdf::phiDiffCentre(p)),
+                  expected, 1e-5, "h = " + std::to_string(h));
   }
 }
 
 TEST_F(MerlEval, TrilinearClampsAtTheThetaEnds) {
   const MerlBrdf& b = *brdf_;
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   const int h = 20, p = 33;
   const double th = MerlBrdf::thetaHalfCentre(h), pd = MerlBrdf::phiDiffCentre(p);
   const Rgb first = expectedCell(b, MerlBrdf::flatIndex(h, 0, p)),
             last = expectedCell(b, MerlBrdf::flatIndex(h, 89, p));
   for (double td : {0.0, 0.3 * (kPi / 2) / 90})
-    expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), first, 1e-6, "low θd");
+    expectRgbNear(trilinear.evalHalfDiff(th, td, pd), first, 1e-6, "low θd");
   for (double td : {MerlBrdf::thetaDiffCentre(89) + 1e-4, kPi / 2, 2.0})
-    expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), last, 1e-6, "high θd");
+    expectRgbNear(trilinear.evalHalfDiff(th, td, pd), last, 1e-6, "high θd");
   const Rgb h0 = expectedCell(b, MerlBrdf::flatIndex(0, 10, p)), h89 = expectedCell(b, MerlBrdf::flatIndex(89, 10, p));
-  expectRgbNear(b.evalHalfDiff(0.0, MerlBrdf::thetaDiffCentre(10), pd, Interp::Trilinear), h0, 1e-6, "θh = 0");
-  expectRgbNear(b.evalHalfDiff(kPi / 2, MerlBrdf::thetaDiffCentre(10), pd, Interp::Trilinear), h89, 1e-6, "θh = π/2");
+  expectRgbNear(trilinear.evalHalfDiff(0.0, MerlBrdf::thetaDiffCentre(10), pd), h0, 1e-6, "θh = 0");
+  expectRgbNear(trilinear.evalHalfDiff(kPi / 2, MerlBrdf::thetaDiffCentre(10), pd), h89, 1e-6, "θh = π/2");
 }
 
 TEST_F(MerlEval, TrilinearWrapsPhiDiffWithPeriodPi) {
   const MerlBrdf& b = *brdf_;
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   const int h = 12, d = 45;
   const double th = MerlBrdf::thetaHalfCentre(h), td = MerlBrdf::thetaDiffCentre(d);
   const Rgb c0 = expectedCell(b, MerlBrdf::flatIndex(h, d, 0)), c179 = expectedCell(b, MerlBrdf::flatIndex(h, d, 179));
   const Rgb mid{(c0.r + c179.r) / 2, (c0.g + c179.g) / 2, (c0.b + c179.b) / 2};
   for (double pd : {0.0, kPi, -kPi, 2 * kPi})
-    expectRgbNear(b.evalHalfDiff(th, td, pd, Interp::Trilinear), mid, 1e-5, "φd = " + std::to_string(pd));
+    expectRgbNear(trilinear.evalHalfDiff(th, td, pd), mid, 1e-5, "φd = " + std::to_string(pd));
   for (double pd : {0.001, 0.3, 1.7, 3.1}) {
-    const Rgb v = b.evalHalfDiff(th, td, pd, Interp::Trilinear);
-    expectRgbNear(b.evalHalfDiff(th, td, pd - kPi, Interp::Trilinear), v, 1e-6, "φd − π");
-    expectRgbNear(b.evalHalfDiff(th, td, pd + kPi, Interp::Trilinear), v, 1e-6, "φd + π");
+    const Rgb v = trilinear.evalHalfDiff(th, td, pd);
+    expectRgbNear(trilinear.evalHalfDiff(th, td, pd - kPi), v, 1e-6, "φd − π");
+    expectRgbNear(trilinear.evalHalfDiff(th, td, pd + kPi), v, 1e-6, "φd + π");
   }
 }
 
@@ -495,11 +499,12 @@ TEST_F(MerlEval, ZeroBelowTheHorizon) {
   const MerlBrdf& b = *brdf_;
   const Vec3d up{0, 0, 1}, below = sphericalDirection(2.0, 0.5), grazing{std::cos(1.0), std::sin(1.0), 0.0};
   for (Interp mode : {Interp::Nearest, Interp::Trilinear}) {
-    EXPECT_NE(b.eval(up, up, mode), Rgb{});
-    EXPECT_EQ(b.eval(up, below, mode), Rgb{});
-    EXPECT_EQ(b.eval(below, up, mode), Rgb{});
-    EXPECT_EQ(b.eval(below, below, mode), Rgb{});
-    EXPECT_EQ(b.eval(grazing, up, mode), Rgb{});
+    const MerlBrdf m = b.withInterpolation(mode);
+    EXPECT_NE(m.eval(up, up), Rgb{});
+    EXPECT_EQ(m.eval(below, up), Rgb{});
+    EXPECT_EQ(m.eval(up, below), Rgb{});
+    EXPECT_EQ(m.eval(below, below), Rgb{});
+    EXPECT_EQ(m.eval(up, grazing), Rgb{});
   }
 }
 
@@ -512,23 +517,24 @@ TEST_F(MerlEval, NormalIncidenceLooksUpThePhiDiffZeroCell) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int n = 0; n < 20000; ++n) {
     const Vec3d w = sphericalDirection(std::acos(1 - 0.999 * u(rng)), (2 * u(rng) - 1) * kPi);
-    const HalfDiffAngles a = toHalfDiff(w, normal);
+    const HalfDiffAngles a = toHalfDiff(normal, w);
     const Rgb expected = expectedCell(
         b, MerlBrdf::flatIndex(MerlBrdf::thetaHalfIndex(a.thetaHalf), MerlBrdf::thetaDiffIndex(a.thetaDiff), 0));
-    ASSERT_EQ(b.eval(w, normal, Interp::Nearest), expected) << n;
-    ASSERT_EQ(b.eval(normal, w, Interp::Nearest), expected) << n;
+    ASSERT_EQ(b.eval(normal, w), expected) << n;
+    ASSERT_EQ(b.eval(w, normal), expected) << n;
   }
 }
 
 TEST(MerlBrdf, Reciprocity) {
   const MerlBrdf b = analyticTable().brdf();
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto direction = [&] { return sphericalDirection(std::acos(1 - 0.9999 * u(rng)), (2 * u(rng) - 1) * kPi); };
   for (int n = 0; n < 100000; ++n) {
     const Vec3d wi = direction(), wo = direction();
-    ASSERT_EQ(b.eval(wi, wo, Interp::Nearest), b.eval(wo, wi, Interp::Nearest)) << n;
-    const Rgb t1 = b.eval(wi, wo, Interp::Trilinear), t2 = b.eval(wo, wi, Interp::Trilinear);
+    ASSERT_EQ(b.eval(wo, wi), b.eval(wi, wo)) << n;
+    const Rgb t1 = trilinear.eval(wo, wi), t2 = trilinear.eval(wi, wo);
     ASSERT_NEAR(t1.r, t2.r, 1e-6 * t1.r) << n;
     ASSERT_NEAR(t1.g, t2.g, 1e-6 * t1.g) << n;
     ASSERT_NEAR(t1.b, t2.b, 1e-6 * t1.b) << n;
@@ -539,15 +545,15 @@ TEST(MerlBrdf, TrilinearFollowsASmoothTable) {
   // On the analytic table, trilinear lookups between centres stay close to the function (the
   // nearest lookup is off by up to half a cell's change).
   const MerlBrdf b = analyticTable().brdf();
+  const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);
   std::mt19937_64 rng(14);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   double worstTrilinear = 0, worstNearest = 0;
   for (int n = 0; n < 20000; ++n) {
     const double th = u(rng) * kPi / 2 * 0.9 + 0.05, td = u(rng) * kPi / 2 * 0.9 + 0.05, pd = (2 * u(rng) - 1) * kPi;
     const double exact = analytic(0, th, td, pd) * MerlBrdf::kChannelScale[0];
-    worstTrilinear =
-        std::max(worstTrilinear, std::fabs(b.evalHalfDiff(th, td, pd, Interp::Trilinear).r - exact) / exact);
-    worstNearest = std::max(worstNearest, std::fabs(b.evalHalfDiff(th, td, pd, Interp::Nearest).r - exact) / exact);
+    worstTrilinear = std::max(worstTrilinear, std::fabs(trilinear.evalHalfDiff(th, td, pd).r - exact) / exact);
+    worstNearest = std::max(worstNearest, std::fabs(b.evalHalfDiff(th, td, pd).r - exact) / exact);
   }
   EXPECT_LT(worstTrilinear, 2e-3);
   EXPECT_LT(worstTrilinear, worstNearest / 5);

@@ -157,9 +157,9 @@ TEST_F(NeuralBrdfTest, NetworkArithmetic) {
     }
   }
   // Below the horizon eval() is 0; above it is the network at the half/difference angles.
-  EXPECT_EQ(net.eval({0, 0, 1}, {0.6, 0, -0.8}), Rgb{});
+  EXPECT_EQ(net.eval({0.6, 0, -0.8}, {0, 0, 1}), Rgb{});
   const Vec3d wi{0.6, 0, 0.8}, wo{-0.6, 0, 0.8};
-  const Rgb v = net.eval(wi, wo);
+  const Rgb v = net.eval(wo, wi);
   EXPECT_NEAR(v.r, std::exp(1.0) - 1, 1e-6);  // θh = 0
   EXPECT_NEAR(v.g, 1.0, 1e-6);
 }

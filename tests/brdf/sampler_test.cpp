@@ -1,8 +1,11 @@
-// The BRDF samplers (brdf_sampler.h, tabulated_brdf_sampler.h) on the paper's three materials —
-// nickel, blue-metallic-paint, specular-blue-phenolic, tabulated from the bundled neural fits —
-// and a Lambertian one: chi-square goodness of fit over the sphere at θo ∈ {0°, 30°, 60°, 85°},
-// pdf/sample consistency, ∫pdf = 1, pdf > 0 wherever f·cosθi > 0, valid samples at the extreme
-// variates, and the storage/variance figures of the paper's Table 1 on nickel.
+// The BRDF samplers (brdf_sampler.h, tabulated_brdf_sampler.h, ggx_sampler.h) on the paper's
+// three materials — nickel, blue-metallic-paint, specular-blue-phenolic, tabulated from the
+// bundled neural fits —, a Lambertian one, and the analytic gold preset as a model of its own
+// (not a MERL table: the tables and the GGX sampler over it): chi-square goodness of fit over the
+// sphere at θo ∈ {0°, 30°, 60°, 85°}, pdf/sample consistency, ∫pdf = 1, pdf > 0 wherever
+// f·cosθi > 0, valid samples at the extreme variates, estimator means against cosine sampling's,
+// the tabulation of a model that is not isotropic, and the storage/variance figures of the
+// paper's Table 1 on nickel.
 
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 
@@ -20,7 +23,10 @@
 #include <string>
 #include <vector>
 
+#include "acdf/brdf/analytic.h"
 #include "acdf/brdf/brdf_chi_square.h"
+#include "acdf/brdf/ggx_sampler.h"
+#include "acdf/brdf/lambertian.h"
 #include "acdf/brdf/nbrdf.h"
 #include "acdf/brdf/reflectance_estimator.h"
 #include "acdf/sampling/rng.h"
@@ -35,7 +41,6 @@ using Layout = TabulatedBrdfOptions::Layout;
 
 constexpr double kPi = std::numbers::pi;
 const fs::path kWeights = fs::path(ACDF_SOURCE_DIR) / "data" / "merl-nbrdf" / "merl_nbrdf_weights.json";
-constexpr auto kNearest = MerlBrdf::Interpolation::Nearest;
 constexpr double kLambertAlbedo = 0.6;
 
 // Sanitizer builds hunt memory errors, not statistics: they run every case with fewer samples
@@ -54,8 +59,8 @@ constexpr double kTable1Compression = 20.0;
 constexpr double kTable1VarianceRatio = 1.10;
 
 // Chi-square tests in this program, for the Šidák correction: 4 materials × 3 samplers × 4 angles,
-// plus the isotropic layouts on nickel (2 × 4).
-constexpr uint32_t kChiSquareTestsInSuite = 4 * 3 * 4 + 2 * 4;
+// plus the isotropic layouts on nickel (2 × 4) and 2 samplers of the analytic gold (2 × 4).
+constexpr uint32_t kChiSquareTestsInSuite = 4 * 3 * 4 + 2 * 4 + 2 * 4;
 
 // A Lambertian BRDF f = albedo/π in the MERL layout.
 MerlBrdf lambertian() {
@@ -71,31 +76,41 @@ MerlBrdf fromFit(const std::string& material) {
   return MerlBrdf(all.subspan(0, n), all.subspan(n, n), all.subspan(2 * n, n));
 }
 
+// The analytic gold preset as a model, evaluated in closed form.
+const auto kGold = std::make_shared<const AnalyticBrdf>(AnalyticBrdf::preset("gold"));
+
+TabulatedBrdfOptions tableOptions(const std::string& name) {
+  TabulatedBrdfOptions o;
+  o.method = name.starts_with("adaptive") ? DimensionMethod::Adaptive : DimensionMethod::Uniform;
+  o.layout = name.ends_with("iso") ? Layout::Isotropic : Layout::Full4D;
+  return o;
+}
+
 // Materials and samplers are expensive (a 4D table tabulates 67M BRDF values): build each once.
 struct Library {
   std::mutex mutex;
-  std::map<std::string, std::unique_ptr<MerlBrdf>> brdfs;
+  std::map<std::string, std::shared_ptr<const BrdfModel>> models;
   std::map<std::string, std::unique_ptr<BrdfSampler>> samplers;
 
-  const MerlBrdf& brdf(const std::string& material) {
-    auto& slot = brdfs[material];
-    if (!slot) slot = std::make_unique<MerlBrdf>(material == "lambertian" ? lambertian() : fromFit(material));
-    return *slot;
+  // Nearest-cell evaluation for the MERL tables.
+  std::shared_ptr<const BrdfModel> model(const std::string& material) {
+    auto& slot = models[material];
+    if (!slot && material == "gold") slot = kGold;
+    if (!slot) slot = std::make_shared<const MerlBrdf>(material == "lambertian" ? lambertian() : fromFit(material));
+    return slot;
   }
 
   const BrdfSampler& sampler(const std::string& material, const std::string& name) {
     std::lock_guard lock(mutex);
     auto& slot = samplers[material + "/" + name];
     if (slot) return *slot;
-    const MerlBrdf& b = brdf(material);
-    if (name == "cosine") {
-      slot = std::make_unique<CosineBrdfSampler>(b, kNearest);
-    } else {
-      TabulatedBrdfOptions o;
-      o.method = name.starts_with("adaptive") ? DimensionMethod::Adaptive : DimensionMethod::Uniform;
-      o.layout = name.ends_with("iso") ? Layout::Isotropic : Layout::Full4D;
-      slot = std::make_unique<TabulatedBrdfSampler>(b, kNearest, o);
-    }
+    const std::shared_ptr<const BrdfModel> m = model(material);
+    if (name == "cosine")
+      slot = std::make_unique<CosineBrdfSampler>(m);
+    else if (name == "ggx")
+      slot = std::make_unique<GgxBrdfSampler>(std::dynamic_pointer_cast<const AnalyticBrdf>(m));
+    else
+      slot = std::make_unique<TabulatedBrdfSampler>(m, tableOptions(name));
     return *slot;
   }
 };
@@ -137,6 +152,8 @@ std::vector<Case> chiSquareCases() {
       for (double theta : {0.0, 30.0, 60.0, 85.0}) cases.push_back({material, sampler, theta});
   for (const char* sampler : {"uniform-iso", "adaptive-iso"})
     for (double theta : {0.0, 30.0, 60.0, 85.0}) cases.push_back({"nickel", sampler, theta});
+  for (const char* sampler : {"ggx", "adaptive-4d"})
+    for (double theta : {0.0, 30.0, 60.0, 85.0}) cases.push_back({"gold", sampler, theta});
   return cases;
 }
 
@@ -153,27 +170,35 @@ TEST_P(BrdfSamplerChiSquare, MatchesItsPdfOverTheSphere) {
 
 INSTANTIATE_TEST_SUITE_P(Materials, BrdfSamplerChiSquare, ::testing::ValuesIn(chiSquareCases()), caseName);
 
+// The samplers of each material the tests below check beyond the chi-square cases.
+std::vector<std::pair<std::string, std::string>> everySampler() {
+  std::vector<std::pair<std::string, std::string>> all;
+  for (const char* material : {"nickel", "specular-blue-phenolic"})
+    for (const char* name : {"cosine", "uniform-4d", "adaptive-4d", "uniform-iso", "adaptive-iso"})
+      all.emplace_back(material, name);
+  for (const char* name : {"ggx", "adaptive-iso", "adaptive-4d"}) all.emplace_back("gold", name);
+  return all;
+}
+
 TEST(BrdfSamplers, PdfIsPositiveWhereverTheIntegrandIs) {
   // Random pairs with f·cosθi > 0 (for MERL data: both directions above the horizon and a
   // non-zero table entry): every sampler must be able to produce ωi, or estimators are biased.
   Pcg32 rng(11);
-  for (const char* material : {"nickel", "specular-blue-phenolic"})
-    for (const char* name : {"cosine", "uniform-4d", "adaptive-4d", "uniform-iso", "adaptive-iso"}) {
-      const BrdfSampler& sampler = library().sampler(material, name);
-      int checked = 0;
-      for (int n = 0; n < 20000; ++n) {
-        const Vec3d wo = sampleCosineHemisphere(rng.nextFloat(), rng.nextFloat());
-        const Vec3d wi = sampleUniformSphere(rng.nextFloat(), rng.nextFloat());
-        if (!(wi.z > 0) || sampler.brdf().eval(wi, wo, kNearest).luminance() <= 0) continue;
-        ++checked;
-        ASSERT_GT(sampler.pdf(wo, wi), 0.0) << material << " " << name << " wo.z " << wo.z << " wi.z " << wi.z;
-      }
-      EXPECT_GT(checked, 5000);
+  for (const auto& [material, name] : everySampler()) {
+    const BrdfSampler& sampler = library().sampler(material, name);
+    int checked = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const Vec3d wo = sampleCosineHemisphere(rng.nextFloat(), rng.nextFloat());
+      const Vec3d wi = sampleUniformSphere(rng.nextFloat(), rng.nextFloat());
+      if (!(wi.z > 0) || sampler.model().luminance(wo, wi) <= 0) continue;
+      ++checked;
+      ASSERT_GT(sampler.pdf(wo, wi), 0.0) << material << " " << name << " wo.z " << wo.z << " wi.z " << wi.z;
     }
+    EXPECT_GT(checked, 5000) << material << " " << name;
+  }
 }
 
-TEST(BrdfSamplers, ExtremeVariatesAndOutgoingBelowTheHorizon) {
-  const BrdfSampler& sampler = library().sampler("nickel", "adaptive-4d");
+void expectValidAtExtremeVariates(const BrdfSampler& sampler) {
   for (double theta : {0.0, 45.0, 89.9, 90.0, 120.0, 180.0})
     for (float u0 : {0.0f, 0.05f, 0.5f, kOneMinusEpsilon})
       for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
@@ -181,20 +206,41 @@ TEST(BrdfSamplers, ExtremeVariatesAndOutgoingBelowTheHorizon) {
         const BrdfSample s = sampler.sample(wo, u0, u1);
         ASSERT_NEAR(length(s.wi), 1.0, 1e-9) << theta << " " << u0 << " " << u1;
         ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf > 0) << theta << " " << u0 << " " << u1;
-        ASSERT_TRUE(std::isfinite(s.weight.r) && s.weight.r >= 0);
+        ASSERT_NEAR(s.pdf, sampler.pdf(wo, s.wi), 1e-6 * s.pdf) << theta << " " << u0 << " " << u1;
+        for (float c : {s.weight.r, s.weight.g, s.weight.b}) ASSERT_TRUE(std::isfinite(c) && c >= 0);
         if (!(wo.z > 0)) {
           EXPECT_EQ(s.weight, Rgb{}) << "no reflection from below the horizon";
         }
       }
 }
 
+TEST(BrdfSamplers, ExtremeVariatesAndOutgoingBelowTheHorizon) {
+  for (const auto& [material, name] : everySampler()) {
+    SCOPED_TRACE(material + " " + name);
+    expectValidAtExtremeVariates(library().sampler(material, name));
+  }
+}
+
+// A model seen as not isotropic: tabulated at every 4D point (BrdfModel::luminance) instead of
+// on the azimuth lattice (BrdfModel::evalHalfDiff).
+class NotIsotropic final : public BrdfModel {
+ public:
+  explicit NotIsotropic(std::shared_ptr<const BrdfModel> model) : model_(std::move(model)) {}
+  Rgb eval(const Vec3d& wo, const Vec3d& wi) const override { return model_->eval(wo, wi); }
+  bool isotropic() const override { return false; }
+  std::string addToKey(ContentHash& content) const override { return model_->addToKey(content); }
+
+ private:
+  std::shared_ptr<const BrdfModel> model_;
+};
+
 TEST(BrdfSamplers, InvalidOptionsAreRejected) {
-  const MerlBrdf& b = library().brdf("lambertian");
+  const std::shared_ptr<const BrdfModel> b = library().model("lambertian");
   auto build = [&](auto change) {
     TabulatedBrdfOptions o;
     o.thetaOutCells = 4, o.phiOutCells = 2, o.thetaHalfCells = 8, o.phiHalfCells = 4;
     change(o);
-    return TabulatedBrdfSampler(b, kNearest, o).bytes();
+    return TabulatedBrdfSampler(b, o).bytes();
   };
   EXPECT_GT(build([](auto&) {}), 0u);
   EXPECT_THROW(build([](auto& o) { o.thetaHalfCells = 0; }), std::invalid_argument);
@@ -202,15 +248,44 @@ TEST(BrdfSamplers, InvalidOptionsAreRejected) {
   EXPECT_THROW(build([](auto& o) { o.supersampling = 0; }), std::invalid_argument);
   EXPECT_THROW(build([](auto& o) { o.cosineWeight = 1.5; }), std::invalid_argument);
   EXPECT_THROW(build([](auto& o) { o.simplify.epsilon = -1; }), std::invalid_argument);
+  // The isotropic layout needs an isotropic model; every sampler needs a model.
+  TabulatedBrdfOptions iso;
+  iso.layout = Layout::Isotropic;
+  EXPECT_THROW(TabulatedBrdfSampler(std::make_shared<const NotIsotropic>(b), iso), std::invalid_argument);
+  EXPECT_THROW(TabulatedBrdfSampler(nullptr), std::invalid_argument);
+  EXPECT_THROW(CosineBrdfSampler(nullptr), std::invalid_argument);
+  EXPECT_THROW(GgxBrdfSampler(nullptr), std::invalid_argument);
+}
+
+// A model that is not isotropic is tabulated at every 4D sub-point. For the analytic gold seen as
+// one, that evaluates the same function at the same points as the lattice does (turned by φo), so
+// the tables agree up to float rounding — a wrong φo, a mis-indexed cell or a missing Jacobian in
+// either path is far beyond it.
+TEST(BrdfTabulation, EveryPointTablesMatchTheLatticeForAnIsotropicModel) {
+  TabulatedBrdfOptions o;
+  o.method = DimensionMethod::Uniform;
+  o.thetaOutCells = 8, o.phiOutCells = 6, o.thetaHalfCells = 64, o.phiHalfCells = 16;
+  const TabulatedBrdfSampler lattice(kGold, o);
+  const TabulatedBrdfSampler everyPoint(std::make_shared<const NotIsotropic>(kGold), o);
+  double worst = 0.0;
+  for (std::size_t slice = 0; slice < std::size_t{o.thetaOutCells} * o.phiOutCells; ++slice) {
+    const std::vector<double> p = lattice.table().cellProbabilities(slice);
+    const std::vector<double> q = everyPoint.table().cellProbabilities(slice);
+    ASSERT_EQ(p.size(), q.size());
+    for (std::size_t c = 0; c < p.size(); ++c) worst = std::max(worst, std::fabs(p[c] - q[c]));
+  }
+  EXPECT_LT(worst, 1e-6);
+  std::printf("largest cell probability difference, every point vs lattice: %.3g\n", worst);
+  EXPECT_NE(TabulatedBrdfSampler::tableKey(*kGold, o), TabulatedBrdfSampler::tableKey(NotIsotropic(kGold), o));
 }
 
 TEST(BrdfSamplers, TablesDoNotDependOnTheThreadCount) {
-  const MerlBrdf& b = library().brdf("nickel");
+  const std::shared_ptr<const BrdfModel> b = library().model("nickel");
   TabulatedBrdfOptions o;
   o.layout = Layout::Isotropic;
-  const TabulatedBrdfSampler parallel(b, kNearest, o);
+  const TabulatedBrdfSampler parallel(b, o);
   const tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
-  const TabulatedBrdfSampler serial(b, kNearest, o);
+  const TabulatedBrdfSampler serial(b, o);
   ASSERT_EQ(parallel.bytes(), serial.bytes());
   Pcg32 rng(5);
   for (int n = 0; n < 1000; ++n) {
@@ -239,14 +314,34 @@ TEST(ReflectanceEstimator, LambertianKnownAnswers) {
   }
 }
 
-// The same for the measured materials: the table samplers' means must agree with cosine
-// sampling's (the unbiased baseline) within their combined standard errors.
+// The renderer's diffuse material: a LambertianBrdf sampled by CosineBrdfSampler weighs every
+// sample by the albedo, up to float rounding.
+TEST(ReflectanceEstimator, LambertianModelCosineSamplingWeighsByTheAlbedo) {
+  const Rgb albedo{0.8f, 0.5f, 0.2f};
+  const CosineBrdfSampler sampler(std::make_shared<const LambertianBrdf>(albedo));
+  Pcg32 rng(3);
+  for (int n = 0; n < 10000; ++n) {
+    const Vec3d wo = sampleCosineHemisphere(rng.nextFloat(), rng.nextFloat());
+    const BrdfSample s = sampler.sample(wo, rng.nextFloat(), rng.nextFloat());
+    if (!(s.wi.z > 0)) continue;
+    ASSERT_NEAR(s.weight.r, albedo.r, 1e-6f) << n;
+    ASSERT_NEAR(s.weight.g, albedo.g, 1e-6f) << n;
+    ASSERT_NEAR(s.weight.b, albedo.b, 1e-6f) << n;
+  }
+}
+
+// The same for the measured materials and the analytic gold: the table and GGX samplers' means
+// must agree with cosine sampling's (the unbiased baseline) within their combined standard
+// errors. For gold this checks the Jacobians end to end on a model that is not a MERL table: the
+// tables' (s, solid angle, reflection) and GGX's half-vector density.
 TEST(ReflectanceEstimator, TableSamplersAreUnbiased) {
   ReflectanceEstimatorOptions o;
   o.samplesPerDirection = 8192;
-  for (const char* material : {"nickel", "blue-metallic-paint", "specular-blue-phenolic"}) {
+  const std::vector<std::string> measured = {"uniform-4d", "adaptive-4d", "adaptive-iso"};
+  const std::vector<std::string> analytic = {"ggx", "adaptive-4d", "adaptive-iso"};
+  for (const std::string material : {"nickel", "blue-metallic-paint", "specular-blue-phenolic", "gold"}) {
     const ReflectanceEstimate reference = estimateReflectance(library().sampler(material, "cosine"), o);
-    for (const char* name : {"uniform-4d", "adaptive-4d", "adaptive-iso"}) {
+    for (const std::string& name : material == "gold" ? analytic : measured) {
       const ReflectanceEstimate e = estimateReflectance(library().sampler(material, name), o);
       const double error = std::sqrt(e.variance / e.samples + reference.variance / reference.samples);
       EXPECT_NEAR(e.mean, reference.mean, 5 * error) << material << " " << name;
@@ -275,7 +370,7 @@ TEST(BrdfTable1, NickelAdaptiveIsSmallerAtNearlyTheUniformVariance) {
 // ∫cell f·cosθi·4(ωo·ωh) dωh over the cell's ωo, with 3 points per axis (the table uses 2), so the
 // two agree only as far as both approximate the integral: a rotation the wrong way, a lattice
 // off by a sub-point or a wrong Jacobian shows up as a total-variation distance far above it.
-double directQuadratureDistance(const TabulatedBrdfSampler& table, const MerlBrdf& brdf, uint32_t thetaCell,
+double directQuadratureDistance(const TabulatedBrdfSampler& table, const BrdfModel& brdf, uint32_t thetaCell,
                                 uint32_t phiCell, uint32_t quadraturePhiCell) {
   const TabulatedBrdfOptions& o = table.options();
   constexpr uint32_t kPer = 3;
@@ -292,7 +387,7 @@ double directQuadratureDistance(const TabulatedBrdfSampler& table, const MerlBrd
           const Vec3d wh = sphericalDirection(thetaHalf, (k + 0.5) / (o.phiHalfCells * kPer) * 2 * kPi);
           const Vec3d wi = reflect(wo, wh);
           if (!(wi.z > 0.0) || !(dot(wo, wh) > 0.0)) continue;
-          const double f = brdf.eval(wi, wo, kNearest).luminance();
+          const double f = brdf.luminance(wo, wi);
           // dωh = sinθh dθh dφ with dθh = π s ds
           mass[i / kPer * o.phiHalfCells + k / kPer] += f * wi.z * 4 * dot(wo, wh) * std::sin(thetaHalf) * kPi * s;
         }
@@ -308,7 +403,7 @@ double directQuadratureDistance(const TabulatedBrdfSampler& table, const MerlBrd
 
 TEST(BrdfTabulation, FourDimensionalTableMatchesDirectQuadrature) {
   const auto& uniform = dynamic_cast<const TabulatedBrdfSampler&>(library().sampler("nickel", "uniform-4d"));
-  const MerlBrdf& nickel = library().brdf("nickel");
+  const BrdfModel& nickel = *library().model("nickel");
   for (auto [thetaCell, phiCell] : {std::pair{4u, 3u}, std::pair{20u, 9u}, std::pair{29u, 14u}}) {
     const double distance = directQuadratureDistance(uniform, nickel, thetaCell, phiCell, phiCell);
     EXPECT_LT(distance, 0.015) << "slice " << thetaCell << ", " << phiCell;

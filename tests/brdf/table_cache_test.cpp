@@ -1,7 +1,8 @@
 // Cached BRDF tables: a sampler made from buildCascade()'s table (directly or through a
 // TableCache file) samples and evaluates bit for bit like one that built its own, a table of
-// another grid or options is refused, and the key follows every MERL value and every table
-// option. Small tables (a synthetic glossy BRDF on coarse grids) keep it fast.
+// another grid or options is refused, and the key follows every MERL value, the interpolation,
+// the model and every table option. Small tables (a synthetic glossy BRDF on coarse grids) keep
+// it fast.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "acdf/brdf/analytic.h"
+#include "acdf/brdf/lambertian.h"
+#include "acdf/brdf/merl.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/table_cache.h"
@@ -22,7 +26,6 @@ namespace {
 
 using namespace acdf;
 using Layout = TabulatedBrdfOptions::Layout;
-constexpr auto kNearest = MerlBrdf::Interpolation::Nearest;
 
 // A glossy lobe around the specular direction over a diffuse floor, different per channel.
 MerlBrdf glossy() {
@@ -37,8 +40,9 @@ MerlBrdf glossy() {
   return MerlBrdf(rgb[0], rgb[1], rgb[2]);
 }
 
-const MerlBrdf& brdf() {
-  static const MerlBrdf b = glossy();
+// Nearest-cell evaluation.
+const std::shared_ptr<const MerlBrdf>& brdf() {
+  static const auto b = std::make_shared<const MerlBrdf>(glossy());
   return b;
 }
 
@@ -77,15 +81,15 @@ TEST(BrdfTable, SamplerFromASerializedTableIsBitIdentical) {
     for (DimensionMethod method : {DimensionMethod::Uniform, DimensionMethod::Adaptive}) {
       const TabulatedBrdfOptions o = small(layout, method);
       SCOPED_TRACE(o.name());
-      const TabulatedBrdfSampler built(brdf(), kNearest, o);
-      const Cascade table = Cascade::deserialize(TabulatedBrdfSampler::buildCascade(brdf(), kNearest, o).serialize());
-      expectSameSampler(built, TabulatedBrdfSampler(brdf(), kNearest, o, table));
+      const TabulatedBrdfSampler built(brdf(), o);
+      const Cascade table = Cascade::deserialize(TabulatedBrdfSampler::buildCascade(*brdf(), o).serialize());
+      expectSameSampler(built, TabulatedBrdfSampler(brdf(), o, table));
     }
 }
 
 TEST(BrdfTable, RefusesATableOfAnotherGridOrOptions) {
   const TabulatedBrdfOptions o = small(Layout::Full4D, DimensionMethod::Adaptive);
-  const Cascade table = TabulatedBrdfSampler::buildCascade(brdf(), kNearest, o);
+  const Cascade table = TabulatedBrdfSampler::buildCascade(*brdf(), o);
   TabulatedBrdfOptions finerGrid = o, otherEpsilon = o, uniform = o, isotropic = o;
   finerGrid.thetaHalfCells = 64;
   otherEpsilon.simplify.epsilon *= 2;
@@ -93,7 +97,7 @@ TEST(BrdfTable, RefusesATableOfAnotherGridOrOptions) {
   isotropic.layout = Layout::Isotropic;
   for (const TabulatedBrdfOptions& other : {finerGrid, otherEpsilon, uniform, isotropic}) {
     try {
-      TabulatedBrdfSampler sampler(brdf(), kNearest, other, table);
+      TabulatedBrdfSampler sampler(brdf(), other, table);
       ADD_FAILURE() << "accepted a table for " << o.name() << " as " << other.name();
     } catch (const SerializationError& e) {
       EXPECT_NE(std::string(e.what()).find("another grid or other options"), std::string::npos) << e.what();
@@ -101,16 +105,26 @@ TEST(BrdfTable, RefusesATableOfAnotherGridOrOptions) {
   }
   TabulatedBrdfOptions bad = o;
   bad.supersampling = 0;
-  EXPECT_THROW(TabulatedBrdfSampler(brdf(), kNearest, bad, table), std::invalid_argument);
+  EXPECT_THROW(TabulatedBrdfSampler(brdf(), bad, table), std::invalid_argument);
 }
 
 TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
   const TabulatedBrdfOptions base = small(Layout::Full4D, DimensionMethod::Adaptive);
-  std::set<std::string> keys{TabulatedBrdfSampler::tableKey(brdf(), kNearest, base).hex()};
-  auto add = [&](const MerlBrdf& b, MerlBrdf::Interpolation mode, const TabulatedBrdfOptions& o) {
-    EXPECT_TRUE(keys.insert(TabulatedBrdfSampler::tableKey(b, mode, o).hex()).second) << o.name();
+  std::set<std::string> keys{TabulatedBrdfSampler::tableKey(*brdf(), base).hex()};
+  auto add = [&](const BrdfModel& b, const TabulatedBrdfOptions& o) {
+    EXPECT_TRUE(keys.insert(TabulatedBrdfSampler::tableKey(b, o).hex()).second) << o.name();
   };
-  add(brdf(), MerlBrdf::Interpolation::Trilinear, base);
+  add(brdf()->withInterpolation(MerlBrdf::Interpolation::Trilinear), base);
+  // Other models, and each of their parameters.
+  const AnalyticBrdf gold = AnalyticBrdf::preset("gold"), plastic = AnalyticBrdf::preset("red-plastic");
+  add(gold, base);
+  add(AnalyticBrdf::conductor(std::nextafter(gold.alpha(), 1.0), gold.f0()), base);
+  add(AnalyticBrdf::conductor(gold.alpha(), {gold.f0()[0], gold.f0()[1], std::nextafter(gold.f0()[2], 1.0)}), base);
+  add(plastic, base);
+  add(AnalyticBrdf::coatedDiffuse(plastic.alpha(), plastic.albedo(), std::nextafter(plastic.ior(), 2.0)), base);
+  add(AnalyticBrdf::coatedDiffuse(plastic.alpha(), {0.5, 0.05, std::nextafter(0.05, 1.0)}, plastic.ior()), base);
+  add(LambertianBrdf({0.5f, 0.5f, 0.5f}), base);
+  add(LambertianBrdf({0.5f, 0.5f, std::nextafter(0.5f, 1.0f)}), base);
   std::vector<TabulatedBrdfOptions> variants(7, base);
   variants[0].layout = Layout::Isotropic;
   variants[1].method = DimensionMethod::Uniform;
@@ -128,20 +142,22 @@ TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
   supersampled.supersampling = 2;
   variants.push_back(unmirrored);
   variants.push_back(supersampled);
-  for (const TabulatedBrdfOptions& v : variants) add(brdf(), kNearest, v);
+  for (const TabulatedBrdfOptions& v : variants) add(*brdf(), v);
   // One value of one channel.
   std::vector<double> rgb[3];
   for (int c = 0; c < 3; ++c) {
-    const std::span<const float> channel = brdf().channel(c);
+    const std::span<const float> channel = brdf()->channel(c);
     rgb[c].assign(channel.begin(), channel.end());
   }
   rgb[2][123456] = std::nextafter(static_cast<float>(rgb[2][123456]), 1e9f);
-  add(MerlBrdf(rgb[0], rgb[1], rgb[2]), kNearest, base);
+  add(MerlBrdf(rgb[0], rgb[1], rgb[2]), base);
   // The defensive mixture weight only acts at sample time: the same table serves every weight.
   TabulatedBrdfOptions mixed = base;
   mixed.cosineWeight = 0.25;
-  EXPECT_EQ(TabulatedBrdfSampler::tableKey(brdf(), kNearest, mixed),
-            TabulatedBrdfSampler::tableKey(brdf(), kNearest, base));
+  EXPECT_EQ(TabulatedBrdfSampler::tableKey(*brdf(), mixed), TabulatedBrdfSampler::tableKey(*brdf(), base));
+  // Models of one table share its values: the same key (and so the cached table) for each.
+  EXPECT_EQ(TabulatedBrdfSampler::tableKey(brdf()->withInterpolation(MerlBrdf::Interpolation::Nearest), base),
+            TabulatedBrdfSampler::tableKey(*brdf(), base));
 }
 
 TEST(BrdfTable, ThroughATableCache) {
@@ -152,14 +168,13 @@ TEST(BrdfTable, ThroughATableCache) {
   TableCache cache(dir, [&](const std::string& w) { warnings.push_back(w); });
   const TabulatedBrdfOptions o = small(Layout::Isotropic, DimensionMethod::Adaptive);
   auto get = [&] {
-    return cache.getOrBuild(TabulatedBrdfSampler::tableKey(brdf(), kNearest, o), "BRDF table glossy",
-                            [&] { return TabulatedBrdfSampler::buildCascade(brdf(), kNearest, o); });
+    return cache.getOrBuild(TabulatedBrdfSampler::tableKey(*brdf(), o), "BRDF table glossy",
+                            [&] { return TabulatedBrdfSampler::buildCascade(*brdf(), o); });
   };
   Cached<Cascade> first = get(), second = get();
   EXPECT_FALSE(first.fromCache);
   EXPECT_TRUE(second.fromCache);
-  expectSameSampler(TabulatedBrdfSampler(brdf(), kNearest, o),
-                    TabulatedBrdfSampler(brdf(), kNearest, o, std::move(second.value)));
+  expectSameSampler(TabulatedBrdfSampler(brdf(), o), TabulatedBrdfSampler(brdf(), o, std::move(second.value)));
   EXPECT_TRUE(warnings.empty());
   std::filesystem::remove_all(dir);
 }

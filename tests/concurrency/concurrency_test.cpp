@@ -121,15 +121,16 @@ TEST(SharedTables, TabulatedBrdfSampler) {
   SerialBuild serial;  // until the sampler is built
   const std::vector<double> table = AnalyticBrdf::preset(AnalyticBrdf::presetNames().front()).merlTable();
   const std::span<const double> all(table);
-  const MerlBrdf brdf(all.subspan(0, MerlBrdf::kCells), all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
-                      all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
+  const auto brdf = std::make_shared<const MerlBrdf>(all.subspan(0, MerlBrdf::kCells),
+                                                     all.subspan(MerlBrdf::kCells, MerlBrdf::kCells),
+                                                     all.subspan(2 * MerlBrdf::kCells, MerlBrdf::kCells));
   TabulatedBrdfOptions options;
   options.thetaOutCells = 8;
   options.phiOutCells = 4;
   options.thetaHalfCells = 32;
   options.phiHalfCells = 16;
   options.supersampling = 1;
-  const TabulatedBrdfSampler sampler(brdf, MerlBrdf::Interpolation::Nearest, options);
+  const TabulatedBrdfSampler sampler(brdf, options);
   expectSameOnEveryThread([&](uint32_t i) {
     const auto u = variates(i);
     const Vec3d wo = sphericalDirection(std::acos(0.05 + 0.9 * u[2]), 6.283185307179586 * u[0]);

@@ -15,7 +15,7 @@
 namespace acdf {
 namespace {
 
-bool finiteNonNegative(const Color& c) {
+bool finiteNonNegative(const Rgb& c) {
   return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 && c.b >= 0;
 }
 

@@ -121,7 +121,7 @@ TEST(Orientation, AnAsymmetricMapAppearsUnmirrored) {
   double redLeft = 0, redRight = 0, blueLeft = 0, blueRight = 0;
   for (uint32_t y = 0; y < kSize; ++y)
     for (uint32_t x = 0; x < kSize; ++x) {
-      const Color v = film.mean(x, y);
+      const Rgb v = film.mean(x, y);
       (x < kSize / 2 ? redLeft : redRight) += v.r;
       (x < kSize / 2 ? blueLeft : blueRight) += v.b;
     }

@@ -27,18 +27,25 @@ Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& override
 }
 
 ImageMean imageMean(const Film& film) {
-  Color sum, variance;
+  double sum[3] = {0, 0, 0}, variance[3] = {0, 0, 0};
   for (uint32_t y = 0; y < film.height(); ++y)
     for (uint32_t x = 0; x < film.width(); ++x) {
-      const Color se = film.standardError(x, y);
-      sum += film.mean(x, y);
-      variance += se * se;
+      const Rgb m = film.mean(x, y), se = film.standardError(x, y);
+      const float means[3] = {m.r, m.g, m.b}, errors[3] = {se.r, se.g, se.b};
+      for (int c = 0; c < 3; ++c) {
+        sum[c] += means[c];
+        variance[c] += double(errors[c]) * errors[c];
+      }
     }
   const double n = static_cast<double>(film.width()) * film.height();
-  return {sum * (1.0 / n), Color(std::sqrt(variance.r), std::sqrt(variance.g), std::sqrt(variance.b)) * (1.0 / n)};
+  const auto channels = [n](const double* v, bool root) {
+    const auto f = [&](double x) { return static_cast<float>((root ? std::sqrt(x) : x) / n); };
+    return Rgb{f(v[0]), f(v[1]), f(v[2])};
+  };
+  return {channels(sum, false), channels(variance, true)};
 }
 
-nlohmann::json furnaceScene(const nlohmann::json& material, const Color& radiance, uint32_t size, uint32_t spp) {
+nlohmann::json furnaceScene(const nlohmann::json& material, const Rgb& radiance, uint32_t size, uint32_t spp) {
   // The sphere subtends asin(1/3) = 19.5° from the eye; a 20° field of view (14.1° to the
   // corners) keeps every pixel on it.
   return {

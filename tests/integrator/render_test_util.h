@@ -26,14 +26,15 @@ struct Rendered {
 // tables shared by every call (not thread-safe).
 Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& overrides = {});
 
-// The mean over the film's pixels, per channel, and its standard error (pixels independent).
+// The mean over the film's pixels, per channel, and its standard error (pixels independent);
+// summed in double.
 struct ImageMean {
-  Color mean, standardError;
+  Rgb mean, standardError;
 };
 ImageMean imageMean(const Film& film);
 
 // A sphere of radius 1 at the origin filling the whole frame of a camera on +z, lit by a
 // constant environment of `radiance`, with `material` (a scene-file material object).
-nlohmann::json furnaceScene(const nlohmann::json& material, const Color& radiance, uint32_t size, uint32_t spp);
+nlohmann::json furnaceScene(const nlohmann::json& material, const Rgb& radiance, uint32_t size, uint32_t spp);
 
 }  // namespace acdf::rendertest

@@ -1,6 +1,7 @@
 #pragma once
-// Analytic isotropic BRDFs with named presets, tabulated in the MERL layout by `acdf merl-gen
-// --preset NAME` as test materials with a known closed form.
+// Analytic isotropic BRDFs with named presets: evaluated in closed form as BrdfModels (the
+// renderer's ggx-conductor material) and tabulated in the MERL layout by `acdf merl-gen --preset
+// NAME`, as test materials with a known closed form.
 //
 // Both models use the GGX (Trowbridge-Reitz) microfacet distribution with roughness α, Smith's
 // separable shadowing G1(ω) = 2 / (1 + √(1 + α² tan²θ)), and Schlick's Fresnel
@@ -11,25 +12,41 @@
 //                     + (1 − F(θi)) (1 − F(θo)) · albedo / π              (diffuse base under it)
 //
 // with D(θh) = α² / (π cos⁴θh (α² + tan²θh)²). Both are reciprocal; values in 1/sr, linear RGB.
+// GgxBrdfSampler (ggx_sampler.h) samples the half vector from D.
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "acdf/brdf/brdf_model.h"
+
 namespace acdf {
 
-struct AnalyticBrdf {
+class AnalyticBrdf final : public BrdfModel {
+ public:
   enum class Kind { Conductor, CoatedDiffuse };
 
-  Kind kind = Kind::Conductor;
-  double alpha = 0.1;                           // GGX roughness, > 0
-  std::array<double, 3> f0{1.0, 1.0, 1.0};      // Conductor: normal-incidence reflectance
-  std::array<double, 3> albedo{0.5, 0.5, 0.5};  // CoatedDiffuse: the base's albedo
-  double ior = 1.5;                             // CoatedDiffuse: the coat's refractive index
+  // Throw std::invalid_argument unless α is finite and > 0, every F0 or albedo channel in [0, 1]
+  // and the index of refraction finite and >= 1.
+  static AnalyticBrdf conductor(double alpha, const std::array<double, 3>& f0);
+  static AnalyticBrdf coatedDiffuse(double alpha, const std::array<double, 3>& albedo, double ior);
 
-  // The BRDF at Rusinkiewicz angles (φh irrelevant). 0 when either direction is at or below
-  // the horizon.
-  std::array<double, 3> evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const;
+  Kind kind() const { return kind_; }
+  double alpha() const { return alpha_; }                          // GGX roughness
+  const std::array<double, 3>& f0() const { return f0_; }          // Conductor: normal-incidence reflectance
+  const std::array<double, 3>& albedo() const { return albedo_; }  // CoatedDiffuse: the base's albedo
+  double ior() const { return ior_; }                              // CoatedDiffuse: the coat's refractive index
+
+  // The closed form at Rusinkiewicz angles (φh irrelevant), in double. 0 when either direction
+  // is at or below the horizon.
+  std::array<double, 3> closedForm(double thetaHalf, double thetaDiff, double phiDiff) const;
+
+  // closedForm() at the directions' angles, rounded to float.
+  Rgb eval(const Vec3d& wo, const Vec3d& wi) const override;
+  Rgb evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const override;
+  bool isotropic() const override { return true; }
+  // No data; the kind and its parameters: "analytic-ggx conductor alpha=... f0=...".
+  std::string addToKey(ContentHash& content) const override;
 
   // The MERL table as NeuralBrdf::merlTable() builds it: cell corner coordinates, divided by
   // the channel scales, −1 in the cells NeuralBrdf::merlCellBelowHorizon marks. Parallel.
@@ -40,6 +57,15 @@ struct AnalyticBrdf {
   static std::string presetDescription(const std::string& name);
   // Throws std::invalid_argument naming the known presets for an unknown name.
   static AnalyticBrdf preset(const std::string& name);
+
+ private:
+  AnalyticBrdf(Kind kind, double alpha, const std::array<double, 3>& f0, const std::array<double, 3>& albedo,
+               double ior);
+
+  Kind kind_;
+  double alpha_;
+  std::array<double, 3> f0_, albedo_;
+  double ior_;
 };
 
 }  // namespace acdf

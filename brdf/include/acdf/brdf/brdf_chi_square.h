@@ -4,13 +4,15 @@
 //
 // Expected bin probabilities are integrated where the density is simple rather than by
 // quadrature over ωi, which misses sharp specular peaks (and the reflection's stretching near
-// ωo·ωh = 0) by up to a percent: the cosine part in closed form, and a tabulated sampler's half-
-// vector density over its own table cells — constant per steradian on each — with
-// subPoints² (more where the reflection stretches) jittered sub-cells per table cell, uniform in
-// solid angle, each reflected to ωi and added to its bin. Only sub-cells straddling a bin edge
-// are approximated, and the jitter (fixed seed) turns that into noise below the counts' own
-// (a regular sub-grid aliases with the bin edges into a bias of a few percent per bin).
-// Bins have equal area (no tiny bins at the poles for the sub-cells to miss).
+// ωo·ωh = 0) by up to a percent: the cosine part in closed form, and a half-vector sampler's
+// density over the half vector, with subPoints² (more where the reflection stretches) jittered
+// sub-cells per cell, uniform in solid angle, each reflected to ωi and added to its bin. A
+// tabulated sampler's cells are its own table cells, on which its density is constant per
+// steradian, so only sub-cells straddling a bin edge are approximated; GGX's smooth density is
+// integrated on 256 × 32 cells in (√θh, φh), each sub-cell weighted by the density at its point.
+// The jitter (fixed seed) turns the approximation into noise below the counts' own (a regular
+// sub-grid aliases with the bin edges into a bias of a few percent per bin). Bins have equal
+// area (no tiny bins at the poles for the sub-cells to miss).
 
 #include <vector>
 
@@ -23,7 +25,8 @@ namespace acdf {
 SphereChiSquareReport brdfChiSquareTest(const BrdfSampler& sampler, const Vec3d& wo, SphereChiSquareOptions options);
 
 // The expected probability of each bin (as sphereBinOf() numbers them) under sampler's pdf(ωo, ·).
-// Knows CosineBrdfSampler and TabulatedBrdfSampler; throws std::invalid_argument otherwise.
+// Knows CosineBrdfSampler, TabulatedBrdfSampler and GgxBrdfSampler; throws std::invalid_argument
+// otherwise.
 std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo,
                                          const SphereChiSquareOptions& options);
 

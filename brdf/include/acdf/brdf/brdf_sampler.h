@@ -1,7 +1,9 @@
 #pragma once
 // The interface every BRDF importance sampler implements: given the outgoing direction ωo,
 // choose an incident direction ωi with a known density, and report the Monte Carlo weight
-// f(ωi, ωo)·cosθi / pdf(ωi) a renderer multiplies the incident radiance by.
+// f(ωo, ωi)·cosθi / pdf(ωi) a renderer multiplies the incident radiance by. With eval() beside
+// sample() and pdf(), a sampler is everything a renderer asks of a surface (Nori's BSDF): the
+// renderer's materials are BrdfSamplers of their models.
 //
 // Directions are unit vectors in the local shading frame (z = the normal, sphere.h). Densities
 // are per steradian over the whole sphere: a sampler may return an ωi below the horizon (where
@@ -11,11 +13,16 @@
 // cosine-weighted sampling, so sample() still returns a valid direction with a positive pdf.
 //
 // sample() and pdf() agree: sample(ωo, u).pdf == pdf(ωo, sample(ωo, u).wi) up to float rounding.
+//
+// A sampler shares ownership of its model: the model lives as long as any sampler of it (a
+// renderer's materials, a table cache's samplers, a binding's objects), and several samplers, or
+// models of one MERL file with different interpolations, share one copy of the data.
 
 #include <cstddef>
+#include <memory>
 #include <string>
 
-#include "acdf/brdf/merl.h"
+#include "acdf/brdf/brdf_model.h"
 #include "acdf/sampling/rgb.h"
 #include "acdf/sampling/sphere.h"
 
@@ -23,16 +30,14 @@ namespace acdf {
 
 struct BrdfSample {
   Vec3d wi;        // unit vector
-  Rgb weight;      // f(ωi, ωo)·max(cosθi, 0) / pdf
+  Rgb weight;      // f(ωo, ωi)·max(cosθi, 0) / pdf
   double pdf = 0;  // per steradian, finite and > 0
 };
 
 class BrdfSampler {
  public:
-  // The sampler evaluates `brdf` (with `interpolation`) for the weights; it keeps a reference,
-  // so the BRDF must outlive it.
-  BrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation)
-      : brdf_(brdf), interpolation_(interpolation) {}
+  // Throws std::invalid_argument for a null model.
+  explicit BrdfSampler(std::shared_ptr<const BrdfModel> model);
   virtual ~BrdfSampler() = default;
   BrdfSampler(const BrdfSampler&) = delete;
   BrdfSampler& operator=(const BrdfSampler&) = delete;
@@ -41,25 +46,25 @@ class BrdfSampler {
   BrdfSample sample(const Vec3d& wo, float u0, float u1) const;
   // Density of choosing ωi given ωo, per steradian; 0 where the sampler never goes.
   virtual double pdf(const Vec3d& wo, const Vec3d& wi) const = 0;
+  // The model's f(ωo, ωi).
+  Rgb eval(const Vec3d& wo, const Vec3d& wi) const { return model_->eval(wo, wi); }
 
   // Memory of the sampling tables (0 for an analytic sampler).
   virtual std::size_t bytes() const = 0;
   virtual std::string name() const = 0;
 
-  const MerlBrdf& brdf() const { return brdf_; }
-  MerlBrdf::Interpolation interpolation() const { return interpolation_; }
+  const BrdfModel& model() const { return *model_; }
 
  protected:
   // The direction alone; sample() adds the weight and the pdf (from pdf(), so the two agree).
   virtual Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const = 0;
 
  private:
-  const MerlBrdf& brdf_;
-  MerlBrdf::Interpolation interpolation_;
+  std::shared_ptr<const BrdfModel> model_;
 };
 
 // Cosine-weighted hemisphere sampling, pdf cosθi/π: the baseline renderers use for measured BRDFs
-// and the one the paper replaces. Ignores ωo.
+// and the one the paper replaces, and the exact one for a Lambertian BRDF. Ignores ωo.
 class CosineBrdfSampler final : public BrdfSampler {
  public:
   using BrdfSampler::BrdfSampler;

@@ -30,12 +30,13 @@ struct HalfDiffAngles {
 };
 
 struct DirectionPair {
-  Vec3d wi, wo;
+  Vec3d wo, wi;
 };
 
-// (ωi, ωo) → (θh, φh, θd, φd). Both must be unit vectors. When ωi = −ωo the half vector is
-// undefined; the normal is used (θh = φh = 0), so the result is still finite.
-HalfDiffAngles toHalfDiff(const Vec3d& wi, const Vec3d& wo);
+// (ωo, ωi) → (θh, φh, θd, φd) (pbrt's argument order, as BrdfModel::eval; d is ωi's). Both must
+// be unit vectors. When ωi = −ωo the half vector is undefined; the normal is used (θh = φh = 0),
+// so the result is still finite.
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi);
 
 // The frame in which a half vector (θh, φh) points up: maps ωi to its difference angles. Holds
 // the rotation's trigonometry, for loops converting many ωi against one half vector.
@@ -53,7 +54,7 @@ class HalfVectorFrame {
   double cosPhi_, sinPhi_, cosTheta_, sinTheta_;  // of −φh and −θh
 };
 
-// (θh, φh, θd, φd) → (ωi, ωo): the inverse of toHalfDiff. ωi = Rz(φh)·Ry(θh)·d and ωo is ωi
+// (θh, φh, θd, φd) → (ωo, ωi): the inverse of toHalfDiff. ωi = Rz(φh)·Ry(θh)·d and ωo is ωi
 // mirrored about h. Any angles give unit vectors; they lie in the upper hemisphere only when the
 // angles describe such a pair (e.g. θh + θd < π/2 is always enough).
 DirectionPair fromHalfDiff(const HalfDiffAngles& angles);

@@ -18,7 +18,11 @@
 // Storage: the raw (unscaled) values as float. Float's seven digits are far finer than the
 // measurement noise, and it halves the memory (17.5 MB) and the cache traffic of eval().
 // load(save(b)) reproduces b exactly; save(load(file)) rewrites −1 as 0 and values as their
-// nearest float.
+// nearest float. Copies share the values (immutable): withInterpolation() is one more model of
+// the same data, not a second 17.5 MB.
+//
+// As a BrdfModel, a MerlBrdf is the table evaluated with one Interpolation, chosen at
+// construction (nearest, MERL's own lookup, by default).
 
 #include <array>
 #include <cstddef>
@@ -28,37 +32,13 @@
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <utility>
-#include <vector>
 
+#include "acdf/brdf/brdf_model.h"
 #include "acdf/brdf/coordinates.h"
 #include "acdf/sampling/rgb.h"
 
 namespace acdf {
-
-namespace detail {
-// An allocator whose value-initialisation (vector(n), resize(n)) leaves floats uninitialised:
-// load() overwrites every entry, and zero-filling 17.5 MB first would cost a third of the read.
-template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = DefaultInitAllocator<U>;
-  };
-  DefaultInitAllocator() = default;
-  template <class U>
-  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-}  // namespace detail
 
 // A problem with a BRDF file (missing, malformed, unwritable). what() is "<file>: <problem>", a
 // single line, the form the acdf command-line tool prints.
@@ -73,7 +53,7 @@ class BrdfFileError : public std::runtime_error {
   std::string problem_;
 };
 
-class MerlBrdf {
+class MerlBrdf final : public BrdfModel {
  public:
   static constexpr int kThetaHalfCells = 90;
   static constexpr int kThetaDiffCells = 90;
@@ -91,12 +71,17 @@ class MerlBrdf {
   // order. Negative values become 0 and are counted (negativeEntries()). Throws
   // std::invalid_argument for a wrong size or a NaN / Inf / beyond-float value, naming the
   // channel and index.
-  MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue);
+  MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue,
+           Interpolation interpolation = Interpolation::Nearest);
 
   // Reads a .binary file with a single read of the whole file. Throws BrdfFileError naming the
   // file and the problem: missing file, directory, truncated header, wrong dimensions, truncated
   // data, extra trailing bytes, NaN or Inf (with channel and index).
-  static MerlBrdf load(const std::filesystem::path& path);
+  static MerlBrdf load(const std::filesystem::path& path, Interpolation interpolation = Interpolation::Nearest);
+
+  // The same table evaluated with another interpolation (sharing the values).
+  MerlBrdf withInterpolation(Interpolation interpolation) const;
+  Interpolation interpolation() const { return interpolation_; }
 
   // Writes the .binary format (dimensions 90, 90, 180). The data go to a temporary file in the
   // same directory which is then renamed over `path`, so a failure never leaves a partial file
@@ -109,14 +94,19 @@ class MerlBrdf {
   // Throws std::invalid_argument for a wrong size or a NaN / Inf value, BrdfFileError for the file.
   static void saveRaw(const std::filesystem::path& path, std::span<const double> values);
 
-  // The BRDF value for unit directions ωi, ωo in the local frame (z = normal). 0 unless both are
+  // The BRDF value for unit directions ωo, ωi in the local frame (z = normal). 0 unless both are
   // strictly above the horizon (z > 0): the table has no data below it, and at z = 0 the
-  // cosine factor makes the value irrelevant. Symmetric in ωi, ωo.
-  Rgb eval(const Vec3d& wi, const Vec3d& wo, Interpolation mode) const;
+  // cosine factor makes the value irrelevant. Symmetric in ωo, ωi.
+  Rgb eval(const Vec3d& wo, const Vec3d& wi) const override;
 
   // The same from half/difference angles (φh is irrelevant); θh, θd beyond π/2 clamp to the
   // last cell, φd is any angle (folded by reciprocity). No horizon test: the caller has angles.
-  Rgb evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff, Interpolation mode) const;
+  Rgb evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const override;
+
+  bool isotropic() const override { return true; }
+  // Every stored value, and "interpolation=nearest" or "interpolation=trilinear": unlike the other
+  // models' texts no model word, so MERL tables keep the keys cached ones were stored under.
+  std::string addToKey(ContentHash& content) const override;
 
   // MERL's cell indices (theta_half_index, theta_diff_index, phi_diff_index), and the flat
   // index into a channel. One deliberate difference: φd is folded into [0, π) (φd ≥ π → φd − π,
@@ -133,20 +123,14 @@ class MerlBrdf {
   static double phiDiffCentre(int phiDiffIdx);
 
   // Raw stored values of channel c (0 = red, 1 = green, 2 = blue), kCells each, negatives as 0.
-  std::span<const float> channel(int c) const {
-    return std::span<const float>(values_).subspan(static_cast<std::size_t>(c) * kCells, kCells);
-  }
+  std::span<const float> channel(int c) const { return {values_.get() + static_cast<std::size_t>(c) * kCells, kCells}; }
   // How many stored values were negative (and are now 0), over all three channels. Negative as
   // floats: a double in (−7e-46, 0) rounds to −0 and is just 0.
   std::size_t negativeEntries() const { return negativeEntries_; }
 
  private:
-  MerlBrdf() = default;
-
-  // Shared by the constructor and load(): converts kCells doubles of channel c (read from
-  // `bytes`, little-endian, possibly unaligned) into values_, counting negatives. Returns the
-  // index of the first NaN / Inf / beyond-float value, or kCells if there is none.
-  std::size_t convertChannel(int c, const unsigned char* bytes);
+  MerlBrdf(std::shared_ptr<const float[]> values, std::size_t negativeEntries, Interpolation interpolation)
+      : values_(std::move(values)), negativeEntries_(negativeEntries), interpolation_(interpolation) {}
 
   Rgb cell(std::size_t index) const {
     return {static_cast<float>(values_[index] * kChannelScale[0]),
@@ -154,8 +138,9 @@ class MerlBrdf {
             static_cast<float>(values_[2 * kCells + index] * kChannelScale[2])};
   }
 
-  std::vector<float, detail::DefaultInitAllocator<float>> values_;  // 3 · kCells: red block, green block, blue block
+  std::shared_ptr<const float[]> values_;  // 3 · kCells: red block, green block, blue block
   std::size_t negativeEntries_ = 0;
+  Interpolation interpolation_ = Interpolation::Nearest;
 };
 
 }  // namespace acdf

@@ -51,7 +51,7 @@ class NeuralBrdf {
 
   // For unit directions in the local frame (z = normal): 0 unless both are strictly above the
   // horizon, else the network at their half/difference angles.
-  Rgb eval(const Vec3d& wi, const Vec3d& wo) const;
+  Rgb eval(const Vec3d& wo, const Vec3d& wi) const;
 
   // The full MERL table as nbrdf_to_merl.py builds it: the network at cell (i, j, k)'s corner
   // coordinates θh = (i/90)²·π/2, θd = j/90·π/2, φd = k/180·π, divided by MerlBrdf's channel

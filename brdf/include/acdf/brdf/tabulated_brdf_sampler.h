@@ -1,12 +1,14 @@
 #pragma once
-// Importance sampling of a measured BRDF from a tabulated CDF of the half vector (Lawrence,
-// Rusinkiewicz & Ramamoorthi 2005, §5): for each cell of outgoing directions ωo, a 2D
-// distribution over the half vector ωh ∝ f(ωi, ωo)·cosθi, sampled, then reflected: ωi = 2(ωo·ωh)ωh − ωo.
+// Importance sampling of any BRDF model (brdf_model.h: measured or analytic) from a tabulated CDF
+// of the half vector (Lawrence, Rusinkiewicz & Ramamoorthi 2005, §5): for each cell of outgoing
+// directions ωo, a 2D distribution over the half vector ωh ∝ f(ωo, ωi)·cosθi, sampled, then
+// reflected: ωi = 2(ωo·ωh)ωh − ωo.
 //
 // Parameterisation. θh on MERL's square-root scale, s = √(θh / (π/2)) in [0, 1), so the cells
 // crowd near the specular peak; φh linear. Each cell holds the mass of the target density of ωh,
 //   ∫cell f·cosθi · 4(ωo·ωh) dωh,   (dωh = sinθh dθh dφh, dθh = π s ds)
-// since p(ωi) = p(ωh) / (4 |ωo·ωh|) (the reflection): sampling ωh ∝ it samples ωi ∝ f·cosθi.
+// since p(ωi) = p(ωh) / (4 |ωo·ωh|) (the reflection, half_vector.h): sampling ωh ∝ it samples
+// ωi ∝ f·cosθi.
 // The cascade chooses a cell; inside it, ωh is placed uniformly in solid angle (the position in s
 // is carried over to the same fraction of 1 − cosθh), so
 //   p(ωh) = P(cell) / Ω(cell) = p(s, φh) · Δs / Δ(1 − cosθh)
@@ -19,10 +21,13 @@
 //              so one slice per θo serves every φo (the sample is rotated by φo): 1/16 of the
 //              cells. With `mirror`, f(Δφ) = f(−Δφ) (reflection across the plane of incidence)
 //              halves it again: |Δφ| in [0, π) is tabulated and its sign drawn at sample time.
+//              Isotropic models only (BrdfModel::isotropic()).
 // Each slice (cell of the conditioning axes) is used for every ωo in it (nearest cell).
 //
 // Cell values are averages over `supersampling`^dims stratified points of the cell (outgoing
 // and half-vector axes alike), never a single centre point, in double, of the luminance of f.
+// An isotropic model is evaluated once per (θo, θh, Δφ) point of a lattice that every φo shares
+// (BrdfModel::evalHalfDiff), any other model at every point (BrdfModel::luminance).
 //
 // Defensive mixture: with probability `cosineWeight` the direction is drawn cosine-weighted
 // instead; pdf = (1 − w)·p_table + w·cosθi/π. The table is zero where its cells saw no
@@ -36,6 +41,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -75,27 +81,25 @@ struct TabulatedBrdfOptions {
 
 class TabulatedBrdfSampler final : public BrdfSampler {
  public:
-  // Throws std::invalid_argument on inconsistent options (zero cells, an odd phiHalfCells with
-  // mirror, supersampling 0, a weight outside [0, 1], bad simplify options).
-  TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                       const TabulatedBrdfOptions& options = {});
+  // Throws std::invalid_argument for a null model and on inconsistent options (zero cells, an odd
+  // phiHalfCells with mirror, supersampling 0, a weight outside [0, 1], bad simplify options, the
+  // isotropic layout for a model that is not isotropic).
+  explicit TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options = {});
 
   // Table caching (docs/table-cache.md): the constructor above is buildCascade() plus the one
   // below, so a renderer can keep the expensive part in a TableCache:
-  //   Cached<Cascade> t = cache.getOrBuild(tableKey(brdf, mode, o), "BRDF table nickel",
-  //                                        [&] { return buildCascade(brdf, mode, o); });
-  //   TabulatedBrdfSampler sampler(brdf, mode, o, std::move(t.value));
-  // `table` must come from buildCascade() with the same BRDF, interpolation and options; a grid or
-  // cascade options that differ from those `options` give throw SerializationError (a corrupt or
+  //   Cached<Cascade> t = cache.getOrBuild(tableKey(*model, o), "BRDF table nickel",
+  //                                        [&] { return buildCascade(*model, o); });
+  //   TabulatedBrdfSampler sampler(model, o, std::move(t.value));
+  // `table` must come from buildCascade() with the same model and options; a grid or cascade
+  // options that differ from those `options` give throw SerializationError (a corrupt or
   // colliding cache entry), bad options std::invalid_argument. tabulationMs() and buildMs() are 0.
-  TabulatedBrdfSampler(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation, const TabulatedBrdfOptions& options,
-                       Cascade table);
-  static Cascade buildCascade(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                              const TabulatedBrdfOptions& options);
-  // The table's key: every MERL value, the interpolation, every option that shapes the table
-  // (not cosineWeight, which only mixes at sample time) and the tabulation and format versions.
-  static CacheKey tableKey(const MerlBrdf& brdf, MerlBrdf::Interpolation interpolation,
-                           const TabulatedBrdfOptions& options);
+  TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options, Cascade table);
+  static Cascade buildCascade(const BrdfModel& model, const TabulatedBrdfOptions& options);
+  // The table's key: the model's (BrdfModel::addToKey: every MERL value and the interpolation,
+  // say), every option that shapes the table (not cosineWeight, which only mixes at sample time)
+  // and the tabulation and format versions.
+  static CacheKey tableKey(const BrdfModel& model, const TabulatedBrdfOptions& options);
 
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
   // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,

@@ -1,14 +1,15 @@
 #pragma once
 // The pixels of a render (the camera's crop window): per pixel the sum of the samples' radiance
-// and of their squares, in double, so the mean and its standard error are both at hand (the
-// tests compare renders within error bars).
+// and of their squares, so the mean and its standard error are both at hand (the tests compare
+// renders within error bars). The sums are in double: a pixel sums thousands of path
+// contributions whose dynamic range (a sun next to a dark floor) float would round away.
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "acdf/envmap/image_file.h"
-#include "acdf/integrator/color.h"
+#include "acdf/sampling/rgb.h"
 
 namespace acdf {
 
@@ -20,16 +21,20 @@ class Film {
   uint32_t height() const { return height_; }
 
   // Not thread-safe for one pixel; distinct pixels may be added to concurrently.
-  void add(uint32_t x, uint32_t y, const Color& sample) {
+  void add(uint32_t x, uint32_t y, const Rgb& sample) {
     Pixel& p = pixels_[std::size_t{y} * width_ + x];
-    p.sum += sample;
-    p.sumSquares += sample * sample;
+    const float channels[3] = {sample.r, sample.g, sample.b};
+    for (int c = 0; c < 3; ++c) {
+      const double v = channels[c];
+      p.sum[c] += v;
+      p.sumSquares[c] += v * v;
+    }
     ++p.samples;
   }
 
-  Color mean(uint32_t x, uint32_t y) const;
+  Rgb mean(uint32_t x, uint32_t y) const;
   // Standard error of mean() per channel: √(sample variance / n); 0 below two samples.
-  Color standardError(uint32_t x, uint32_t y) const;
+  Rgb standardError(uint32_t x, uint32_t y) const;
 
   // Linear RGB means, row-major from the top.
   Image image() const;
@@ -39,7 +44,7 @@ class Film {
 
  private:
   struct Pixel {
-    Color sum, sumSquares;
+    double sum[3] = {0, 0, 0}, sumSquares[3] = {0, 0, 0};  // red, green, blue
     uint64_t samples = 0;
   };
   uint32_t width_, height_;

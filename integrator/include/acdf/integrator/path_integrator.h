@@ -17,7 +17,6 @@
 
 #include <cstdint>
 
-#include "acdf/integrator/color.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
 
@@ -29,7 +28,7 @@ class PathIntegrator {
 
   // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
   // pixel dimensions taken; `rays` counts the rays cast (intersect + shadow).
-  Color radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const;
+  Rgb radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const;
 
  private:
   // The MIS weight of a strategy with density `chosen` against one with density `other`.

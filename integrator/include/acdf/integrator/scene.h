@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
+#include "acdf/brdf/brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/integrator/camera.h"
 #include "acdf/integrator/geometry.h"
-#include "acdf/integrator/material.h"
 #include "acdf/integrator/table_provider.h"
 
 namespace acdf {
@@ -70,7 +70,9 @@ class SceneError : public std::runtime_error {
 struct Scene {
   std::unique_ptr<Camera> camera;
   std::unique_ptr<Geometry> geometry;
-  std::vector<std::unique_ptr<Material>> materials;  // indexed by the shapes' material ids
+  // Indexed by the shapes' material ids: a material is its BRDF model's sampler (two materials
+  // of one table share it).
+  std::vector<std::shared_ptr<const BrdfSampler>> materials;
   std::unique_ptr<EnvironmentLight> environment;
   RenderSettings settings;
 };

@@ -33,18 +33,20 @@ class TableProvider {
   // TableCache::disabled() builds everything (--no-cache).
   explicit TableProvider(TableCache cache) : cache_(std::move(cache)) {}
 
-  // Loaded once per path. Throw BrdfFileError / ImageFileError.
-  std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path);
+  // Loaded once per path, whatever the interpolation (the models share the values). Throw
+  // BrdfFileError / ImageFileError.
+  std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path, MerlBrdf::Interpolation interpolation);
   std::shared_ptr<const EnvironmentMap> environmentMap(const std::filesystem::path& path);
-  // AnalyticBrdf::preset(name) tabulated in the MERL layout (no file needed). Throws
-  // std::invalid_argument for an unknown preset.
-  std::shared_ptr<const MerlBrdf> merlPreset(const std::string& name);
+  // AnalyticBrdf::preset(name) tabulated in the MERL layout (no file needed), once per name.
+  // Throws std::invalid_argument for an unknown preset.
+  std::shared_ptr<const MerlBrdf> merlPreset(const std::string& name, MerlBrdf::Interpolation interpolation);
 
-  // A sampler of `brdf`, whose identity for sharing is `brdfKey` (its file or preset). Cosine
-  // sampling has no table; the table strategies use `table` with their method.
-  std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const MerlBrdf>& brdf,
-                                                 const std::string& brdfKey, MerlBrdf::Interpolation interpolation,
-                                                 BrdfSampling sampling, TabulatedBrdfOptions table);
+  // A sampler of `model`, whose name in the tables' list is `modelName` (its file or preset).
+  // Cosine sampling has no table; the table strategies use `table` with their method, shared by
+  // every request with the same table key (the model's content and the options).
+  std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const BrdfModel>& model,
+                                                 const std::string& modelName, BrdfSampling sampling,
+                                                 TabulatedBrdfOptions table);
   // The sampling table of `map` (identity `mapKey`) under `strategy`, shared by every light of the
   // map whatever its rotation and scale. Uniform-sphere sampling and a black map have no table to
   // build or record.

@@ -1,0 +1,41 @@
+#pragma once
+// Half-vector sampling: a sampler draws a half vector ωh in the upper hemisphere and reflects the
+// outgoing direction about it, ωi = 2(ωo·ωh)ωh − ωo (sphere.h's reflect()). The reflection's
+// Jacobian turns the half vector's density into the incident direction's (Walter et al. 2007,
+// eq. 14):
+//
+//   p(ωi) = p(ωh) / (4 |ωo·ωh|),   ωh = ±normalize(ωi + ωo).
+//
+// The one place this is written: the tabulated and GGX samplers' pdf() and the chi-square test's
+// binning use it.
+
+#include <cmath>
+#include <optional>
+
+#include "acdf/sampling/sphere.h"
+
+namespace acdf {
+
+struct HalfVector {
+  Vec3d direction;    // unit, z >= 0
+  double cosOut = 0;  // |ωo·ωh| > 0
+
+  // The density of ωi of a half-vector density p(ωh) at this half vector, both per steradian.
+  double incidentPdf(double halfVectorPdf) const { return halfVectorPdf / (4.0 * cosOut); }
+};
+
+// The half vector reflecting ωo into ωi, taken in the upper hemisphere: ωh and −ωh reflect ωo
+// alike, and half-vector samplers draw z >= 0 only, so exactly one of them can have been sampled.
+// nullopt where no half vector gives ωi a finite density (ωi = −ωo).
+inline std::optional<HalfVector> halfVectorOf(const Vec3d& wo, const Vec3d& wi) {
+  const Vec3d sum = wi + wo;
+  const double len = length(sum);
+  if (!(len > 0.0)) return std::nullopt;
+  Vec3d h = sum * (1.0 / len);
+  if (h.z < 0.0) h = -h;
+  const double cosOut = std::fabs(dot(wo, h));
+  if (!(cosOut > 0.0)) return std::nullopt;
+  return HalfVector{h, cosOut};
+}
+
+}  // namespace acdf
