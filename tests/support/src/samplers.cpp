@@ -8,6 +8,7 @@
 #include "acdf/sampling/adaptive_cdf_1d.h"
 #include "acdf/sampling/alias_grid.h"
 #include "acdf/sampling/alias_table_1d.h"
+#include "acdf/sampling/hierarchical_warp_2d.h"
 #include "acdf/sampling/piecewise_constant_1d.h"
 #include "acdf/sampling/rng.h"
 
@@ -92,6 +93,21 @@ Sampler makeCascade(std::shared_ptr<const Cascade> d, std::vector<float> conditi
 
 Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options) {
   return makeCascade(std::make_shared<const Cascade>(values, std::move(axes), std::move(options)));
+}
+
+Sampler makeHierarchicalWarp(std::span<const float> values, std::vector<GridAxis> axes) {
+  auto d = std::make_shared<const HierarchicalWarp2D>(values, std::move(axes));
+  Sampler s;
+  s.name = "HierarchicalWarp2D";
+  s.axes = d->axes();
+  s.sample = [d](std::span<const float> u) { return d->sample(u); };
+  s.pdf = [d](std::span<const float> x) { return d->pdf(x); };
+  s.invert = [d](std::span<const float> x, std::span<float> u) { d->invert(x, u); };
+  s.uniformFallback = [d] { return d->isUniformFallback(); };
+  s.cellProbabilities = [d] { return d->cellProbabilities(); };
+  s.bytes = [d] { return d->bytes(); };
+  s.object = d;
+  return s;
 }
 
 std::string toString(Fixture fixture) {

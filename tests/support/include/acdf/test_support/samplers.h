@@ -1,6 +1,7 @@
 #pragma once
 // Type-erased views of the libsampling distributions, so one test body can run against
-// PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid and Cascade, plus named fixtures.
+// PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid, Cascade and HierarchicalWarp2D,
+// plus named fixtures.
 
 #include <functional>
 #include <memory>
@@ -40,6 +41,7 @@ Sampler makeAliasGrid(std::span<const float> values, std::vector<GridAxis> axes)
 // The distribution of one slice of a Cascade: `condition` holds conditioningDims() coordinates.
 Sampler makeCascade(std::shared_ptr<const Cascade> cascade, std::vector<float> condition = {});
 Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options = {});
+Sampler makeHierarchicalWarp(std::span<const float> values, std::vector<GridAxis> axes);
 
 enum class Fixture { Smooth, PeakedSun, ZerosWithIslands, Checkerboard, Random };
 inline constexpr Fixture kAllFixtures[] = {Fixture::Smooth, Fixture::PeakedSun, Fixture::ZerosWithIslands,
@@ -51,14 +53,14 @@ std::vector<float> makeFixture(Fixture fixture, std::span<const uint32_t> dims);
 // Axes of `dims` cells each over [0, 1).
 std::vector<GridAxis> unitAxes(std::span<const uint32_t> dims);
 
-// Per-sample checks only (no chi-square): x strictly inside the domain, pdf finite > 0, pdf(x)
-// matches the returned pdf. Runs `samples` Pcg32 variates plus every corner combination of
-// {0, 0.5, kOneMinusEpsilon} across the axes. Fills the sample fields of the report.
 // invert(sample(u)) against u: draws `samples` variate vectors from Pcg32(seed) (the first three
 // all 0, all kOneMinusEpsilon, all 0.5), skips samples of pdf 0 (no unique inverse there) and
 // returns the largest |invert(sample(u))[d] − u[d]| over all axes. The sampler must have invert.
 double worstInvertError(const Sampler& sampler, uint64_t samples, uint64_t seed);
 
+// Per-sample checks only (no chi-square): x strictly inside the domain, pdf finite > 0, pdf(x)
+// matches the returned pdf. Runs `samples` Pcg32 variates plus every corner combination of
+// {0, 0.5, kOneMinusEpsilon} across the axes. Fills the sample fields of the report.
 ChiSquareReport checkSamples(const Sampler& sampler, uint64_t samples = 100'000, double pdfTolerance = 1e-5,
                              uint64_t seed = 0x9E3779B97F4A7C15ULL);
 

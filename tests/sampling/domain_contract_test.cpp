@@ -1,0 +1,196 @@
+// The domain contract of every libsampling distribution, one parameterised test over the
+// type-erased Sampler (samplers.h): PiecewiseConstant1D, AliasTable1D, AdaptiveCdf1D, AliasGrid,
+// Cascade (uniform, adaptive and mixed levels, conditioned slices) and HierarchicalWarp2D, on
+// every fixture, on the unit box and on shifted domains. For each:
+// - at every combination of u in {0, 0.5, kOneMinusEpsilon} across the axes the sample lies in
+//   [innerLo, innerHi] on every axis and is no denormal;
+// - for those and 100k Pcg32 variates: x strictly inside (lo, hi), the returned pdf finite and
+//   > 0, and pdf(x) equal to it bit for bit;
+// - pdf is 0 outside the half-open domain on each axis (just below lo, at hi and just above it,
+//   far outside, ±Inf, NaN), and lo and the largest float below hi are inside it: their pdf is
+//   that of the first and last cells;
+// - ∫pdf over the domain is 1 within 1e-6.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "acdf/sampling/cascade.h"
+#include "acdf/sampling/grid_axis.h"
+#include "acdf/sampling/sample.h"
+#include "acdf/test_support/chi_square_harness.h"
+#include "acdf/test_support/samplers.h"
+
+namespace {
+
+using namespace acdf;
+using namespace acdf::test_support;
+using DM = DimensionMethod;
+
+struct DomainCase {
+  std::string name;
+  std::function<Sampler()> make;  // built in the test, not for every instance at start-up
+};
+
+void PrintTo(const DomainCase& c, std::ostream* os) { *os << c.name; }
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+std::vector<GridAxis> axesOver(const std::vector<uint32_t>& dims, bool shifted) {
+  if (!shifted) return unitAxes(dims);
+  // Different widths and offsets per axis, away from 0 and crossing it.
+  constexpr float kBounds[][2] = {{-3.0f, 5.0f}, {10.0f, 12.0f}, {-1.0f, -0.5f}};
+  std::vector<GridAxis> axes;
+  for (std::size_t d = 0; d < dims.size(); ++d) axes.emplace_back(dims[d], kBounds[d][0], kBounds[d][1]);
+  return axes;
+}
+
+std::string domainName(bool shifted) { return shifted ? "shifted" : "unit"; }
+
+std::vector<DomainCase> domainCases() {
+  std::vector<DomainCase> cases;
+  for (Fixture f : kAllFixtures) {
+    const std::string fixture = toString(f);
+    for (bool shifted : {false, true}) {
+      for (Kind1D kind : {Kind1D::PiecewiseConstant, Kind1D::Alias, Kind1D::Adaptive})
+        cases.push_back({toString(kind) + "_" + domainName(shifted) + "_" + fixture, [=] {
+                           const std::vector<uint32_t> dims = {1000};
+                           const GridAxis axis = axesOver(dims, shifted)[0];
+                           return make1D(kind, makeFixture(f, dims), axis.lo(), axis.hi());
+                         }});
+    }
+
+    const std::vector<uint32_t> k2D = {64, 32}, k3D = {16, 8, 12};
+    for (const auto& [shape, dims, shiftedToo] : {std::tuple{"2D", k2D, false}, std::tuple{"3D", k3D, true}})
+      for (bool shifted : {false, true}) {
+        if (shifted && !shiftedToo) continue;
+        cases.push_back({std::string("AliasGrid_") + shape + "_" + domainName(shifted) + "_" + fixture,
+                         [=] { return makeAliasGrid(makeFixture(f, dims), axesOver(dims, shifted)); }});
+      }
+
+    struct CascadeShape {
+      std::string name;
+      std::vector<uint32_t> dims;
+      std::vector<DM> methods;  // empty: all adaptive (the default)
+      bool shiftedToo;
+    };
+    const CascadeShape cascadeShapes[] = {
+        {"2D_Uniform", k2D, {DM::Uniform, DM::Uniform}, false},
+        {"2D_Adaptive", k2D, {}, false},
+        {"3D_Uniform", k3D, {DM::Uniform, DM::Uniform, DM::Uniform}, true},
+        {"3D_Adaptive", k3D, {}, true},
+        {"3D_MixedAUA", k3D, {DM::Adaptive, DM::Uniform, DM::Adaptive}, false},
+    };
+    for (const CascadeShape& shape : cascadeShapes)
+      for (bool shifted : {false, true}) {
+        if (shifted && !shape.shiftedToo) continue;
+        cases.push_back({"Cascade_" + shape.name + "_" + domainName(shifted) + "_" + fixture, [=] {
+                           CascadeOptions o;
+                           o.methods = shape.methods;
+                           return makeCascade(makeFixture(f, shape.dims), axesOver(shape.dims, shifted), o);
+                         }});
+      }
+    // 8 × 4 conditioning cells × 32 × 16 sampled: cell (1, 0), inside the islands of
+    // zerosWithIslands, and cell (7, 2), where it is all zero (the uniform fallback).
+    const std::vector<std::vector<float>> conditions = {{0.13f, 0.1f}, {0.93f, 0.6f}};
+    for (std::size_t slice = 0; slice < conditions.size(); ++slice)
+      cases.push_back({"CascadeSlice_4D_slice" + std::to_string(slice) + "_" + fixture, [=] {
+                         const std::vector<uint32_t> dims = {8, 4, 32, 16};
+                         CascadeOptions o;
+                         o.conditioningDims = 2;
+                         return makeCascade(std::make_shared<const Cascade>(makeFixture(f, dims), unitAxes(dims), o),
+                                            conditions[slice]);
+                       }});
+
+    // A power of two, odd sizes on both axes, a single row and a one-column-wide grid.
+    const std::vector<std::vector<uint32_t>> warpShapes = {{32, 64}, {23, 37}, {1, 50}, {45, 3}};
+    for (const std::vector<uint32_t>& dims : warpShapes)
+      for (bool shifted : {false, true}) {
+        if (shifted && dims != warpShapes[1]) continue;
+        cases.push_back({"HierarchicalWarp2D_" + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "_" +
+                             domainName(shifted) + "_" + fixture,
+                         [=] { return makeHierarchicalWarp(makeFixture(f, dims), axesOver(dims, shifted)); }});
+      }
+  }
+  return cases;
+}
+
+class DomainContract : public ::testing::TestWithParam<DomainCase> {};
+
+// Every combination of {0, 0.5, kOneMinusEpsilon} across the axes: samples in [innerLo, innerHi],
+// which at u = 0 on [0, 1) is a normal float, not a denormal next to lo.
+void expectCornersInsideTheInnerDomain(const Sampler& s) {
+  constexpr float kCorners[] = {0.0f, 0.5f, kOneMinusEpsilon};
+  const std::size_t dims = s.axes.size();
+  std::size_t combinations = 1;
+  for (std::size_t d = 0; d < dims; ++d) combinations *= 3;
+  std::vector<float> u(dims);
+  for (std::size_t c = 0; c < combinations; ++c) {
+    std::size_t code = c;
+    for (std::size_t d = 0; d < dims; ++d, code /= 3) u[d] = kCorners[code % 3];
+    const SampleND x = s.sample(u);
+    for (std::size_t d = 0; d < dims; ++d) {
+      EXPECT_GE(x.x[d], s.axes[d].innerLo()) << "axis " << d << " u[0] " << u[0];
+      EXPECT_LE(x.x[d], s.axes[d].innerHi()) << "axis " << d << " u[0] " << u[0];
+      EXPECT_NE(std::fpclassify(x.x[d]), FP_SUBNORMAL) << "axis " << d << " x " << x.x[d];
+    }
+  }
+}
+
+// From the centre of the first (last) cell on every axis, on each axis in turn: points outside
+// have pdf 0; lo (the largest float below hi) has the first (last) cell's pdf, and so do the
+// corners with every axis there.
+void expectPdfZeroOutsideTheHalfOpenDomain(const Sampler& s) {
+  const std::size_t dims = s.axes.size();
+  std::vector<float> first(dims), last(dims);
+  for (std::size_t d = 0; d < dims; ++d) {
+    const GridAxis& a = s.axes[d];
+    first[d] = a.place(0, 1, 0.5);
+    last[d] = a.place(a.cells() - 1, a.cells(), 0.5);
+  }
+  const float firstPdf = s.pdf(first), lastPdf = s.pdf(last);
+  std::vector<float> loCorner(dims), hiCorner(dims);
+  for (std::size_t d = 0; d < dims; ++d) {
+    loCorner[d] = s.axes[d].lo();
+    hiCorner[d] = std::nextafter(s.axes[d].hi(), s.axes[d].lo());
+  }
+  EXPECT_EQ(s.pdf(loCorner), firstPdf) << "at lo on every axis";
+  EXPECT_EQ(s.pdf(hiCorner), lastPdf) << "just below hi on every axis";
+  for (std::size_t d = 0; d < dims; ++d) {
+    const float lo = s.axes[d].lo(), hi = s.axes[d].hi(), width = hi - lo;
+    std::vector<float> x = first;
+    x[d] = lo;
+    EXPECT_EQ(s.pdf(x), firstPdf) << "axis " << d << " at lo";
+    x = last;
+    x[d] = std::nextafter(hi, lo);
+    EXPECT_EQ(s.pdf(x), lastPdf) << "axis " << d << " just below hi";
+    for (float bad : {std::nextafter(lo, -kInf), lo - width, hi, std::nextafter(hi, kInf), hi + width, 1e30f, -1e30f,
+                      kInf, -kInf, std::numeric_limits<float>::quiet_NaN()}) {
+      x = first;
+      x[d] = bad;
+      EXPECT_EQ(s.pdf(x), 0.0f) << "axis " << d << " x " << bad;
+    }
+  }
+}
+
+TEST_P(DomainContract, Holds) {
+  const DomainCase& c = GetParam();
+  const Sampler s = c.make();
+  expectCornersInsideTheInnerDomain(s);
+  const ChiSquareReport samples = checkSamples(s, 100'000, 0.0);
+  EXPECT_TRUE(samples.samplesValid()) << samples.summary();
+  expectPdfZeroOutsideTheHalfOpenDomain(s);
+  // Exact for pdfs constant on cells but for the float densities' rounding (at most 5e-8 here).
+  EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSamplers, DomainContract, ::testing::ValuesIn(domainCases()),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
