@@ -32,6 +32,7 @@
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/sample.h"
 #include "acdf/sampling/sphere_chi_square.h"
+#include "acdf/test_support/chi_square_registry.h"
 
 namespace {
 
@@ -57,10 +58,6 @@ constexpr uint32_t kSubCells = 32;
 // default table measures 22.4x at 1.083x (see docs/performance.md).
 constexpr double kTable1Compression = 20.0;
 constexpr double kTable1VarianceRatio = 1.10;
-
-// Chi-square tests in this program, for the Šidák correction: 4 materials × 3 samplers × 4 angles,
-// plus the isotropic layouts on nickel (2 × 4) and 2 samplers of the analytic gold (2 × 4).
-constexpr uint32_t kChiSquareTestsInSuite = 4 * 3 * 4 + 2 * 4 + 2 * 4;
 
 // A Lambertian BRDF f = albedo/π in the MERL layout.
 MerlBrdf lambertian() {
@@ -122,7 +119,7 @@ Library& library() {
 
 SphereChiSquareOptions chiSquareOptions() {
   SphereChiSquareOptions o;
-  o.alpha = sidakAlpha(0.01, kChiSquareTestsInSuite);
+  o.alpha = test_support::chiSquareTestLevel();
   o.samples = kSamples;
   o.subPoints = kSubCells;
   o.thetaBins = 32;  // equal-area bins of 6 msr, as `acdf chi2 --brdf` uses
@@ -159,7 +156,7 @@ std::vector<Case> chiSquareCases() {
 
 class BrdfSamplerChiSquare : public ::testing::TestWithParam<Case> {};
 
-TEST_P(BrdfSamplerChiSquare, MatchesItsPdfOverTheSphere) {
+ACDF_CHI_SQUARE_TEST_P(BrdfSamplerChiSquare, MatchesItsPdfOverTheSphere, 1) {
   const Case c = GetParam();
   const BrdfSampler& sampler = library().sampler(c.material, c.sampler);
   const Vec3d wo = outgoing(c.thetaOut);

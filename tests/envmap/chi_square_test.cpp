@@ -14,23 +14,20 @@
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/light_chi_square.h"
 #include "acdf/envmap/sun_sky.h"
-#include "acdf/sampling/chi_square.h"
+#include "acdf/test_support/chi_square_registry.h"
 #include "envmap_test_util.h"
 
 namespace {
 
 using namespace acdf;
 using namespace acdf::envmaptest;
+using test_support::chiSquareTestLevel;
 
 // Every strategy on the generated maps, the table strategies on the real ones (uniform-sphere
 // sampling ignores the map); compensated with its own table (the default of
 // LightChiSquareOptions: its complete one is the adaptive table).
 constexpr auto& kAllStrategies = kEnvironmentSamplings;
 const char* const kGeneratedMaps[] = {"one_lit_pixel_100x10", "constant_100x100", "tiny_3x2", "sun_and_sky_4096x2048"};
-
-// Every (map, strategy) pair below runs one test: the Šidák correction covers them all.
-constexpr uint32_t kChiSquareTestsInSuite =
-    std::size(kGeneratedMaps) * std::size(kAllStrategies) + std::size(kSharedEnvmaps) * std::size(kTableStrategies);
 
 // A test-name part: "uniform-sphere" → "uniform_sphere".
 std::string identifier(EnvironmentSampling strategy) {
@@ -53,7 +50,7 @@ std::shared_ptr<const EnvironmentMap> generatedMap(const std::string& name) {
 
 void expectPasses(const EnvironmentLight& light, const std::string& what) {
   LightChiSquareOptions options;
-  options.alpha = sidakAlpha(0.01, kChiSquareTestsInSuite);
+  options.alpha = chiSquareTestLevel();
   const SphereChiSquareReport report = lightChiSquareTest(light, options);
   std::cout << what << ": " << report.summary() << "\n";
   EXPECT_TRUE(report.passed()) << what << ": " << report.summary();
@@ -62,7 +59,7 @@ void expectPasses(const EnvironmentLight& light, const std::string& what) {
 
 class Generated : public ::testing::TestWithParam<std::tuple<const char*, EnvironmentSampling>> {};
 
-TEST_P(Generated, SamplerMatchesItsPdf) {
+ACDF_CHI_SQUARE_TEST_P(Generated, SamplerMatchesItsPdf, 1) {
   const auto [name, strategy] = GetParam();
   const EnvironmentLight light(generatedMap(name), {.strategy = strategy});
   expectPasses(light, std::string(name) + " " + std::string(toString(strategy)));
@@ -76,7 +73,7 @@ INSTANTIATE_TEST_SUITE_P(Maps, Generated,
 
 class Shared : public ::testing::TestWithParam<std::tuple<const char*, EnvironmentSampling>> {};
 
-TEST_P(Shared, SamplerMatchesItsPdf) {
+ACDF_CHI_SQUARE_TEST_P(Shared, SamplerMatchesItsPdf, 1) {
   ACDF_SKIP_WITHOUT_SHARED_ENVMAPS();
   const auto [name, strategy] = GetParam();
   const auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(sharedEnvmap(name)));
@@ -94,11 +91,12 @@ INSTANTIATE_TEST_SUITE_P(RealMaps, Shared,
 
 // The test can fail: a light whose sample() and pdf() disagree (its pdf is another map's) is
 // rejected.
-TEST(ChiSquareHarness, RejectsASamplerThatDoesNotMatchItsPdf) {
+ACDF_CHI_SQUARE_TEST(ChiSquareHarness, RejectsASamplerThatDoesNotMatchItsPdf, 1) {
   const auto skewed = makeMap(64, 32, [](uint32_t r, uint32_t c) { return Rgb{1.0f + r + c, 1, 1}; });
   const EnvironmentLight sampled(skewed, {.strategy = EnvironmentSampling::Uniform});
   const EnvironmentLight other(constantMap(64, 32), {.strategy = EnvironmentSampling::Uniform});
   SphereChiSquareOptions o;
+  o.alpha = chiSquareTestLevel();
   o.samples = 200'000;
   o.thetaBins = 32;
   o.phiBins = 64;

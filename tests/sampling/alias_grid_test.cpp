@@ -25,16 +25,6 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// Chi-square tests in this program: 2 shapes × 5 fixtures + 1 domain + 1 within cells + 1 4D
-// + 1 large grid.
-constexpr uint32_t kChiSquareTestsInSuite = 14;
-
-ChiSquareOptions chi2Options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
-
 const std::vector<uint32_t> k2D = {64, 32};
 const std::vector<uint32_t> k3D = {16, 8, 12};
 
@@ -50,8 +40,8 @@ class AliasGridTest : public ::testing::TestWithParam<Param> {
   }
 };
 
-TEST_P(AliasGridTest, ChiSquare) {
-  const ChiSquareReport r = runChiSquare(sampler(), chi2Options());
+ACDF_CHI_SQUARE_TEST_P(AliasGridTest, ChiSquare, 1) {
+  const ChiSquareReport r = runChiSquare(sampler(), ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -78,12 +68,12 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, AliasGridTest,
                                   toString(std::get<1>(info.param));
                          });
 
-TEST(AliasGrid, SphericalDomain) {
+ACDF_CHI_SQUARE_TEST(AliasGrid, SphericalDomain, 1) {
   constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
   const auto v = makeFixture(Fixture::Random, k2D);
   const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
   const Sampler s = makeAliasGrid(v, axes);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   // A constant function has density 1/(2π·π).
@@ -92,24 +82,24 @@ TEST(AliasGrid, SphericalDomain) {
   EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
 }
 
-TEST(AliasGrid, PositionsAreUniformWithinCells) {
+ACDF_CHI_SQUARE_TEST(AliasGrid, PositionsAreUniformWithinCells, 1) {
   // Bins halving every cell along both axes: axis 0's position comes from the cell variate's
   // unused fraction, axis 1's from u[1]; both must be uniform inside the cell.
   const std::vector<uint32_t> dims = {32, 16};
   const auto v = makeFixture(Fixture::Random, dims);
   const Sampler s = makeAliasGrid(v, unitAxes(dims));
-  ChiSquareOptions o = chi2Options();
+  ChiSquareOptions o;
   o.bins = {64, 32};
   const ChiSquareReport r = runChiSquare(s, o);
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
 
-TEST(AliasGrid, FourDimensions) {
+ACDF_CHI_SQUARE_TEST(AliasGrid, FourDimensions, 1) {
   const std::vector<uint32_t> dims = {8, 4, 8, 4};
   const auto v = makeFixture(Fixture::ZerosWithIslands, dims);
   const Sampler s = makeAliasGrid(v, unitAxes(dims));
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   const auto q = s.cellProbabilities();
@@ -120,7 +110,7 @@ TEST(AliasGrid, FourDimensions) {
 // 2048 × 1024 cells leave a float variate 3 bits for the acceptance test when it also picks the
 // slot: cells' probabilities were off by up to 33% and this test rejected it (p ~ 1e-19). The
 // acceptance now comes from u[1].
-TEST(AliasGrid, LargeGridCellProbabilitiesAreExact) {
+ACDF_CHI_SQUARE_TEST(AliasGrid, LargeGridCellProbabilitiesAreExact, 1) {
   const std::vector<uint32_t> dims = {2048, 1024};
   const auto v = makeFixture(Fixture::Random, dims);
   const AliasGrid grid(v, unitAxes(dims));
@@ -135,7 +125,7 @@ TEST(AliasGrid, LargeGridCellProbabilitiesAreExact) {
   const double total = std::accumulate(v.begin(), v.end(), 0.0);
   for (std::size_t i = 0; i < v.size(); ++i) expected[i] = kSamples * v[i] / total;
   const ChiSquareResult r = chiSquareTest(observed, expected);
-  EXPECT_GT(r.pvalue, sidakAlpha(0.01, kChiSquareTestsInSuite)) << "chi2 " << r.statistic << " dof " << r.dof;
+  EXPECT_GT(r.pvalue, chiSquareTestLevel()) << "chi2 " << r.statistic << " dof " << r.dof;
 }
 
 TEST(AliasGrid, RejectsMoreCellsThanAVariateReaches) {

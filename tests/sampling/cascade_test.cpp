@@ -34,16 +34,6 @@ using namespace acdf;
 using namespace acdf::test_support;
 using DM = DimensionMethod;
 
-// runChiSquare calls in this program: 2D 10 + 3D 10 + 4D 10 + options 11 + domains 2 + within
-// cells 1 + wide indices 1 + unconditioned 4D 1 + slice grouping 1.
-constexpr uint32_t kChiSquareTestsInSuite = 49;
-
-ChiSquareOptions chi2Options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
-
 const std::vector<uint32_t> k2D = {64, 32};
 const std::vector<uint32_t> k3D = {16, 8, 12};
 const std::vector<uint32_t> k4D = {8, 4, 32, 16};  // 8×4 conditioning × 32×16 sampled
@@ -85,8 +75,8 @@ class CascadeFixtures : public ::testing::TestWithParam<ShapeParam> {
   }
 };
 
-TEST_P(CascadeFixtures, ChiSquare) {
-  const ChiSquareReport r = runChiSquare(sampler(), chi2Options());
+ACDF_CHI_SQUARE_TEST_P(CascadeFixtures, ChiSquare, 1) {
+  const ChiSquareReport r = runChiSquare(sampler(), ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -151,10 +141,10 @@ class CascadeConditioned : public ::testing::TestWithParam<std::tuple<Fixture, i
   }
 };
 
-TEST_P(CascadeConditioned, ChiSquareOfTheSlice) {
+ACDF_CHI_SQUARE_TEST_P(CascadeConditioned, ChiSquareOfTheSlice, 1) {
   const Sampler s = makeCascade(cascade(), condition());
   ASSERT_EQ(s.axes.size(), 2u);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -193,12 +183,12 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, CascadeConditioned,
                                   std::to_string(std::get<1>(info.param));
                          });
 
-TEST(CascadeConditioning, FourSampledDimensionsWithoutConditioning) {
+ACDF_CHI_SQUARE_TEST(CascadeConditioning, FourSampledDimensionsWithoutConditioning, 1) {
   const std::vector<uint32_t> dims = {8, 4, 8, 4};
   const auto v = makeFixture(Fixture::Checkerboard, dims);
   const Sampler s =
       makeCascade(v, unitAxes(dims), withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive, DM::Adaptive}));
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -304,11 +294,11 @@ std::vector<Variant> variants() {
 
 class CascadeOptionsTest : public ::testing::TestWithParam<int> {};
 
-TEST_P(CascadeOptionsTest, ChiSquareAndConsistency) {
+ACDF_CHI_SQUARE_TEST_P(CascadeOptionsTest, ChiSquareAndConsistency, 1) {
   const Variant v = variants()[GetParam()];
   const auto values = makeFixture(v.fixture, k2D);
   const Sampler s = makeCascade(values, unitAxes(k2D), v.options);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r)) << v.name;
   const auto q = s.cellProbabilities();
@@ -504,12 +494,12 @@ TEST(CascadeStructure, AdaptiveLevelsCompress) {
 
 // ---- Domains ------------------------------------------------------------------------------------
 
-TEST(CascadeDomains, SphericalDomainChiSquare) {
+ACDF_CHI_SQUARE_TEST(CascadeDomains, SphericalDomainChiSquare, 1) {
   constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
   const auto v = makeFixture(Fixture::Random, k2D);
   const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
   const Sampler s = makeCascade(v, axes);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   const Cascade flat(std::vector<float>(64 * 32, 1.0f), axes);
@@ -517,23 +507,23 @@ TEST(CascadeDomains, SphericalDomainChiSquare) {
   EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
 }
 
-TEST(CascadeDomains, PositionsAreUniformWithinCells) {
+ACDF_CHI_SQUARE_TEST(CascadeDomains, PositionsAreUniformWithinCells, 1) {
   // Bins halving every cell along both axes: the position inside an interval is linear in u.
   const std::vector<uint32_t> dims = {32, 16};
   const auto v = makeFixture(Fixture::Random, dims);
   const Sampler s = makeCascade(v, unitAxes(dims));
-  ChiSquareOptions o = chi2Options();
+  ChiSquareOptions o;
   o.bins = {64, 32};
   const ChiSquareReport r = runChiSquare(s, o);
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
 
-TEST(CascadeDomains, ShiftedDomains3D) {
+ACDF_CHI_SQUARE_TEST(CascadeDomains, ShiftedDomains3D, 1) {
   const auto v = makeFixture(Fixture::Smooth, k3D);
   const std::vector<GridAxis> axes = {GridAxis(16, -3.0f, 5.0f), GridAxis(8, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
   const Sampler s = makeCascade(v, axes, withMethods({DM::Adaptive, DM::Uniform, DM::Adaptive}));
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   EXPECT_LE(worstInvertError(s, 10'000, 8), 1e-4);
@@ -541,12 +531,12 @@ TEST(CascadeDomains, ShiftedDomains3D) {
 
 // ---- Wide vertex indices and random configurations -------------------------------------------
 
-TEST(CascadeWide, AxesOver65535CellsUse32BitIndices) {
+ACDF_CHI_SQUARE_TEST(CascadeWide, AxesOver65535CellsUse32BitIndices, 1) {
   // 70000 × 3: level 0 needs 32-bit vertex indices. Chi-square on bins of 100 × 1 cells.
   const std::vector<uint32_t> dims = {70000, 3};
   const auto v = makeFixture(Fixture::ZerosWithIslands, dims);
   const Sampler s = makeCascade(v, unitAxes(dims));
-  ChiSquareOptions o = chi2Options();
+  ChiSquareOptions o;
   o.bins = {700, 3};
   o.subPoints = 1;
   const ChiSquareReport r = runChiSquare(s, o);
@@ -680,12 +670,12 @@ TEST(CascadeSliceGrouping, ZeroSlicesStayUniform) {
   EXPECT_GT(zeroSlices, 0u);
 }
 
-TEST(CascadeSliceGrouping, GroupedSliceChiSquare) {
+ACDF_CHI_SQUARE_TEST(CascadeSliceGrouping, GroupedSliceChiSquare, 1) {
   const auto v = makeFixture(Fixture::Smooth, k4D);
   const auto c = std::make_shared<const Cascade>(v, unitAxes(k4D), grouped(0.02));
   // The last slice of the first row of conditioning cells: grouped with an earlier one.
   const Sampler s = makeCascade(c, {0.05f, 0.9f});
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   EXPECT_LE(worstInvertError(s, 10'000, 12), 1e-4);

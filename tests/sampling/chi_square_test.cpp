@@ -19,15 +19,6 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// Upper bound on the runChiSquare calls in this program (for the Šidák correction).
-constexpr uint32_t kChiSquareTestsInSuite = 8;
-
-ChiSquareOptions options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
-
 // Reference values computed with mpmath (gammainc(k/2, x/2, inf, regularized=True)), 30 digits.
 struct Known {
   double x, dof, q;
@@ -147,16 +138,16 @@ struct UniformGrid {
   }
 };
 
-TEST(Harness, AcceptsTheCorrectSampler) {
+ACDF_CHI_SQUARE_TEST(Harness, AcceptsTheCorrectSampler, 1) {
   const UniformGrid g;
   const ChiSquareReport r = runChiSquare(
       g.axes, [&](std::span<const float> u) { return g.cascade.sample(u); },
-      [&](std::span<const float> x) { return g.cascade.pdf(x); }, options());
+      [&](std::span<const float> x) { return g.cascade.pdf(x); }, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
 
-TEST(Harness, RejectsAPdfPerturbedByTenPercentInFourCells) {
+ACDF_CHI_SQUARE_TEST(Harness, RejectsAPdfPerturbedByTenPercentInFourCells, 1) {
   const UniformGrid g;
   auto perturbed = [&](std::span<const float> x) {
     return static_cast<float>(g.cascade.pdf(x) * UniformGrid::factor(cellIndex(g.axes, x)));
@@ -170,7 +161,7 @@ TEST(Harness, RejectsAPdfPerturbedByTenPercentInFourCells) {
         s.pdf = perturbed(std::span<const float>(s.x.data(), 2));
         return s;
       },
-      perturbed, options());
+      perturbed, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(r.samplesValid()) << r.summary();
   EXPECT_TRUE(r.integralValid()) << r.summary();
@@ -178,7 +169,7 @@ TEST(Harness, RejectsAPdfPerturbedByTenPercentInFourCells) {
   EXPECT_FALSE(r.passed());
 }
 
-TEST(Harness, RejectsASamplerThatDrawsFromTheWrongDistribution) {
+ACDF_CHI_SQUARE_TEST(Harness, RejectsASamplerThatDrawsFromTheWrongDistribution, 1) {
   // Samples come from a 1D table where 3 of 64 cells are 10% heavier; the pdf is the true one.
   std::vector<float> truth(64, 1.0f), wrong(64, 1.0f);
   wrong[5] = wrong[30] = wrong[31] = 1.1f;
@@ -191,16 +182,16 @@ TEST(Harness, RejectsASamplerThatDrawsFromTheWrongDistribution) {
         s.pdf = t.pdf(s.x);
         return s;
       },
-      [&](float x) { return t.pdf(x); }, options());
+      [&](float x) { return t.pdf(x); }, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(r.samplesValid()) << r.summary();
   EXPECT_FALSE(r.chiSquarePassed()) << r.summary();
 }
 
-TEST(Harness, RejectsInvalidSamples) {
+ACDF_CHI_SQUARE_TEST(Harness, RejectsInvalidSamples, 2) {
   const PiecewiseConstant1D t(std::vector<float>(64, 1.0f));
   const std::vector<GridAxis> axes = {t.axis()};
-  ChiSquareOptions o = options();
+  ChiSquareOptions o;
   o.samples = 1'000'000;
 
   // Returned pdf off by 1e-4 relative: the per-sample check catches it.
@@ -248,13 +239,13 @@ TEST(Harness, RejectsInvalidSamples) {
   EXPECT_FALSE(scaled.integralValid()) << scaled.summary();
 }
 
-TEST(Harness, BinsCanBeUnionsOrSubdivisionsOfCells) {
+ACDF_CHI_SQUARE_TEST(Harness, BinsCanBeUnionsOrSubdivisionsOfCells, 2) {
   // A uniform table sampled correctly passes with coarse and fine bins; a sampler that only uses
   // the left half of every cell passes with cell bins (it cannot see inside cells) but fails
   // with bins that subdivide cells.
   const PiecewiseConstant1D t(std::vector<float>(50, 1.0f));
   const std::vector<GridAxis> axes = {t.axis()};
-  ChiSquareOptions coarse = options(), fine = options();
+  ChiSquareOptions coarse, fine;
   coarse.bins = {10};
   fine.bins = {200};
   auto good = [&](float u) { return t.sample(u); };

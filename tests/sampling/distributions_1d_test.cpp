@@ -25,16 +25,7 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program: 15 (kind × fixture) + 3 (domain) + 8 (adaptive options)
-// + 3 (within cells).
-constexpr uint32_t kChiSquareTestsInSuite = 29;
 constexpr uint32_t kCells = 1000;
-
-ChiSquareOptions chi2Options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
 
 std::vector<float> fixture1D(Fixture f, uint32_t n = kCells) {
   const uint32_t dims[] = {n};
@@ -60,9 +51,9 @@ std::string paramName(const ::testing::TestParamInfo<Param>& info) {
   return toString(std::get<0>(info.param)) + "_" + toString(std::get<1>(info.param));
 }
 
-TEST_P(Distribution1D, ChiSquare) {
+ACDF_CHI_SQUARE_TEST_P(Distribution1D, ChiSquare, 1) {
   const Sampler s = sampler();
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -136,12 +127,12 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, Exact1D,
 
 class OtherDomain1D : public ::testing::TestWithParam<Kind1D> {};
 
-TEST_P(OtherDomain1D, ChiSquareOnMinus3To5) {
+ACDF_CHI_SQUARE_TEST_P(OtherDomain1D, ChiSquareOnMinus3To5, 1) {
   const auto v = fixture1D(Fixture::Random, 800);
   const Sampler s = make1D(GetParam(), v, -3.0f, 5.0f);
   EXPECT_EQ(s.axes[0].lo(), -3.0f);
   EXPECT_EQ(s.axes[0].hi(), 5.0f);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   // The density is w.r.t. length on [-3, 5): a uniform function has pdf 1/8.
@@ -150,12 +141,12 @@ TEST_P(OtherDomain1D, ChiSquareOnMinus3To5) {
   for (float x : {-2.99f, -1.0f, 0.0f, 4.99f}) EXPECT_NEAR(u.pdf(std::span<const float>(&x, 1)), 0.125f, 1e-7f);
 }
 
-TEST_P(OtherDomain1D, PositionsAreUniformWithinCells) {
+ACDF_CHI_SQUARE_TEST_P(OtherDomain1D, PositionsAreUniformWithinCells, 1) {
   // Bins subdividing every cell in 4: the position inside the chosen cell (the alias table
   // reuses the variate's unused fraction) must be uniform too.
   const auto v = fixture1D(Fixture::Random, 250);
   const Sampler s = make1D(GetParam(), v, -3.0f, 5.0f);
-  ChiSquareOptions o = chi2Options();
+  ChiSquareOptions o;
   o.bins = {1000};
   const ChiSquareReport r = runChiSquare(s, o);
   recordReport(r);
@@ -194,11 +185,11 @@ std::vector<AdaptiveVariant> adaptiveVariants() {
 
 class AdaptiveOptions1D : public ::testing::TestWithParam<std::tuple<int, Fixture>> {};
 
-TEST_P(AdaptiveOptions1D, ChiSquare) {
+ACDF_CHI_SQUARE_TEST_P(AdaptiveOptions1D, ChiSquare, 1) {
   const AdaptiveVariant variant = adaptiveVariants()[std::get<0>(GetParam())];
   const auto v = fixture1D(std::get<1>(GetParam()));
   const Sampler s = make1D(Kind1D::Adaptive, v, 0.0f, 1.0f, variant.options);
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r)) << variant.name;
 }

@@ -26,15 +26,6 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program: 4 shapes × 5 fixtures + zero rows + domain + within cells.
-constexpr uint32_t kChiSquareTestsInSuite = 23;
-
-ChiSquareOptions chi2Options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
-
 // rows × columns: a power of two, odd sizes on both axes (levels with missing children), a single
 // row, and a tall one-column-wide grid.
 const std::vector<std::vector<uint32_t>> kShapes = {{32, 64}, {23, 37}, {1, 50}, {45, 3}};
@@ -48,8 +39,8 @@ class HierarchicalWarpTest : public ::testing::TestWithParam<Param> {
   Sampler sampler() const { return makeHierarchicalWarp(values(), unitAxes(dims())); }
 };
 
-TEST_P(HierarchicalWarpTest, ChiSquare) {
-  const ChiSquareReport r = runChiSquare(sampler(), chi2Options());
+ACDF_CHI_SQUARE_TEST_P(HierarchicalWarpTest, ChiSquare, 1) {
+  const ChiSquareReport r = runChiSquare(sampler(), ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -84,14 +75,14 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, HierarchicalWarpTest,
 
 // Rows 0–3, row 17 and the last row, and columns 5 and 6, are zero: whole subtrees of the pyramid
 // without mass, next to odd edges.
-TEST(HierarchicalWarp, ZeroRowsAndColumns) {
+ACDF_CHI_SQUARE_TEST(HierarchicalWarp, ZeroRowsAndColumns, 1) {
   const std::vector<uint32_t> dims = {41, 30};
   std::vector<float> v = makeFixture(Fixture::Random, dims);
   for (uint32_t r = 0; r < dims[0]; ++r)
     for (uint32_t c = 0; c < dims[1]; ++c)
       if (r < 4 || r == 17 || r == 40 || c == 5 || c == 6) v[r * dims[1] + c] = 0.0f;
   const Sampler s = makeHierarchicalWarp(v, unitAxes(dims));
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   EXPECT_TRUE(checkSamples(s, 100'000, 0.0).samplesValid());
@@ -102,12 +93,12 @@ TEST(HierarchicalWarp, ZeroRowsAndColumns) {
   }
 }
 
-TEST(HierarchicalWarp, SphericalDomain) {
+ACDF_CHI_SQUARE_TEST(HierarchicalWarp, SphericalDomain, 1) {
   constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
   const std::vector<uint32_t> dims = {24, 48};
   const auto v = makeFixture(Fixture::PeakedSun, dims);
   const Sampler s = makeHierarchicalWarp(v, {GridAxis(24, 0.0f, kPi), GridAxis(48, 0.0f, kTwoPi)});
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   const HierarchicalWarp2D flat(std::vector<float>(24 * 48, 1.0f),
@@ -118,10 +109,10 @@ TEST(HierarchicalWarp, SphericalDomain) {
 
 // Bins halving every cell on both axes: the variates' remainders place the sample uniformly
 // inside its cell.
-TEST(HierarchicalWarp, PositionsAreUniformWithinCells) {
+ACDF_CHI_SQUARE_TEST(HierarchicalWarp, PositionsAreUniformWithinCells, 1) {
   const std::vector<uint32_t> dims = {17, 32};
   const Sampler s = makeHierarchicalWarp(makeFixture(Fixture::Random, dims), unitAxes(dims));
-  ChiSquareOptions o = chi2Options();
+  ChiSquareOptions o;
   o.bins = {34, 64};
   const ChiSquareReport r = runChiSquare(s, o);
   recordReport(r);

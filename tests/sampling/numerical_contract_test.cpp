@@ -33,15 +33,6 @@ using namespace acdf;
 using namespace acdf::test_support;
 using DM = DimensionMethod;
 
-// runChiSquare calls in this program: dynamic range 5 + uniform fallback 1.
-constexpr uint32_t kChiSquareTestsInSuite = 6;
-
-ChiSquareOptions chi2Options() {
-  ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
-  return o;
-}
-
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
@@ -179,10 +170,10 @@ TEST(AllZero, IsAUniformFallback) {
   }
 }
 
-TEST(AllZero, UniformFallbackPassesChiSquare) {
+ACDF_CHI_SQUARE_TEST(AllZero, UniformFallbackPassesChiSquare, 1) {
   const std::vector<float> zeros(64 * 32, 0.0f);
   const Sampler s = makeCascade(zeros, unitAxes(std::vector<uint32_t>{64, 32}));
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
 }
@@ -256,13 +247,13 @@ std::vector<float> dynamicRange(std::size_t n) {
 
 class DynamicRange : public ::testing::TestWithParam<Class> {};
 
-TEST_P(DynamicRange, ChiSquareAndContract) {
+ACDF_CHI_SQUARE_TEST_P(DynamicRange, ChiSquareAndContract, 1) {
   const Class c = GetParam();
   const std::vector<uint32_t> dims = is1D(c) ? std::vector<uint32_t>{1000} : std::vector<uint32_t>{64, 32};
   const auto v = dynamicRange(fixtures::cellCount(dims));
   const Sampler s = build(c, v, dims);
   EXPECT_FALSE(s.uniformFallback());
-  const ChiSquareReport r = runChiSquare(s, chi2Options());
+  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
   recordReport(r);
   EXPECT_TRUE(Passed(r));
   const ChiSquareReport corners = checkSamples(s, 10'000);

@@ -21,9 +21,6 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program.
-constexpr uint32_t kChiSquareTestsInSuite = 1;
-
 constexpr uint32_t kWidth = 1024, kHeight = 512;
 
 struct SunAndSky {
@@ -77,11 +74,10 @@ TEST(Quality, AdaptiveSunAndSkyIsSmallAndClose) {
   for (std::size_t i = 0; i < cells.size(); ++i) ASSERT_NEAR(fromPdf[i], cells[i], 2e-6 * cells[i] + 1e-30) << i;
 }
 
-TEST(Quality, AdaptiveSunAndSkyPassesChiSquare) {
+ACDF_CHI_SQUARE_TEST(Quality, AdaptiveSunAndSkyPassesChiSquare, 1) {
   const SunAndSky& s = sky();
   const Sampler sampler = makeCascade(s.values, s.axes);
   ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
   o.bins = {64, 64};  // 8 × 16 cells per bin
   o.subPoints = 1;
   const ChiSquareReport r = runChiSquare(sampler, o);

@@ -21,7 +21,6 @@ using test_support::ChiSquareOptions;
 using test_support::makeCascade;
 using test_support::runChiSquare;
 
-constexpr uint32_t kChiSquareTestsInSuite = 4;
 constexpr uint32_t kCondA = 4, kCondB = 4, kRows = 32, kCols = 16;
 constexpr std::size_t kSliceCells = kRows * kCols;
 
@@ -111,15 +110,14 @@ TEST(SliceGrouping, NeverGroupsOverMassTheGroupCannotReach) {
   }
 }
 
-TEST(SliceGrouping, GroupedSlicesPassChiSquare) {
+ACDF_CHI_SQUARE_TEST(SliceGrouping, GroupedSlicesPassChiSquare, 4) {
   // Slightly different slices grouped under a loose tolerance: each slice still samples exactly
   // the distribution its pdf() reports.
   const auto values =
       slices([](std::size_t s, uint32_t r, uint32_t c) { return peak(r, c, 10.0 + 0.05 * static_cast<double>(s), 5); });
   auto grouped = std::make_shared<const Cascade>(values, axes(), grouping(0.05));
   ASSERT_LT(grouped->distinctSlices(), grouped->slices());
-  ChiSquareOptions options;
-  options.testsInProgram = kChiSquareTestsInSuite;
+  const ChiSquareOptions options;
   for (std::size_t s : {std::size_t{0}, std::size_t{5}, std::size_t{10}, std::size_t{15}}) {
     const auto sampler = makeCascade(grouped, conditionOf(s));
     const auto report = runChiSquare(sampler.axes, sampler.sample, sampler.pdf, options);

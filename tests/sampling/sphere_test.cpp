@@ -11,17 +11,17 @@
 #include <vector>
 
 #include "acdf/sampling/sample.h"
+#include "acdf/test_support/chi_square_registry.h"
 
 namespace {
 
 using namespace acdf;
+using test_support::chiSquareTestLevel;
 
-// Upper bound on the sphereChiSquareTest calls in this program (for the Šidák correction).
-constexpr uint32_t kChiSquareTestsInSuite = 10;
-
+// The options of one chi-square test whose verdict is checked: its level in this program's family.
 SphereChiSquareOptions options() {
   SphereChiSquareOptions o;
-  o.alpha = sidakAlpha(0.01, kChiSquareTestsInSuite);
+  o.alpha = chiSquareTestLevel();
   return o;
 }
 
@@ -70,13 +70,13 @@ TEST(Sphere, CosineHemisphereStaysAboveTheHorizonAtTheExtremeVariates) {
   EXPECT_GT(sampleCosineHemisphere(1.0, 0.5).z, 0.0);  // even u0 = 1 in double
 }
 
-TEST(SphereChiSquare, UniformSpherePasses) {
+ACDF_CHI_SQUARE_TEST(SphereChiSquare, UniformSpherePasses, 1) {
   const SphereChiSquareReport r = sphereChiSquareTest(uniformSphere, uniformSpherePdf, options());
   EXPECT_TRUE(r.passed()) << r.summary();
   EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-12) << "exact for a constant pdf";
 }
 
-TEST(SphereChiSquare, CosineHemispherePasses) {
+ACDF_CHI_SQUARE_TEST(SphereChiSquare, CosineHemispherePasses, 1) {
   SphereChiSquareOptions o = options();
   o.subPoints = 16;
   const SphereChiSquareReport r = sphereChiSquareTest(cosineHemisphere, cosinePdf, o);
@@ -84,15 +84,16 @@ TEST(SphereChiSquare, CosineHemispherePasses) {
   EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-5);
 }
 
+// Only the statistic is compared, no verdict: not in the family.
 TEST(SphereChiSquare, ResultDoesNotDependOnThreadsOrRuns) {
-  SphereChiSquareOptions o = options();
+  SphereChiSquareOptions o;
   o.samples = 300'000;
   const auto a = sphereChiSquareTest(cosineHemisphere, cosinePdf, o);
   const auto b = sphereChiSquareTest(cosineHemisphere, cosinePdf, o);
   EXPECT_EQ(a.chi2.statistic, b.chi2.statistic);
 }
 
-TEST(SphereChiSquare, RejectsSamplesDrawnFromAnotherDistribution) {
+ACDF_CHI_SQUARE_TEST(SphereChiSquare, RejectsSamplesDrawnFromAnotherDistribution, 1) {
   const auto wrong = sphereChiSquareTest(
       [](float u0, float u1) {
         // Uniform on the upper hemisphere, reported with its true pdf, tested against cosθ/π.
@@ -103,7 +104,7 @@ TEST(SphereChiSquare, RejectsSamplesDrawnFromAnotherDistribution) {
   EXPECT_FALSE(wrong.chiSquarePassed()) << wrong.summary();
 }
 
-TEST(SphereChiSquare, RejectsASlightlyWrongPdf) {
+ACDF_CHI_SQUARE_TEST(SphereChiSquare, RejectsASlightlyWrongPdf, 1) {
   // Cosine samples against a pdf 5% too high for θ < 30° and renormalised elsewhere.
   const double cos30 = std::cos(std::numbers::pi / 6);
   const double inside = 1.0 - cos30 * cos30;  // cosine mass within 30° of the pole
@@ -122,8 +123,9 @@ TEST(SphereChiSquare, RejectsASlightlyWrongPdf) {
   EXPECT_FALSE(r.chiSquarePassed()) << r.summary();
 }
 
+// The per-sample checks fail whatever the level: not in the family.
 TEST(SphereChiSquare, CountsInconsistentPdfsAndInvalidSamples) {
-  SphereChiSquareOptions o = options();
+  SphereChiSquareOptions o;
   o.samples = 10'000;
   const auto mismatched = sphereChiSquareTest(
       [](float u0, float u1) {
@@ -151,7 +153,7 @@ TEST(SphereChiSquare, CountsInconsistentPdfsAndInvalidSamples) {
   EXPECT_EQ(zeroPdf.invalidSamples, o.samples + 4);
 }
 
-TEST(SphereChiSquare, EqualAreaRowsAndCallerProbabilities) {
+ACDF_CHI_SQUARE_TEST(SphereChiSquare, EqualAreaRowsAndCallerProbabilities, 2) {
   SphereChiSquareOptions o = options();
   o.equalAreaRows = true;
   o.thetaBins = 16;
@@ -165,6 +167,7 @@ TEST(SphereChiSquare, EqualAreaRowsAndCallerProbabilities) {
   EXPECT_EQ(sphereBinOf({0, 0, -1}, o), std::size_t{15} * 32);
   EXPECT_EQ(sphereBinOf(sphericalDirection(std::acos(1.0 - 2.0 * 1.5 / 16), 0.1), o), std::size_t{1} * 32);
   // The same samples against probabilities tilted towards the north pole are rejected.
+  o.alpha = chiSquareTestLevel();
   std::vector<double> tilted(equal);
   for (std::size_t b = 0; b < tilted.size(); ++b) tilted[b] *= b < tilted.size() / 2 ? 1.02 : 0.98;
   EXPECT_FALSE(sphereChiSquareTest(uniformSphere, uniformSpherePdf, tilted, o).chiSquarePassed());

@@ -165,7 +165,7 @@ ChiSquareReport runChiSquare(std::span<const GridAxis> axes, const SampleFn& sam
   for (const BinAxis& b : bins) binCount *= b.bins;
 
   ChiSquareReport report;
-  report.alpha = sidakAlpha(options.familyAlpha, options.testsInProgram);
+  report.alpha = chiSquareTestLevel(options.familyAlpha);
   report.samples = options.samples;
   report.integralTolerance = options.integralTolerance;
 

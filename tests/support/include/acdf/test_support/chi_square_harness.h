@@ -7,10 +7,9 @@
 // several points per grid cell per axis — exact for pdfs constant on grid cells, and it exercises
 // pdf() everywhere), and runs acdf::chiSquareTest (pools of expected >= 5).
 //
-// Significance: each test binary declares how many chi-square tests it runs (an upper bound is
-// fine) as its kChiSquareTestsInSuite and passes it in ChiSquareOptions::testsInProgram; each test
-// then uses the Šidák level sidakAlpha(0.01, testsInProgram), so the whole program has a
-// family-wise false-failure rate of at most 1%.
+// Significance: every call is one chi-square test of the program's family and runs at the level
+// chiSquareTestLevel(familyAlpha) gives (chi_square_registry.h): the test that calls it must be
+// registered with ACDF_CHI_SQUARE_TEST / ACDF_CHI_SQUARE_TEST_P for as many calls as it makes.
 //
 // Every sample is also checked: x strictly inside (lo, hi) on every axis, returned pdf finite and
 // > 0, and |pdf(x) − returned pdf| <= pdfTolerance · returned pdf. The integral of pdf() over the
@@ -29,14 +28,14 @@
 #include "acdf/sampling/chi_square.h"
 #include "acdf/sampling/grid_axis.h"
 #include "acdf/sampling/sample.h"
+#include "acdf/test_support/chi_square_registry.h"
 
 namespace acdf::test_support {
 
 struct ChiSquareOptions {
   uint64_t samples = 1'000'000;
   uint64_t seed = 0x2545F4914F6CDD1DULL;
-  double familyAlpha = 0.01;
-  uint32_t testsInProgram = 1;  // Šidák correction over this many chi-square tests
+  double familyAlpha = 0.01;  // for the whole program's family of chi-square tests
   // Histogram bins per axis; empty = one bin per grid cell. Each entry must divide the axis' cell
   // count (bins are unions of cells) or be a multiple of it (bins subdivide cells).
   std::vector<uint32_t> bins;
