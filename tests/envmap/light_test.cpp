@@ -422,8 +422,8 @@ TEST(ZeroVariance, UniformTableDivergenceFromTheExactProbabilitiesIsTiny) {
   }
 }
 
-// The quality bar: on each real map the default adaptive table is at least 10× smaller
-// than the uniform one, for a χ²-divergence of at most 0.1.
+// The quality bar of the adaptive table: on each real map the default one is at least 10×
+// smaller than the uniform one, for a χ²-divergence of at most 0.1.
 TEST(Quality, AdaptiveTablesOfTheRealMapsAreSmallAndAccurate) {
   ACDF_SKIP_WITHOUT_SHARED_ENVMAPS();
   for (const char* name : kSharedEnvmaps) {

@@ -408,8 +408,8 @@ TEST(CascadeOptions, MassScaledToleranceMatchesAStandaloneConditional) {
   }
 }
 
-// Fails on engines that bound each 1D CDF only (b53e30a: e.g. checkerboard at ε = 0.3, ρ = 1.5);
-// the whole-cell bound landed in 2f2d0d6.
+// Fails on an engine that bounds each 1D CDF only: rows merged below an interval then give whole
+// cells less than 1/ρ of their probability (e.g. checkerboard at ε = 0.3, ρ = 1.5).
 TEST(CascadeOptions, WeightBoundHoldsForWholeCells) {
   // simplify.h: a Cascade applies ρ to whole grid cells: p(cell) / q(cell) <= ρ, where p is the
   // function's cell probability and q the cascade's, up to the float CDFs' resolution (2^-22
@@ -604,8 +604,8 @@ TEST(CascadeSliceGrouping, RejectsBadTolerances) {
     EXPECT_THROW((Cascade{v, unitAxes(k4D), grouped(bad)}), std::invalid_argument) << bad;
 }
 
-// Failed at b53e30a (the compression's own divergence counted against the tolerance); fixed in
-// 2f2d0d6.
+// Fails when grouping counts the compression's own divergence against the tolerance: identical
+// slices then stay apart.
 TEST(CascadeSliceGrouping, IdenticalSlicesShareOneDistribution) {
   // Reusing an identical slice's distribution adds no divergence at all, so any tolerance > 0
   // groups them (the adaptive compression's own divergence is not "added" by grouping).
@@ -655,7 +655,8 @@ TEST(CascadeSliceGrouping, GroupedSlicesStayWithinTheTolerance) {
   }
 }
 
-// Failed at b53e30a (an all-zero slice took the previous group's distribution); fixed in 2f2d0d6.
+// Fails when an all-zero slice joins the previous group and samples its distribution instead of
+// the uniform fallback.
 TEST(CascadeSliceGrouping, ZeroSlicesStayUniform) {
   // cascade.h: a slice with no mass samples uniformly and isUniformFallback(slice) reports it;
   // grouping must not hand such a slice another slice's distribution.
