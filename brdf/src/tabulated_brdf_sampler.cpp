@@ -12,6 +12,7 @@
 #include "acdf/brdf/coordinates.h"
 #include "acdf/brdf/half_vector.h"
 #include "acdf/sampling/sample.h"
+#include "acdf/sampling/timing.h"
 
 namespace acdf {
 
@@ -23,10 +24,6 @@ constexpr double kTwoPi = 2.0 * kPi;
 
 using Layout = TabulatedBrdfOptions::Layout;
 using Clock = std::chrono::steady_clock;
-
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 bool mirrored(const TabulatedBrdfOptions& o) { return o.layout == Layout::Isotropic && o.mirror; }
 

@@ -1,6 +1,5 @@
 #include "acdf/integrator/table_provider.h"
 
-#include <chrono>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -8,25 +7,6 @@
 #include "acdf/brdf/analytic.h"
 
 namespace acdf {
-
-namespace {
-
-// Adds the wall-clock time of its scope to a counter.
-class ScopedTimer {
- public:
-  explicit ScopedTimer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~ScopedTimer() {
-    total_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  }
-  ScopedTimer(const ScopedTimer&) = delete;
-  ScopedTimer& operator=(const ScopedTimer&) = delete;
-
- private:
-  double& total_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-}  // namespace
 
 std::string_view toString(BrdfSampling sampling) {
   switch (sampling) {
@@ -47,7 +27,6 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlFile(const std::filesystem::p
                                                         MerlBrdf::Interpolation interpolation) {
   auto& slot = merls_["file:" + path.string()];
   if (!slot) {
-    ScopedTimer timer(milliseconds_);
     slot = std::make_shared<const MerlBrdf>(MerlBrdf::load(path));
   }
   return std::make_shared<const MerlBrdf>(slot->withInterpolation(interpolation));
@@ -57,7 +36,6 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& nam
                                                           MerlBrdf::Interpolation interpolation) {
   auto& slot = merls_["preset:" + name];
   if (!slot) {
-    ScopedTimer timer(milliseconds_);
     const std::vector<double> raw = AnalyticBrdf::preset(name).merlTable();
     const std::span<const double> all(raw);
     slot = std::make_shared<const MerlBrdf>(all.subspan(0, MerlBrdf::kCells),
@@ -70,7 +48,6 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& nam
 std::shared_ptr<const EnvironmentMap> TableProvider::environmentMap(const std::filesystem::path& path) {
   auto& slot = maps_[path.string()];
   if (!slot) {
-    ScopedTimer timer(milliseconds_);
     slot = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(path.string()));
   }
   return slot;
@@ -81,7 +58,6 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
                                                               TabulatedBrdfOptions table) {
   if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(model);
   table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
-  ScopedTimer timer(milliseconds_);
   // The cache key covers the model's values and every option that shapes the table; the defensive
   // mixture weight is applied at sample time, so it only tells samplers apart.
   const CacheKey tableKey = TabulatedBrdfSampler::tableKey(*model, table);
@@ -107,7 +83,6 @@ std::shared_ptr<const EnvironmentTable> TableProvider::environmentTable(
     const SimplifyOptions& simplify) {
   if (strategy == EnvironmentSampling::UniformSphere || map->isBlack())
     return std::make_shared<const EnvironmentTable>(map, strategy, simplify);
-  ScopedTimer timer(milliseconds_);
   auto& slot = environmentTables_[EnvironmentTable::key(*map, strategy, simplify).hex()];
   if (!slot) {
     const std::string what = fmt::format("envmap {} {}", toString(strategy), mapKey);

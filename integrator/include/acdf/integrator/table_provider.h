@@ -54,11 +54,9 @@ class TableProvider {
                                                            const std::string& mapKey, EnvironmentSampling strategy,
                                                            const SimplifyOptions& simplify);
 
-  // Names of the tables built, and read from the cache, so far, in order; how long all requests
-  // took (ms).
+  // Names of the tables built, and read from the cache, so far, in order.
   const std::vector<std::string>& tablesBuilt() const { return built_; }
   const std::vector<std::string>& tablesFromCache() const { return fromCache_; }
-  double milliseconds() const { return milliseconds_; }
 
  private:
   void record(const std::string& table, bool fromCache) { (fromCache ? fromCache_ : built_).push_back(table); }
@@ -69,7 +67,6 @@ class TableProvider {
   std::map<std::string, std::shared_ptr<const BrdfSampler>> brdfSamplers_;
   std::map<std::string, std::shared_ptr<const EnvironmentTable>> environmentTables_;
   std::vector<std::string> built_, fromCache_;
-  double milliseconds_ = 0;
 };
 
 }  // namespace acdf
