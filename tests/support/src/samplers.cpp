@@ -38,6 +38,24 @@ Sampler wrap1D(std::shared_ptr<const T> d, std::string name) {
   return s;
 }
 
+// The unconditioned N-D classes (AliasGrid, HierarchicalWarp2D): every axis sampled.
+template <class T>
+Sampler wrapGrid(std::shared_ptr<const T> d, std::string name) {
+  Sampler s;
+  s.name = std::move(name);
+  s.axes = d->axes();
+  s.sample = [d](std::span<const float> u) { return d->sample(u); };
+  s.pdf = [d](std::span<const float> x) { return d->pdf(x); };
+  if constexpr (requires(std::span<const float> x, std::span<float> u) { d->invert(x, u); }) {
+    s.invert = [d](std::span<const float> x, std::span<float> u) { d->invert(x, u); };
+  }
+  s.uniformFallback = [d] { return d->isUniformFallback(); };
+  s.cellProbabilities = [d] { return d->cellProbabilities(); };
+  s.bytes = [d] { return d->bytes(); };
+  s.object = d;
+  return s;
+}
+
 }  // namespace
 
 std::string toString(Kind1D kind) {
@@ -61,17 +79,7 @@ Sampler make1D(Kind1D kind, std::span<const float> values, float lo, float hi, c
 }
 
 Sampler makeAliasGrid(std::span<const float> values, std::vector<GridAxis> axes) {
-  auto d = std::make_shared<const AliasGrid>(values, std::move(axes));
-  Sampler s;
-  s.name = "AliasGrid";
-  s.axes = d->axes();
-  s.sample = [d](std::span<const float> u) { return d->sample(u); };
-  s.pdf = [d](std::span<const float> x) { return d->pdf(x); };
-  s.uniformFallback = [d] { return d->isUniformFallback(); };
-  s.cellProbabilities = [d] { return d->cellProbabilities(); };
-  s.bytes = [d] { return d->bytes(); };
-  s.object = d;
-  return s;
+  return wrapGrid(std::make_shared<const AliasGrid>(values, std::move(axes)), "AliasGrid");
 }
 
 Sampler makeCascade(std::shared_ptr<const Cascade> d, std::vector<float> condition) {
@@ -96,18 +104,7 @@ Sampler makeCascade(std::span<const float> values, std::vector<GridAxis> axes, C
 }
 
 Sampler makeHierarchicalWarp(std::span<const float> values, std::vector<GridAxis> axes) {
-  auto d = std::make_shared<const HierarchicalWarp2D>(values, std::move(axes));
-  Sampler s;
-  s.name = "HierarchicalWarp2D";
-  s.axes = d->axes();
-  s.sample = [d](std::span<const float> u) { return d->sample(u); };
-  s.pdf = [d](std::span<const float> x) { return d->pdf(x); };
-  s.invert = [d](std::span<const float> x, std::span<float> u) { d->invert(x, u); };
-  s.uniformFallback = [d] { return d->isUniformFallback(); };
-  s.cellProbabilities = [d] { return d->cellProbabilities(); };
-  s.bytes = [d] { return d->bytes(); };
-  s.object = d;
-  return s;
+  return wrapGrid(std::make_shared<const HierarchicalWarp2D>(values, std::move(axes)), "HierarchicalWarp2D");
 }
 
 std::string toString(Fixture fixture) {
