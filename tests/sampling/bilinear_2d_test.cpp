@@ -34,10 +34,6 @@ namespace {
 using namespace acdf;
 using namespace acdf::test_support;
 
-// runChiSquare calls in this program: 7 unconditioned fixtures + 6 parameter points + 1
-// one-value parameter + 1 adversarial magnitudes.
-constexpr uint32_t kChiSquareTestsInSuite = 15;
-
 // Sanitizer builds hunt memory errors, not statistics: a quarter of the samples (still about 160
 // expected per bin on the largest histogram).
 #ifdef ACDF_SANITIZED_BUILD
@@ -51,7 +47,6 @@ constexpr uint64_t kChiSquareSamples = 1'000'000;
 // cell-sized bins would never see.
 ChiSquareOptions chi2Options(const Bilinear2D& d) {
   ChiSquareOptions o;
-  o.testsInProgram = kChiSquareTestsInSuite;
   o.samples = kChiSquareSamples;
   o.bins = {4 * (d.rows() - 1), 4 * (d.columns() - 1)};
   return o;
@@ -309,7 +304,7 @@ void PrintTo(Case c, std::ostream* os) { *os << caseName(c); }  // gtest names
 
 class Bilinear2DCaseTest : public ::testing::TestWithParam<Case> {};
 
-TEST_P(Bilinear2DCaseTest, ChiSquare) {
+ACDF_CHI_SQUARE_TEST_P(Bilinear2DCaseTest, ChiSquare, 1) {
   const auto d = caseTable(GetParam()).build();
   const ChiSquareReport r = runChiSquare(makeSampler(d), chi2Options(*d));
   recordReport(r);
@@ -428,7 +423,7 @@ void PrintTo(const ParameterPoint& p, std::ostream* os) { *os << p.name; }
 
 class Bilinear2DParameterTest : public ::testing::TestWithParam<ParameterPoint> {};
 
-TEST_P(Bilinear2DParameterTest, ChiSquare) {
+ACDF_CHI_SQUARE_TEST_P(Bilinear2DParameterTest, ChiSquare, 1) {
   const auto d = parameterTable().build();
   const ChiSquareReport r = runChiSquare(makeSampler(d, GetParam().params), chi2Options(*d));
   recordReport(r);
@@ -493,7 +488,7 @@ TEST(Bilinear2D, ParametersOutsideTheirRange) {
 }
 
 // The RGL isotropic layout: φi has one value, θi several.
-TEST(Bilinear2D, OneValueParameter) {
+ACDF_CHI_SQUARE_TEST(Bilinear2D, OneValueParameter, 1) {
   Table t = parameterTable();
   const std::vector<float> theta = t.parameters[1];
   t.parameters = {{0.0f}, theta};
@@ -514,7 +509,7 @@ TEST(Bilinear2D, OneValueParameter) {
 // (denormals, 1e-30: cells 1e-60 of the mass): every sample valid, ∫pdf = 1, pdf > 0 wherever a
 // vertex of the cell is positive, and every such cell reachable — variates within a few ulps of
 // what invert() gives for a point in the cell sample into it.
-TEST(Bilinear2D, AdversarialMagnitudes) {
+ACDF_CHI_SQUARE_TEST(Bilinear2D, AdversarialMagnitudes, 1) {
   constexpr uint32_t rows = 8, columns = 10;
   std::vector<float> v(rows * columns);
   for (uint32_t r = 0; r < rows; ++r)

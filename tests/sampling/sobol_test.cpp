@@ -20,14 +20,11 @@
 #include "acdf/sampling/chi_square.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/sample.h"
+#include "acdf/test_support/chi_square_registry.h"
 
 namespace {
 
 using namespace acdf;
-
-// chiSquareTest calls in this program (for the Šidák correction): 3 (one sequence) + 6 (over
-// seeds).
-constexpr uint32_t kChiSquareTestsInSuite = 9;
 
 using Point2 = std::array<float, 2>;
 using Sequence2D = std::function<Point2(uint32_t index)>;
@@ -252,25 +249,24 @@ TEST(SobolRange, UnscrambledStartsAtZero) {
 
 // ---- Uniformity --------------------------------------------------------------------------------
 
-double alpha() { return sidakAlpha(0.01, kChiSquareTestsInSuite); }
-
 // Pearson's test of counts in `bins` equal bins against the uniform distribution.
 ::testing::AssertionResult uniform(const std::vector<double>& observed) {
   double n = 0;
   for (double o : observed) n += o;
   const std::vector<double> expected(observed.size(), n / double(observed.size()));
   const ChiSquareResult r = chiSquareTest(observed, expected);
+  const double alpha = test_support::chiSquareTestLevel();
   std::cout << "chi2=" << r.statistic << " dof=" << r.dof << " p=" << r.pvalue << "\n";
-  if (r.pvalue >= alpha()) return ::testing::AssertionSuccess();
+  if (r.pvalue >= alpha) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "chi2=" << r.statistic << " dof=" << r.dof << " p=" << r.pvalue
-                                       << " < alpha=" << alpha();
+                                       << " < alpha=" << alpha;
 }
 
 uint32_t bin(float x, uint32_t bins) { return static_cast<uint32_t>(x * float(bins)); }
 
 constexpr uint32_t kUniformitySamples = 1'000'000;
 
-TEST(SobolUniformity, OneSequenceFillsItsDimension) {
+ACDF_CHI_SQUARE_TEST(SobolUniformity, OneSequenceFillsItsDimension, 3) {
   // 10^6 consecutive values (not a power of two) in 1000 bins, and the padded 2D points in 32².
   std::vector<double> global(1000), padded1(1000), padded2(32 * 32);
   for (uint32_t i = 0; i < kUniformitySamples; ++i) {
@@ -284,7 +280,7 @@ TEST(SobolUniformity, OneSequenceFillsItsDimension) {
   EXPECT_TRUE(uniform(padded2));
 }
 
-TEST(SobolUniformity, ScramblingRandomisesEachPoint) {
+ACDF_CHI_SQUARE_TEST(SobolUniformity, ScramblingRandomisesEachPoint, 6) {
   // One point under 10^6 seeds (consecutive integers: the seeds are hashed) is uniform, also the
   // first point, which every unscrambled dimension puts at 0.
   for (uint32_t index : {0u, 1u, 1029u}) {
