@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/environment_light.h"
+#include "acdf/sampling/frame.h"
 #include "acdf/sampling/quality.h"
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/sphere.h"
@@ -132,14 +133,6 @@ StrategyCost measure(const Estimate& estimate, const std::vector<Vec3d>& normals
   return cost;
 }
 
-// An orthonormal basis with n as its third vector (Duff et al. 2017).
-void basisAround(const Vec3d& n, Vec3d& t, Vec3d& b) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z), c = n.x * n.y * a;
-  t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
-}
-
 struct Table {
   std::unique_ptr<EnvironmentLight> light;
   double buildMs = 0;
@@ -204,10 +197,7 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
        {}},
       {"cosine",
        [&](const Vec3d& n, float u0, float u1) {
-         Vec3d t, b;
-         basisAround(n, t, b);
-         const Vec3d local = sampleCosineHemisphere(u0, u1);
-         const Vec3d w = t * local.x + b * local.y + n * local.z;
+         const Vec3d w = Frame(n).toWorld(sampleCosineHemisphere(u0, u1));
          // Y(L) cos θ / (cos θ / π)
          return anyLight.eval(w).luminance() * std::numbers::pi;
        },

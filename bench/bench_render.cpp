@@ -19,7 +19,7 @@
 
 #include <oneapi/tbb/task_arena.h>
 
-#include "acdf/integrator/frame.h"
+#include "acdf/sampling/frame.h"
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/sampling/rng.h"

@@ -8,6 +8,7 @@
 #   nlohmann_json::nlohmann_json  JSON for Modern C++ (header-only)
 #   OpenImageIO::OpenImageIO      OpenImageIO (image reading/writing), OpenImageIO::OpenImageIO_Util
 #   OpenEXR::OpenEXR, Imath::Imath
+#   Eigen3::Eigen                 Eigen 3.4 (header-only): rotations and transforms
 #   GTest::gtest, GTest::gtest_main, GTest::gmock   only when BUILD_TESTING is ON
 #   benchmark::benchmark, benchmark::benchmark_main
 
@@ -15,6 +16,7 @@ find_package(TBB CONFIG REQUIRED)
 # fmt before OpenImageIO: OIIO's targets link fmt::fmt only "if it exists".
 find_package(fmt CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
+find_package(Eigen3 3.4 CONFIG REQUIRED)
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(Imath CONFIG REQUIRED)
 find_package(OpenEXR CONFIG REQUIRED)

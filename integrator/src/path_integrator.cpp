@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "acdf/integrator/frame.h"
+#include "acdf/sampling/frame.h"
 
 namespace acdf {
 

@@ -20,6 +20,7 @@
 #include "acdf/brdf/lambertian.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/sampling/transform.h"
 
 namespace acdf {
 
@@ -151,41 +152,31 @@ class Node {
   const std::string& file_;
 };
 
-// Scale, then rotation, then translation.
-struct Transform {
-  Vec3d scale{1, 1, 1};
-  Rotation rotation;
-  Vec3d translate;
-  Vec3d point(const Vec3d& p) const {
-    return rotation.apply({p.x * scale.x, p.y * scale.y, p.z * scale.z}) + translate;
-  }
-  Vec3d vector(const Vec3d& v) const { return rotation.apply({v.x * scale.x, v.y * scale.y, v.z * scale.z}); }
-};
-
 Transform readTransform(const Node& node) {
   node.object({"scale", "rotate", "translate"});
-  Transform t;
+  Vec3d scale{1, 1, 1}, translation;
+  Rotation rotation;
   if (node.has("scale")) {
     const Node s = node["scale"];
     if (s.isNumber()) {
       const double k = s.positive();
-      t.scale = {k, k, k};
+      scale = {k, k, k};
     } else {
-      t.scale = s.vec3();
-      if (!(t.scale.x > 0 && t.scale.y > 0 && t.scale.z > 0)) s.fail("scale factors must be positive");
+      scale = s.vec3();
+      if (!(scale.x > 0 && scale.y > 0 && scale.z > 0)) s.fail("scale factors must be positive");
     }
   }
   if (node.has("rotate")) {
     const Node r = node["rotate"];
     r.object({"axis", "degrees"});
     try {
-      t.rotation = Rotation::aboutAxis(r["axis"].vec3(), r["degrees"].number() * std::numbers::pi / 180.0);
+      rotation = Rotation::aboutAxis(r["axis"].vec3(), r["degrees"].number() * std::numbers::pi / 180.0);
     } catch (const std::invalid_argument&) {
       r.fail("the axis must be non-zero");
     }
   }
-  if (node.has("translate")) t.translate = node["translate"].vec3();
-  return t;
+  if (node.has("translate")) translation = node["translate"].vec3();
+  return {scale, rotation, translation};
 }
 
 TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& transform) {

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "acdf/integrator/frame.h"
+#include "acdf/sampling/frame.h"
 #include "render_test_util.h"
 
 namespace acdf {

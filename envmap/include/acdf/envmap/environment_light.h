@@ -17,7 +17,7 @@
 
 #include "acdf/envmap/environment_map.h"
 #include "acdf/envmap/environment_table.h"
-#include "acdf/envmap/rotation.h"
+#include "acdf/sampling/transform.h"
 #include "acdf/sampling/rgb.h"
 
 namespace acdf {
