@@ -10,6 +10,7 @@
 
 #include "acdf/brdf/ggx_sampler.h"
 #include "acdf/brdf/half_vector.h"
+#include "acdf/brdf/rgl_sampler.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/sampling/rng.h"
 
@@ -79,22 +80,27 @@ void addReflectedMass(const HalfVectorGrid& grid, const Vec3d& wo, double scale,
 
 // GGX's density is smooth: a grid as fine as a default table's, in s to follow the peak.
 constexpr uint32_t kGgxSCells = 256, kGgxPhiCells = 32;
+// The RGL warps' density is bilinear in (s, v) patches of the visible-NDF table, with the
+// luminance warp on top: smooth enough for a coarser grid, which matters since each of its
+// evaluations inverts a warp.
+constexpr uint32_t kRglSCells = 64, kRglPhiCells = 32;
 
 }  // namespace
 
 std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo, const SphereChiSquareOptions& o) {
   const auto* table = dynamic_cast<const TabulatedBrdfSampler*>(&sampler);
   const auto* ggx = dynamic_cast<const GgxBrdfSampler*>(&sampler);
-  if (!table && !ggx && !dynamic_cast<const CosineBrdfSampler*>(&sampler))
+  const auto* rgl = dynamic_cast<const RglBrdfSampler*>(&sampler);
+  if (!table && !ggx && !rgl && !dynamic_cast<const CosineBrdfSampler*>(&sampler))
     throw std::invalid_argument("brdf chi-square: unknown sampler " + sampler.name());
   if (!o.equalAreaRows || o.thetaBins % 2 != 0 || o.subPoints == 0)
     throw std::invalid_argument("brdf chi-square: needs equal-area rows, an even row count and subPoints > 0");
   std::vector<double> p(std::size_t{o.thetaBins} * o.phiBins, 0.0);
   // The cosine-weighted share: all of it for the cosine sampler and below the horizon, the
-  // defensive mixture's for a table, none for GGX.
+  // defensive mixture's for a table, none for GGX and the RGL warps.
   double w = 1.0;
   if (wo.z > 0.0 && table) w = table->options().cosineWeight;
-  if (wo.z > 0.0 && ggx) w = 0.0;
+  if (wo.z > 0.0 && (ggx || rgl)) w = 0.0;
   // ∫ cosθ/π dω over an equal-area row z in [zb, za] above the horizon, φ in a bin of width
   // 2π/phiBins: (za² − zb²)/phiBins.
   for (uint32_t row = 0; row < o.thetaBins / 2; ++row) {
@@ -110,6 +116,11 @@ std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d
     addReflectedMass({t.thetaHalfCells, t.phiHalfCells, phiOrigin, true,
                       [&](const Vec3d& wh) { return table->halfVectorPdf(wo, wh); }},
                      wo, 1.0 - w, o, p);
+  } else if (rgl) {
+    // The warps' v = 0 is φm = φo − π.
+    addReflectedMass({kRglSCells, kRglPhiCells, azimuth(wo) - kPi, false,
+                      [&](const Vec3d& wh) { return rgl->halfVectorPdf(wo, wh); }},
+                     wo, 1.0, o, p);
   } else {
     addReflectedMass({kGgxSCells, kGgxPhiCells, 0.0, false, [&](const Vec3d& wh) { return ggx->halfVectorPdf(wh); }},
                      wo, 1.0 - w, o, p);

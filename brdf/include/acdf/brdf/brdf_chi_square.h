@@ -9,7 +9,8 @@
 // sub-cells per cell, uniform in solid angle, each reflected to ωi and added to its bin. A
 // tabulated sampler's cells are its own table cells, on which its density is constant per
 // steradian, so only sub-cells straddling a bin edge are approximated; GGX's smooth density is
-// integrated on 256 × 32 cells in (√θh, φh), each sub-cell weighted by the density at its point.
+// integrated on 256 × 32 cells in (√θh, φh), each sub-cell weighted by the density at its point,
+// and the RGL warps' (rgl_sampler.h) alike on 64 × 32 cells in their own (√θm, φm − φo).
 // The jitter (fixed seed) turns the approximation into noise below the counts' own (a regular
 // sub-grid aliases with the bin edges into a bias of a few percent per bin). Bins have equal
 // area (no tiny bins at the poles for the sub-cells to miss).
@@ -25,7 +26,7 @@ namespace acdf {
 SphereChiSquareReport brdfChiSquareTest(const BrdfSampler& sampler, const Vec3d& wo, SphereChiSquareOptions options);
 
 // The expected probability of each bin (as sphereBinOf() numbers them) under sampler's pdf(ωo, ·).
-// Knows CosineBrdfSampler, TabulatedBrdfSampler and GgxBrdfSampler; throws std::invalid_argument
+// Knows CosineBrdfSampler, TabulatedBrdfSampler, GgxBrdfSampler and RglBrdfSampler; throws std::invalid_argument
 // otherwise.
 std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo,
                                          const SphereChiSquareOptions& options);
