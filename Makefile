@@ -35,7 +35,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 # libFuzzer's random seed: fixed, so a CI run can be replayed; FUZZ_SEED=0 picks a new one each run.
 FUZZ_SEED ?= 1
-FUZZ_TARGETS := engine cascade merl image npy scene
+FUZZ_TARGETS := engine cascade merl rgl image npy scene
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 

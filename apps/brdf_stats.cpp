@@ -15,7 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/merl.h"
 #include "acdf/brdf/reflectance_estimator.h"
+#include "acdf/brdf/rgl_sampler.h"
 #include "errors.h"
 
 namespace acdf::app {
@@ -79,7 +81,8 @@ struct BrdfStatsArgs {
 struct SamplerRow {
   std::string name;
   ReflectanceEstimate estimate;
-  const TabulatedBrdfSampler* table = nullptr;  // null for cosine
+  const TabulatedBrdfSampler* table = nullptr;  // our tables
+  const BrdfSampler* sampler = nullptr;
 };
 
 nlohmann::ordered_json samplerJson(const SamplerRow& row) {
@@ -89,8 +92,8 @@ nlohmann::ordered_json samplerJson(const SamplerRow& row) {
   j["max_weight"] = row.estimate.maxRelativeWeight;
   j["ns_per_sample"] = row.estimate.nsPerSample();
   j["efficiency"] = row.estimate.efficiency();
+  j["bytes"] = row.sampler->bytes();
   if (row.table) {
-    j["bytes"] = row.table->bytes();
     j["tabulation_ms"] = row.table->tabulationMs();
     j["build_ms"] = row.table->buildMs();
   }
@@ -100,19 +103,22 @@ nlohmann::ordered_json samplerJson(const SamplerRow& row) {
 int runBrdfStats(const BrdfStatsArgs& args) {
   // Validate every flag before the slow part (reading 35 MB, tabulating).
   brdfTableOptions(args.table, DimensionMethod::Uniform);
-  const std::shared_ptr<const MerlBrdf> brdf = loadMerlBrdf(args.input, args.table);
+  const std::shared_ptr<const BrdfModel> brdf = loadMeasuredBrdf(args.input, args.table);
+  const auto rgl = std::dynamic_pointer_cast<const RglBrdf>(brdf);
 
   const CosineBrdfSampler cosine(brdf);
   const auto uniform = makeTabulatedSampler(brdf, args.table, DimensionMethod::Uniform);
   const auto adaptive = makeTabulatedSampler(brdf, args.table, DimensionMethod::Adaptive);
+  const std::unique_ptr<RglBrdfSampler> warps = rgl ? std::make_unique<RglBrdfSampler>(rgl) : nullptr;
 
   ReflectanceEstimatorOptions estimator;
   estimator.samplesPerDirection = args.samplesPerDirection;
-  const std::vector<SamplerRow> rows = {
-      {"cosine", estimateReflectance(cosine, estimator), nullptr},
-      {"uniform", estimateReflectance(*uniform, estimator), uniform.get()},
-      {"adaptive", estimateReflectance(*adaptive, estimator), adaptive.get()},
+  std::vector<SamplerRow> rows = {
+      {"cosine", estimateReflectance(cosine, estimator), nullptr, &cosine},
+      {"uniform", estimateReflectance(*uniform, estimator), uniform.get(), uniform.get()},
+      {"adaptive", estimateReflectance(*adaptive, estimator), adaptive.get(), adaptive.get()},
   };
+  if (warps) rows.push_back({"rgl", estimateReflectance(*warps, estimator), nullptr, warps.get()});
 
   const std::vector<double> uniformRes = uniform->table().averageIntervals();
   const std::vector<double> adaptiveRes = adaptive->table().averageIntervals();
@@ -126,7 +132,8 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     nlohmann::ordered_json j;
     j["file"] = args.input;
     j["table"] = args.table.table;
-    j["interpolation"] = args.table.interpolation;
+    j["format"] = rgl ? "rgl" : "merl";
+    j["interpolation"] = rgl ? "rgl" : args.table.interpolation;
     j["epsilon"] = args.table.epsilon;
     j["uniform_res"] = uniformRes;
     j["adaptive_avg_res"] = adaptiveRes;
@@ -155,6 +162,13 @@ int runBrdfStats(const BrdfStatsArgs& args) {
                   humanBytes(row->table->bytes()).c_str(),
                   fmt::format("{:.0f} + {:.0f}", row->table->tabulationMs(), row->table->buildMs()).c_str());
     std::printf("compression %.1f : 1\n", compression);
+    if (warps) {
+      std::printf("%-10s %-30s %12s   (the file's luminance + visible-NDF warps)\n", "rgl",
+                  fmt::format("{} x {}^2 + {} x {}^2", rgl->thetaIn().size(), rgl->luminanceWarp().rows(),
+                              rgl->thetaIn().size(), rgl->vndfWarp().rows())
+                      .c_str(),
+                  humanBytes(static_cast<double>(warps->bytes())).c_str());
+    }
     std::printf(
         "\nreflected radiance under a uniform white sky, %u outgoing directions (theta_o <= %.0f deg) x %u "
         "samples\n",
@@ -219,8 +233,9 @@ std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const
   }
 }
 
-std::shared_ptr<const MerlBrdf> loadMerlBrdf(const std::string& path, const BrdfTableArgs& args) {
+std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args) {
   try {
+    if (RglBrdf::isRglFile(path)) return std::make_shared<const RglBrdf>(RglBrdf::load(path));
     return std::make_shared<const MerlBrdf>(MerlBrdf::load(path, brdfInterpolation(args)));
   } catch (const BrdfFileError& e) {
     throw InputError(e.file(), e.problem());
@@ -230,7 +245,8 @@ std::shared_ptr<const MerlBrdf> loadMerlBrdf(const std::string& path, const Brdf
 Command addBrdfStats(CLI::App& parent) {
   auto args = std::make_shared<BrdfStatsArgs>();
   CLI::App* app = parent.add_subcommand(
-      "brdf-stats", "The paper's Table 1 for a MERL .binary BRDF: uniform vs adaptive tabulated sampling.");
+      "brdf-stats",
+      "The paper's Table 1 for a measured BRDF (MERL .binary or RGL .bsdf): uniform vs adaptive tabulated sampling.");
   app->footer(
       "Builds the uniform and the adaptive (simplified) tabulated CDF of f cos(theta_i) over the outgoing\n"
       "direction and the half vector, and reports their resolution (average points per dimension), bytes and\n"
@@ -243,8 +259,12 @@ Command addBrdfStats(CLI::App& parent) {
       "are the adaptive table's). Isotropic tables are indexed by phi_h - phi_o; mirrored (the default) they\n"
       "store |phi_h - phi_o| in [0, pi), half of the phi cells --res gives.\n"
       "\n"
+      "An RGL .bsdf file (Dupuy & Jakob 2018; recognised by its content, \"tensor_file\") is evaluated as the paper\n"
+      "defines it and tabulated the same way; a fourth sampler, rgl, is the file's own (its luminance warp, then\n"
+      "its visible-NDF warp, reflected), its bytes those of the two warps. --interpolation applies to MERL only.\n"
+      "\n"
       "Exit status: 0 success, 2 bad input file or command line, 1 internal error.");
-  app->add_option("input", args->input, "MERL .binary BRDF file")->required();
+  app->add_option("input", args->input, "MERL .binary or RGL .bsdf BRDF file")->required();
   addBrdfTableOptions(*app, args->table);
   app->add_option("--samples", args->samplesPerDirection, "Estimator samples per outgoing direction")
       ->check(CLI::Range(1u, 1u << 24))

@@ -1,7 +1,8 @@
 #pragma once
-// `acdf brdf-stats FILE.binary [--table 4d|iso] [--res R] [--epsilon E] [--interpolation M]
-// [--samples N] [--json]`: the paper's Table 1 for one measured BRDF — the uniform and adaptive
-// tables' resolution, bytes and compression, and each sampler's variance, speed and efficiency.
+// `acdf brdf-stats FILE [--table 4d|iso] [--res R] [--epsilon E] [--interpolation M]
+// [--samples N] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary or RGL .bsdf,
+// told apart by content) — the uniform and adaptive tables' resolution, bytes and compression,
+// and each sampler's variance, speed and efficiency, with the file's own warps for an RGL file.
 //
 // The BRDF table options are shared with `acdf chi2 --brdf`, so both commands test the same
 // samplers from the same flags.
@@ -10,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "acdf/brdf/merl.h"
+#include "acdf/brdf/brdf_model.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "command.h"
 
@@ -45,8 +46,9 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
 std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const BrdfModel> model,
                                                            const BrdfTableArgs& args, DimensionMethod method);
 
-// MerlBrdf::load with the flags' interpolation, its errors as InputError ("<file>: <problem>",
-// exit 2).
-std::shared_ptr<const MerlBrdf> loadMerlBrdf(const std::string& path, const BrdfTableArgs& args);
+// The measured BRDF in `path`: an RGL .bsdf when the file starts with the tensor file magic
+// (RglBrdf::load), else a MERL .binary (MerlBrdf::load with the flags' interpolation). Errors
+// become InputError ("<file>: <problem>", exit 2).
+std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args);
 
 }  // namespace acdf::app

@@ -13,6 +13,7 @@
 
 #include "acdf/brdf/brdf_chi_square.h"
 #include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/rgl_sampler.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/light_chi_square.h"
 #include "acdf/sampling/sphere_chi_square.h"
@@ -57,15 +58,19 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
 // --brdf FILE --theta-o DEG: the BRDF sampler --sampler (cosine, or the table brdf-stats builds
 // from the same flags) for ωo = (θo, φo = 0).
 SphereChiSquareReport testBrdf(const Chi2Args& args) {
-  if (args.sampler != "cosine" && args.sampler != "uniform" && args.sampler != "adaptive")
-    throw UsageError("chi2 --brdf: --sampler must be cosine, uniform or adaptive, got '" + args.sampler + "'");
+  if (args.sampler != "cosine" && args.sampler != "uniform" && args.sampler != "adaptive" && args.sampler != "rgl")
+    throw UsageError("chi2 --brdf: --sampler must be cosine, uniform, adaptive or rgl, got '" + args.sampler + "'");
   if (!(args.thetaOutDegrees >= 0 && args.thetaOutDegrees < 90))
     throw UsageError(fmt::format("chi2 --brdf: --theta-o must be in [0, 90) degrees, got {}", args.thetaOutDegrees));
   // Flag errors before the slow part (reading the file, tabulating).
   brdfTableOptions(args.table, DimensionMethod::Uniform);
-  const std::shared_ptr<const MerlBrdf> brdf = loadMerlBrdf(args.brdf, args.table);
+  const std::shared_ptr<const BrdfModel> brdf = loadMeasuredBrdf(args.brdf, args.table);
   std::unique_ptr<BrdfSampler> sampler;
-  if (args.sampler == "cosine")
+  if (args.sampler == "rgl") {
+    const auto rgl = std::dynamic_pointer_cast<const RglBrdf>(brdf);
+    if (!rgl) throw UsageError("chi2 --brdf: --sampler rgl needs an RGL .bsdf file; " + args.brdf + " is a MERL table");
+    sampler = std::make_unique<RglBrdfSampler>(rgl);
+  } else if (args.sampler == "cosine")
     sampler = std::make_unique<CosineBrdfSampler>(brdf);
   else
     sampler = makeTabulatedSampler(brdf, args.table,
@@ -122,7 +127,8 @@ Command addChi2(CLI::App& parent) {
       "over each bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
       "direction, finite positive pdf equal to pdf(direction)); passed needs both.\n"
       "\n"
-      "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive: a MERL .binary BRDF's sampler of incident\n"
+      "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive|rgl: a measured BRDF's (MERL .binary or RGL\n"
+      ".bsdf, told apart by content; rgl: the .bsdf file's own warps) sampler of incident\n"
       "directions for the outgoing direction (theta_o = DEG, phi_o = 0): cosine-weighted, or the uniform or\n"
       "adaptive tabulated CDF that brdf-stats builds from the same --table, --res, --epsilon and\n"
       "--interpolation. 32 x 64 equal-area bins over the sphere; each bin's expected count integrates the\n"
@@ -132,7 +138,8 @@ Command addChi2(CLI::App& parent) {
       "Exit status: 0 the test passes, 1 it fails (or an internal error), 2 bad input file or command line.",
       kAlpha));
   CLI::Option* envmap = app->add_option("--envmap", args->envmap, "Environment map to test");
-  CLI::Option* brdf = app->add_option("--brdf", args->brdf, "MERL .binary BRDF to test")->excludes(envmap);
+  CLI::Option* brdf =
+      app->add_option("--brdf", args->brdf, "Measured BRDF to test (MERL .binary or RGL .bsdf)")->excludes(envmap);
   CLI::Option* thetaOut =
       app->add_option("--theta-o", args->thetaOutDegrees, "--brdf: outgoing theta in degrees, in [0, 90)")->needs(brdf);
   for (CLI::Option* option : addBrdfTableOptions(*app, args->table)) option->needs(brdf);

@@ -21,6 +21,7 @@
 #include "errors.h"
 #include "merl_gen.h"
 #include "render.h"
+#include "rgl_gen.h"
 
 #ifndef ACDF_VERSION
 #define ACDF_VERSION "unknown"
@@ -45,6 +46,7 @@ int run(int argc, char** argv) {
   std::vector<acdf::app::Command> commands;
   commands.push_back(acdf::app::addCdfStats(app));
   commands.push_back(acdf::app::addMerlGen(app));
+  commands.push_back(acdf::app::addRglGen(app));
   commands.push_back(acdf::app::addBrdfStats(app));
   commands.push_back(acdf::app::addEnvGen(app));
   commands.push_back(acdf::app::addEnvmapStats(app));

@@ -40,6 +40,10 @@ struct HalfVectorGrid {
   // otherwise (a smooth density) each sub-cell is weighted by the density at its jittered point.
   bool constantPerCell;
   std::function<double(const Vec3d& wh)> density;
+  // Smooth densities only: sub-cells uniform in (s, φh) instead of solid angle, each weighted by
+  // the density per unit (s, φh) area, p(ωh) sinθh dθh/ds = p(ωh) sinθh π s — bounded where
+  // p(ωh) per steradian is not (the RGL warps' p ~ 1/s² at the pole).
+  bool uniformInS = false;
 };
 
 // Adds `scale` × the grid's mass, sub-cell by sub-cell, to the bins of the reflected directions.
@@ -67,6 +71,15 @@ void addReflectedMass(const HalfVectorGrid& grid, const Vec3d& wo, double scale,
       for (uint32_t a = 0; a < sub; ++a)
         for (uint32_t b = 0; b < sub; ++b) {
           const double ta = (a + jitter.nextDouble()) / sub, tb = (b + jitter.nextDouble()) / sub;
+          if (grid.uniformInS) {
+            const double s = (k + ta) / grid.sCells, thetaH = 0.5 * kPi * s * s,
+                         phi = grid.phiOrigin + (j + tb) * cellPhi;
+            const Vec3d h = sphericalDirection(thetaH, phi);
+            const double perArea = grid.density(h) * std::sin(thetaH) * kPi * s;
+            row[sphereBinOf(reflect(wo, h), o)] +=
+                scale * perArea * cellPhi / (static_cast<double>(grid.sCells) * subCells);
+            continue;
+          }
           const Vec3d h = capDirection(c0 + ta * (c1 - c0), grid.phiOrigin + (j + tb) * cellPhi);
           const double share =
               grid.constantPerCell ? cellMass / subCells : scale * grid.density(h) * (c1 - c0) * cellPhi / subCells;
@@ -119,7 +132,7 @@ std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d
   } else if (rgl) {
     // The warps' v = 0 is φm = φo − π.
     addReflectedMass({kRglSCells, kRglPhiCells, azimuth(wo) - kPi, false,
-                      [&](const Vec3d& wh) { return rgl->halfVectorPdf(wo, wh); }},
+                      [&](const Vec3d& wh) { return rgl->halfVectorPdf(wo, wh); }, true},
                      wo, 1.0, o, p);
   } else {
     addReflectedMass({kGgxSCells, kGgxPhiCells, 0.0, false, [&](const Vec3d& wh) { return ggx->halfVectorPdf(wh); }},

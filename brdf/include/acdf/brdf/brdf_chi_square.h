@@ -10,7 +10,8 @@
 // tabulated sampler's cells are its own table cells, on which its density is constant per
 // steradian, so only sub-cells straddling a bin edge are approximated; GGX's smooth density is
 // integrated on 256 × 32 cells in (√θh, φh), each sub-cell weighted by the density at its point,
-// and the RGL warps' (rgl_sampler.h) alike on 64 × 32 cells in their own (√θm, φm − φo).
+// and the RGL warps' (rgl_sampler.h) on 64 × 32 cells in their own (√θm, φm − φo), sub-cells
+// uniform in those coordinates (their density per steradian has a 1/√θm² spike at the pole).
 // The jitter (fixed seed) turns the approximation into noise below the counts' own (a regular
 // sub-grid aliases with the bin edges into a bias of a few percent per bin). Bins have equal
 // area (no tiny bins at the poles for the sub-cells to miss).
