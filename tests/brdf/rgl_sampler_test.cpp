@@ -38,12 +38,16 @@ const fs::path kSharedRgl = fs::path(ACDF_SOURCE_DIR) / ".." / "shared" / "data"
 const std::map<std::string, std::string> kSharedFiles = {{"paper_white", "paper_white_rgb.bsdf"},
                                                          {"golden_yellow", "vch_golden_yellow_rgb.bsdf"}};
 
-// Sanitizer builds hunt memory errors, not statistics: fewer samples, coarser integration.
+// Sanitizer builds hunt memory errors, not statistics: fewer samples, and the chi-square tests on
+// the generated file only (the shared files' run every sampler's code on other data, in Release).
+// The integration stays as fine: 8 sub-cells rejected the correct sampler at θo = 85°.
 #ifdef ACDF_SANITIZED_BUILD
 constexpr uint64_t kSamples = 100'000;
-constexpr uint32_t kSubCells = 8;
+constexpr uint32_t kSubCells = 32;
 constexpr uint32_t kEstimatorSamples = 512;
+constexpr bool kChiSquareOnSharedFiles = false;
 #else
+constexpr bool kChiSquareOnSharedFiles = true;
 constexpr uint64_t kSamples = 1'000'000;
 constexpr uint32_t kSubCells = 32;
 constexpr uint32_t kEstimatorSamples = 4096;
@@ -107,6 +111,7 @@ std::string caseName(const ::testing::TestParamInfo<Case>& info) {
 std::vector<Case> chiSquareCases() {
   std::vector<Case> cases;
   for (double theta : {0.0, 30.0, 60.0, 85.0}) cases.push_back({"gold", "rgl", theta});
+  if (!kChiSquareOnSharedFiles) return cases;
   for (const auto& [material, file] : kSharedFiles)
     for (const char* sampler : {"rgl", "cosine", "uniform", "adaptive"})
       for (double theta : {0.0, 30.0, 60.0, 85.0}) cases.push_back({material, sampler, theta});
