@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <numbers>
@@ -234,11 +235,15 @@ Rgb RglBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   }
   const auto [k, t] = bracket(thetaIn_, params[1]);
   const std::size_t grid = std::size_t{reflectance_.rows} * reflectance_.columns;
+  // In double, then held to float's range: a file's extreme (finite) values, or ωi a denormal above
+  // the horizon, can exceed it; 0 · ∞ (no reflectance there) is 0.
+  constexpr double kLargest = std::numeric_limits<float>::max();
   float rgb[3];
   for (int c = 0; c < 3; ++c) {
     double rho = (1 - t) * reflectance_.eval(s[0], s[1], (k * 3 + c) * grid);
     if (t > 0) rho += t * reflectance_.eval(s[0], s[1], ((k + 1) * 3 + c) * grid);
-    rgb[c] = static_cast<float>(std::max(rho, 0.0) * scale);
+    const double value = std::max(rho, 0.0) * scale;
+    rgb[c] = static_cast<float>(value < kLargest ? value : value >= kLargest ? kLargest : 0.0);
   }
   return {rgb[0], rgb[1], rgb[2]};
 }
