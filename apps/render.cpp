@@ -31,7 +31,7 @@ struct RenderArgs {
   std::optional<uint32_t> spp;
   std::optional<double> seconds;
   std::optional<uint64_t> seed;
-  std::string mis, bsdfSampling, envSampling;
+  std::string mis, sampler, bsdfSampling, envSampling;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
   bool noCache = false;
@@ -41,6 +41,7 @@ struct RenderArgs {
 int runRender(const RenderArgs& args) {
   SceneOverrides overrides;
   if (!args.mis.empty()) overrides.mis = parseOption("render", "--mis", args.mis, parseMisMode);
+  if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
   if (!args.envSampling.empty())
@@ -90,6 +91,7 @@ int runRender(const RenderArgs& args) {
     j["rays_per_second"] = raysPerSecond;
     j["rays"] = stats.rays;
     j["mis"] = toString(scene.settings.mis);
+    j["sampler"] = toString(scene.settings.sampler);
     j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
     j["tables_from_cache"] = tables.tablesFromCache();
@@ -122,12 +124,13 @@ Command addRender(CLI::App& parent) {
       "  --bsdf-sampling  cosine | uniform | adaptive          (every measured material)\n"
       "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | ...\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
+      "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
-      "tables_from_cache, exr, png (and scene, width, height, rays, mis, env_sampling).\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, sampler, env_sampling).\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / data file / output path or command line, 1 internal error.");
   app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
@@ -139,6 +142,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--time", args->seconds, "Render progressive passes for this many seconds instead")->excludes(spp);
   app->add_option("--seed", args->seed, "Random seed (replaces the scene's)");
   app->add_option("--mis", args->mis, "power | balance | bsdf-only | light-only");
+  app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive");
   app->add_option("--env-sampling", args->envSampling,
                   "uniform-sphere | uniform | alias | adaptive | compensated | ...");

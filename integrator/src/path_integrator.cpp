@@ -40,6 +40,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       break;
     }
     if (depth >= scene_.settings.maxDepth) break;
+    sampler.startVertex(depth);
 
     const BrdfSampler& material = *scene_.materials[hit->material];
     const Frame frame(hit->normal, hit->tangentHint);

@@ -63,7 +63,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
 
   const PathIntegrator integrator(scene);
   const Camera& camera = *scene.camera;
-  const IndependentSampler samplerPrototype(scene.settings.seed, camera.width());
+  const std::unique_ptr<const Sampler> samplerPrototype =
+      makeSampler(scene.settings.sampler, scene.settings.seed, camera.width());
   const CropWindow& crop = camera.crop();
   const std::vector<Tile> tiles = makeTiles(film, std::max(1u, options.tileSize));
   std::atomic<uint64_t> rays{0};
@@ -75,7 +76,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     tilesDone = 0;
     forEachTile(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
-      const std::unique_ptr<Sampler> sampler = samplerPrototype.clone();
+      const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
       uint64_t tileRays = 0;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {

@@ -1,10 +1,15 @@
 #include "acdf/integrator/sampler.h"
 
+#include <stdexcept>
+#include <string>
+
+#include "acdf/sampling/sobol.h"
+
 namespace acdf {
 
 namespace {
 
-// SplitMix64's finaliser: decorrelates the seeds of consecutive sample indices.
+// SplitMix64's finaliser: decorrelates the seeds of consecutive sample indices and pixels.
 uint64_t mix(uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -16,6 +21,37 @@ uint64_t mix(uint64_t x) {
 
 void IndependentSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
   rng_ = Pcg32(mix(seed_ ^ mix(sampleIndex)), uint64_t{y} * frameWidth_ + x);
+}
+
+void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
+  pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
+  sampleIndex_ = sampleIndex;
+  component_ = 0;
+}
+
+float SobolSampler::get1D() { return paddedSobol1D(sampleIndex_, component_++, pixelSeed_); }
+
+std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, component_++, pixelSeed_); }
+
+std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }
+
+std::string_view toString(SamplerKind kind) {
+  switch (kind) {
+    case SamplerKind::Independent: return "independent";
+    case SamplerKind::Sobol: return "sobol";
+  }
+  return "?";
+}
+
+SamplerKind parseSamplerKind(std::string_view name) {
+  for (auto k : {SamplerKind::Independent, SamplerKind::Sobol})
+    if (toString(k) == name) return k;
+  throw std::invalid_argument("unknown sampler '" + std::string(name) + "' (independent or sobol)");
+}
+
+std::unique_ptr<Sampler> makeSampler(SamplerKind kind, uint64_t seed, uint32_t frameWidth) {
+  if (kind == SamplerKind::Sobol) return std::make_unique<SobolSampler>(seed, frameWidth);
+  return std::make_unique<IndependentSampler>(seed, frameWidth);
 }
 
 }  // namespace acdf

@@ -444,14 +444,16 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   RenderSettings& settings = scene.settings;
   if (root.has("render")) {
     const Node r = root["render"];
-    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis"});
+    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
     if (r.has("roulette_depth")) settings.rouletteDepth = r["roulette_depth"].count(1);
     if (r.has("mis")) settings.mis = r["mis"].parsed(parseMisMode);
+    if (r.has("sampler")) settings.sampler = r["sampler"].parsed(parseSamplerKind);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
+  if (overrides.sampler) settings.sampler = *overrides.sampler;
   if (overrides.spp) settings.spp = *overrides.spp;
   if (overrides.seed) settings.seed = *overrides.seed;
 

@@ -87,8 +87,10 @@ void expectAgree(const rendertest::ImageMean& a, const rendertest::ImageMean& b,
   check(a.mean.b, a.standardError.b, b.mean.b, b.standardError.b, "blue");
 }
 
-rendertest::ImageMean renderMean(const std::string& brdfSampling, MisMode mis, EnvironmentSampling env) {
+rendertest::ImageMean renderMean(const std::string& brdfSampling, MisMode mis, EnvironmentSampling env,
+                                 SamplerKind sampler = SamplerKind::Independent) {
   SceneOverrides overrides;
+  overrides.sampler = sampler;
   overrides.mis = mis;
   overrides.envSampling = env;
   return rendertest::imageMean(rendertest::renderScene(skyScene(brdfSampling), overrides).film);
@@ -127,6 +129,18 @@ TEST(Consistency, LightOnlyWithCompensatedSamplingIsUnbiased) {
   expectAgree(renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive),
               renderMean("adaptive", MisMode::LightOnly, EnvironmentSampling::Compensated),
               "power x adaptive vs light-only x compensated");
+}
+
+// Sobol samples estimate the same image: with indirect light, a glossy table and both strategies,
+// and with the BRDF table alone (its samples read the stratified BSDF components). The error bars
+// are those of independent samples, larger than a Sobol render's actual error.
+TEST(Consistency, SobolAndIndependentSamplesAgree) {
+  expectAgree(renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive),
+              renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive, SamplerKind::Sobol),
+              "independent vs sobol, power");
+  expectAgree(renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive),
+              renderMean("adaptive", MisMode::BsdfOnly, EnvironmentSampling::Adaptive, SamplerKind::Sobol),
+              "independent vs sobol, bsdf-only");
 }
 
 }  // namespace

@@ -149,6 +149,18 @@ TEST_F(RenderCli, TimeBudgetRendersProgressivePassesLikeSpp) {
   EXPECT_EQ(readImage(path("timed.exr")).pixels, readImage(path("fixed.exr")).pixels);
 }
 
+// --sampler chooses the sample source (the scene's render.sampler: test_integrator_sampler).
+TEST_F(RenderCli, SamplerOnTheCommandLine) {
+  nlohmann::json scene = tinyScene();
+  scene["environment"]["sampling"] = "uniform-sphere";  // no table to build
+  const auto sobol =
+      runAcdf({"render", writeScene(scene), "-o", path("sobol.exr"), "--sampler", "sobol", "--json"}, dir_);
+  ASSERT_EQ(sobol.exitCode, 0) << apptest::describe(sobol);
+  EXPECT_EQ(nlohmann::json::parse(sobol.out)["sampler"], "sobol");
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--sampler", "halton"}, dir_),
+                       "acdf: render: --sampler", "independent or sobol");
+}
+
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
   nlohmann::json scene = tinyScene();
   scene["shapes"][0]["radious"] = 2;

@@ -1,17 +1,26 @@
-// The sample source: a pixel sample's values depend on the pixel, the sample index and the seed
+// The sample sources: a pixel sample's values depend on the pixel, the sample index and the seed
 // alone — not on the order pixel samples are asked for, on what was asked before, nor on which
-// clone asks — and they lie in [0, 1).
+// clone asks — and they lie in [0, 1). The Sobol source stratifies each decision over a pixel's
+// samples and gives every vertex its own fixed dimensions.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <memory>
 #include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "acdf/integrator/sampler.h"
+#include "acdf/integrator/scene.h"
 
 namespace acdf {
 namespace {
@@ -26,6 +35,7 @@ std::vector<float> valuesOf(Sampler& sampler, const PixelSample& p, int vertices
   const auto [px, py] = sampler.getPixel2D();
   std::vector<float> values{px, py};
   for (int v = 0; v < vertices; ++v) {
+    sampler.startVertex(v);
     for (int twice = 0; twice < 2; ++twice) {
       const auto [u0, u1] = sampler.get2D();
       values.push_back(u0);
@@ -44,30 +54,33 @@ std::vector<PixelSample> pixelSamples() {
   return all;
 }
 
-TEST(IndependentSampler, ValuesDependOnThePixelSampleAloneNotOnTheOrderAsked) {
-  const IndependentSampler prototype(7, 64);
+class EverySampler : public ::testing::TestWithParam<SamplerKind> {};
+
+TEST_P(EverySampler, ValuesDependOnThePixelSampleAloneNotOnTheOrderAsked) {
+  const std::unique_ptr<Sampler> prototype = makeSampler(GetParam(), 7, 64);
   std::map<PixelSample, std::vector<float>> inOrder;
   {
-    const auto sampler = prototype.clone();
+    const auto sampler = prototype->clone();
     for (const PixelSample& p : pixelSamples()) inOrder[p] = valuesOf(*sampler, p);
   }
   // Shuffled, from another clone that first consumed values of other pixel samples, and asking
   // some of them for fewer dimensions (a path that ended early).
   std::vector<PixelSample> shuffled = pixelSamples();
   std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(3));
-  const auto other = prototype.clone();
+  const auto other = prototype->clone();
   for (std::size_t i = 0; i < shuffled.size(); ++i) {
     (void)valuesOf(*other, {5, 5, static_cast<uint32_t>(i)}, static_cast<int>(i % 3));
     const std::vector<float> values = valuesOf(*other, shuffled[i]);
     EXPECT_EQ(values, inOrder.at(shuffled[i]));
   }
   // A sampler made afresh with the same seed and frame agrees too.
-  IndependentSampler fresh(7, 64);
-  EXPECT_EQ(valuesOf(fresh, {63, 37, 1000}), inOrder.at({63, 37, 1000}));
+  EXPECT_EQ(valuesOf(*makeSampler(GetParam(), 7, 64), {63, 37, 1000}), inOrder.at({63, 37, 1000}));
 }
 
-TEST(IndependentSampler, PixelsSamplesAndSeedsGetTheirOwnValues) {
-  IndependentSampler sampler(7, 64), otherSeed(8, 64);
+TEST_P(EverySampler, PixelsSamplesAndSeedsGetTheirOwnValues) {
+  const std::unique_ptr<Sampler> samplerPtr = makeSampler(GetParam(), 7, 64),
+                                 otherSeedPtr = makeSampler(GetParam(), 8, 64);
+  Sampler &sampler = *samplerPtr, &otherSeed = *otherSeedPtr;
   std::map<std::vector<float>, PixelSample> seen;
   for (const PixelSample& p : pixelSamples()) {
     const std::vector<float> values = valuesOf(sampler, p);
@@ -80,8 +93,113 @@ TEST(IndependentSampler, PixelsSamplesAndSeedsGetTheirOwnValues) {
   }
   // The frame's width numbers the pixels: the same (x, y) in a frame of another width is another
   // pixel.
-  IndependentSampler narrow(7, 32);
-  EXPECT_NE(valuesOf(narrow, {0, 1, 0}), valuesOf(sampler, {0, 1, 0}));
+  EXPECT_NE(valuesOf(*makeSampler(GetParam(), 7, 32), {0, 1, 0}), valuesOf(sampler, {0, 1, 0}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Kinds, EverySampler, ::testing::Values(SamplerKind::Independent, SamplerKind::Sobol),
+                         [](const auto& info) { return std::string(toString(info.param)); });
+
+TEST(SamplerKind, NamesRoundTripAndUnknownNamesThrow) {
+  for (SamplerKind k : {SamplerKind::Independent, SamplerKind::Sobol}) EXPECT_EQ(parseSamplerKind(toString(k)), k);
+  EXPECT_THROW(parseSamplerKind("halton"), std::invalid_argument);
+}
+
+// Whether the 2^m points are a (0,m,2)-net: every elementary interval of area 2^-m, of every
+// shape 2^-k × 2^-(m-k), holds exactly one.
+bool isZeroNet(const std::vector<std::array<float, 2>>& points, int m) {
+  for (int k = 0; k <= m; ++k) {
+    std::set<std::pair<uint32_t, uint32_t>> cells;
+    for (const auto& [u, v] : points)
+      cells.emplace(static_cast<uint32_t>(u * float(1u << k)), static_cast<uint32_t>(v * float(1u << (m - k))));
+    if (cells.size() != points.size()) return false;
+  }
+  return true;
+}
+
+// The first 2^m samples of one pixel, as `decision` reads them.
+std::vector<std::array<float, 2>> pixelPoints(Sampler& sampler, int m,
+                                              const std::function<std::array<float, 2>(Sampler&)>& decision) {
+  std::vector<std::array<float, 2>> points;
+  for (uint32_t s = 0; s < (1u << m); ++s) {
+    sampler.startPixelSample(5, 9, s);
+    points.push_back(decision(sampler));
+  }
+  return points;
+}
+
+TEST(SobolSampler, EveryDecisionOfAPixelIsStratified) {
+  SobolSampler sampler(3, 64);
+  const auto pixel = [](Sampler& s) { return s.getPixel2D(); };
+  // Vertex 2's light and BSDF samples, after vertices 0 and 1 took their values.
+  const auto light = [](Sampler& s) {
+    for (uint32_t d = 0; d < 2; ++d) {
+      s.startVertex(d);
+      s.get2D(), s.get2D(), s.get1D();
+    }
+    s.startVertex(2);
+    return s.get2D();
+  };
+  const auto bsdf = [&](Sampler& s) {
+    (void)light(s);
+    return s.get2D();
+  };
+  for (int m : {4, 6, 8}) {
+    EXPECT_TRUE(isZeroNet(pixelPoints(sampler, m, pixel), m)) << "pixel position, 2^" << m;
+    EXPECT_TRUE(isZeroNet(pixelPoints(sampler, m, light), m)) << "light sample, 2^" << m;
+    EXPECT_TRUE(isZeroNet(pixelPoints(sampler, m, bsdf), m)) << "BSDF sample, 2^" << m;
+  }
+  // Independent values are not nets (the test can tell).
+  IndependentSampler independent(3, 64);
+  EXPECT_FALSE(isZeroNet(pixelPoints(independent, 6, pixel), 6));
+}
+
+TEST(SobolSampler, AVertexReadsItsOwnDimensionsWhateverThePathAskedBefore) {
+  SobolSampler a(3, 64), b(3, 64);
+  for (uint32_t s = 0; s < 64; ++s) {
+    // Path a: vertices 0 and 1 made every call; path b: none (bsdf-only, or before roulette).
+    a.startPixelSample(1, 2, s), b.startPixelSample(1, 2, s);
+    (void)a.getPixel2D();
+    for (uint32_t d = 0; d < 2; ++d) {
+      a.startVertex(d);
+      (void)a.get2D(), (void)a.get2D(), (void)a.get1D();
+    }
+    a.startVertex(2), b.startVertex(2);
+    const auto first = a.get2D(), second = a.get2D();
+    EXPECT_EQ(first, b.get2D());
+    EXPECT_EQ(second, b.get2D());
+    EXPECT_EQ(a.get1D(), b.get1D());
+    // Within a vertex, the decisions read different components.
+    EXPECT_NE(first, second);
+    // And a vertex's first decision is not the next vertex's.
+    a.startVertex(3);
+    EXPECT_NE(a.get2D(), first);
+  }
+}
+
+// The scene's render.sampler, independent by default (renders stay as they were), replaced by
+// SceneOverrides::sampler (--sampler); a bad name is a SceneError with its JSON path.
+TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
+  nlohmann::json scene = {
+      {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 30}, {"width", 4}, {"height", 4}}},
+      {"environment", {{"type", "constant"}, {"radiance", 1}}},
+      {"materials", {{"m", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}},
+  };
+  TableProvider tables(TableCache::disabled());
+  const auto load = [&](const SceneOverrides& overrides = {}) {
+    return loadSceneText(scene.dump(), "scene.json", overrides, tables).settings.sampler;
+  };
+  EXPECT_EQ(load(), SamplerKind::Independent);
+  scene["render"] = {{"sampler", "sobol"}};
+  EXPECT_EQ(load(), SamplerKind::Sobol);
+  EXPECT_EQ(load({.sampler = SamplerKind::Independent}), SamplerKind::Independent);
+  scene["render"]["sampler"] = "halton";
+  try {
+    (void)load();
+    ADD_FAILURE() << "a bad sampler name loaded";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.problem(), "$.render.sampler: unknown sampler 'halton' (independent or sobol)");
+  }
 }
 
 }  // namespace

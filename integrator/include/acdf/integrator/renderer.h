@@ -1,7 +1,7 @@
 #pragma once
 // Rendering a scene into a film: tiles of the crop window in parallel (oneTBB), one path per
-// sample. Sample s of full-frame pixel p takes its random values from an IndependentSampler
-// (sampler.h) started on (p, s) with the scene seed, one clone per tile, so the image is the same
+// sample. Sample s of full-frame pixel p takes its random values from the scene's Sampler
+// (sampler.h: independent or Sobol) started on (p, s) with the scene seed, one clone per tile, so the image is the same
 // for any thread count, tile order, and split into passes: --spp N and a time-limited render that
 // reached N samples produce the same pixels.
 

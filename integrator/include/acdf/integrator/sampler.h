@@ -6,17 +6,19 @@
 // order and split into passes. Each thread renders with its own clone().
 //
 // Dimensions, in the order PathIntegrator asks for them:
-//   getPixel2D()               the position in the pixel (the camera ray);
-//   per surface vertex:  get2D()   the light sample (next-event estimation; not under bsdf-only),
+//   getPixel2D()                  the position in the pixel (the camera ray);
+//   per surface vertex, depth d:  startVertex(d), then
+//                        get2D()   the light sample (next-event estimation; not under bsdf-only),
 //                        get2D()   the BSDF sample,
 //                        get1D()   Russian roulette (from RenderSettings::rouletteDepth on).
-// Which dimensions a vertex gets depends on the path before it (no light sample under bsdf-only,
-// roulette from rouletteDepth on): harmless for independent values, while a low-discrepancy
-// sampler needs a fixed allotment per bounce.
+// Which values a vertex asks for depends on the MIS mode and the depth; startVertex() lets a
+// low-discrepancy sampler give every vertex the same fixed block of dimensions whatever the
+// vertices before it asked for.
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string_view>
 
 #include "acdf/sampling/rng.h"
 
@@ -28,6 +30,9 @@ class Sampler {
 
   // Starts sample `sampleIndex` of full-frame pixel (x, y).
   virtual void startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) = 0;
+  // Starts the values of the surface vertex at `depth` (0: where the camera ray ends); at most
+  // kValuesPerVertex calls (get1D, get2D) follow before the next vertex.
+  virtual void startVertex(uint32_t depth) = 0;
   virtual float get1D() = 0;
   virtual std::array<float, 2> get2D() = 0;
   // The position in the pixel, [0, 1)².
@@ -35,16 +40,21 @@ class Sampler {
 
   // A sampler of the same kind and seed, with its own state (one per thread or tile).
   virtual std::unique_ptr<Sampler> clone() const = 0;
+
+  // The get1D/get2D calls a vertex may make: light, BSDF, roulette.
+  static constexpr uint32_t kValuesPerVertex = 3;
 };
 
 // Independent uniform values: pixel sample (x, y, s) reads PCG32 stream y · frameWidth + x from
-// the seed SplitMix(seed ⊕ SplitMix(s)), every dimension the next value of that stream.
+// the seed SplitMix(seed ⊕ SplitMix(s)), every dimension the next value of that stream (vertices
+// need no allotment: every value is independent of every other).
 class IndependentSampler final : public Sampler {
  public:
   // `frameWidth`: the full frame's width in pixels, which numbers the streams.
   IndependentSampler(uint64_t seed, uint32_t frameWidth) : seed_(seed), frameWidth_(frameWidth) {}
 
   void startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) override;
+  void startVertex(uint32_t) override {}
   float get1D() override { return rng_.nextFloat(); }
   std::array<float, 2> get2D() override { return {rng_.nextFloat(), rng_.nextFloat()}; }
   std::array<float, 2> getPixel2D() override { return get2D(); }
@@ -55,5 +65,40 @@ class IndependentSampler final : public Sampler {
   uint32_t frameWidth_;
   Pcg32 rng_;
 };
+
+// Owen-scrambled Sobol values: the padded sequence of acdf/sampling/sobol.h (pbrt-v4's
+// PaddedSobolSampler, Burley 2020), indexed by the pixel's sample number, seeded per pixel by
+// SplitMix(SplitMix(seed) ⊕ (y · frameWidth + x)). Each call site has its own component of the
+// sequence, a fixed allotment per bounce:
+//   component 0                   the pixel position,
+//   components 1 + 3d … 3 + 3d    vertex d's calls in order (light 2D, BSDF 2D, roulette 1D
+//                                 under power/balance MIS; BSDF 2D, roulette 1D under bsdf-only),
+// so vertex d's light sample always reads component 1 + 3d, however the path got there. Every
+// component is a (0,2)-sequence over the pixel's samples (the first 2^m samples a (0,m,2)-net,
+// for every m); components are independent of each other, pixels independent of each other.
+class SobolSampler final : public Sampler {
+ public:
+  SobolSampler(uint64_t seed, uint32_t frameWidth) : seed_(seed), frameWidth_(frameWidth) {}
+
+  void startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) override;
+  void startVertex(uint32_t depth) override { component_ = 1 + kValuesPerVertex * depth; }
+  float get1D() override;
+  std::array<float, 2> get2D() override;
+  std::array<float, 2> getPixel2D() override;
+  std::unique_ptr<Sampler> clone() const override { return std::make_unique<SobolSampler>(*this); }
+
+ private:
+  uint64_t seed_;
+  uint32_t frameWidth_;
+  uint64_t pixelSeed_ = 0;
+  uint32_t sampleIndex_ = 0;
+  uint32_t component_ = 0;
+};
+
+enum class SamplerKind { Independent, Sobol };
+// "independent", "sobol"; parse throws std::invalid_argument.
+std::string_view toString(SamplerKind kind);
+SamplerKind parseSamplerKind(std::string_view name);
+std::unique_ptr<Sampler> makeSampler(SamplerKind kind, uint64_t seed, uint32_t frameWidth);
 
 }  // namespace acdf

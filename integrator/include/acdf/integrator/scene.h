@@ -20,6 +20,7 @@
 #include "acdf/envmap/environment_light.h"
 #include "acdf/integrator/camera.h"
 #include "acdf/integrator/geometry.h"
+#include "acdf/integrator/sampler.h"
 #include "acdf/integrator/table_provider.h"
 
 namespace acdf {
@@ -44,11 +45,13 @@ struct RenderSettings {
   uint32_t maxDepth = 8;       // bounces; 1 = direct light only
   uint32_t rouletteDepth = 3;  // Russian roulette from this bounce on
   MisMode mis = MisMode::Power;
+  SamplerKind sampler = SamplerKind::Independent;
 };
 
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
   std::optional<MisMode> mis;
+  std::optional<SamplerKind> sampler;
   std::optional<BrdfSampling> bsdfSampling;  // every measured material
   std::optional<EnvironmentSampling> envSampling;
   std::optional<uint32_t> spp;
