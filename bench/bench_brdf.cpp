@@ -17,6 +17,7 @@
 //                  buffer (ns/op)
 //   brdf-pdf/*     one pdf(ωo, ωi) at 64K pairs drawn beforehand from uniform-4d, the same pairs
 //                  for every sampler (ns/op)
+//   brdf-eval/merl/nickel  one MerlBrdf::eval(ωo, ωi) (nearest cell) at the same pairs (ns/op)
 //   brdf-h2h/nickel  sample and pdf of every sampler interleaved in chunks (HeadToHead): median
 //                  ns/op of each and the ratios to uniform-4d, and iso ones to uniform-iso, under
 //                  the same machine noise (counters only)
@@ -186,6 +187,18 @@ void pdfOne(benchmark::State& st, const std::string& name) {
   st.SetItemsProcessed(st.iterations());
 }
 
+void evalOne(benchmark::State& st) {
+  const MerlBrdf& brdf = *nickel();
+  const std::vector<Pair>& pairs = pdfPairs();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    Rgb f = brdf.eval(pairs[i].wo, pairs[i].wi);
+    benchmark::DoNotOptimize(f);
+    i = (i + 1) & kVariateMask;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
 constexpr std::size_t kChunk = 4096;
 
 void headToHead(benchmark::State& st) {
@@ -254,6 +267,10 @@ int main(int argc, char** argv) {
         ->Repetitions(3)
         ->DisplayAggregatesOnly(true);
   }
+  benchmark::RegisterBenchmark("brdf-eval/merl/nickel", evalOne)
+      ->MinTime(0.2)
+      ->Repetitions(3)
+      ->DisplayAggregatesOnly(true);
   // 10 contenders × 4096 ops per round; 100 rounds ≈ 0.4M ops of each.
   benchmark::RegisterBenchmark("brdf-h2h/nickel", headToHead)->Iterations(100)->Unit(benchmark::kMillisecond);
 

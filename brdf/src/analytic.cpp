@@ -110,7 +110,7 @@ Rgb AnalyticBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDif
 
 Rgb AnalyticBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wo.z > 0 && wi.z > 0)) return {};
-  const HalfDiffAngles a = toHalfDiff(wo, wi);
+  const HalfDiffAngles a = toHalfDiff(wo, wi, false);
   return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
 }
 

@@ -37,21 +37,37 @@ void HalfVectorFrame::diffAngles(const Vec3d& wi, double& thetaDiff, double& phi
   phiDiff = signedAzimuth(d);
 }
 
-HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi) {
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi) { return toHalfDiff(wo, wi, true); }
+
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi, bool withPhiHalf) {
+  // h need not be normalised: its angles are atan2's, which are scale-free, and the rotation's
+  // cosines and sines are ratios of its components, cos φh = x/ρ, sin φh = y/ρ, cos θh = z/|h|,
+  // sin θh = ρ/|h| with ρ = √(x² + y²), without evaluating the angles' trigonometric functions.
+  // On the normal (ρ = 0) φh is 0; the degenerate ωi = −ωo has no half vector at all: take the
+  // normal, so the result stays finite.
+  // ρ as a plain square root, not hypot: sum has no components near overflow or underflow, and
+  // hypot's last-bit rounding costs three times as much.
   const Vec3d sum = wi + wo;
-  // Normalising h is not needed for its angles (atan2 is scale-free), but the degenerate
-  // ωi = −ωo has no half vector at all; take the normal, so the result stays finite.
-  const bool degenerate = sum.x == 0 && sum.y == 0 && sum.z == 0;
+  const double rho = std::sqrt(sum.x * sum.x + sum.y * sum.y);
+  const double length = std::sqrt(rho * rho + sum.z * sum.z);
   HalfDiffAngles a;
-  a.thetaHalf = degenerate ? 0.0 : polarAngle(sum);
-  a.phiHalf = degenerate ? 0.0 : signedAzimuth(sum);
-  Vec3d d = HalfVectorFrame(a.thetaHalf, a.phiHalf).difference(wi);
+  double cosPhi = 1, sinPhi = 0, cosTheta = 1, sinTheta = 0;
+  if (rho > 0) {
+    cosPhi = sum.x / rho, sinPhi = sum.y / rho;
+    if (withPhiHalf) a.phiHalf = signedAzimuth(sum);
+  }
+  if (length > 0) {
+    cosTheta = sum.z / length, sinTheta = rho / length;
+    a.thetaHalf = std::atan2(rho, sum.z);
+  }
+  // d = Ry(−θh) · Rz(−φh) · ωi.
+  Vec3d d = rotateY(rotateZ(wi, cosPhi, -sinPhi), cosTheta, -sinTheta);
   // With either direction on the normal (θo = 0 or θi = 0), ωi, ωo and h lie in one plane with
   // the normal, so d has no binormal component and φd is 0 or π exactly, MERL's φd cell 0 (as
   // BRDFRead.cpp gives in exact arithmetic). The rotation leaves a rounding residue of either
   // sign there instead, which picked cell 0 or 179 (12% apart on nickel) for the same directions.
   if ((wo.x == 0.0 && wo.y == 0.0) || (wi.x == 0.0 && wi.y == 0.0)) d.y = 0.0;
-  a.thetaDiff = polarAngle(d);
+  a.thetaDiff = std::atan2(std::sqrt(d.x * d.x + d.y * d.y), d.z);
   a.phiDiff = signedAzimuth(d);
   return a;
 }

@@ -108,7 +108,8 @@ BrdfFileError::BrdfFileError(const std::string& file, const std::string& problem
 namespace {
 
 // The one pass over a channel's data, shared by the constructor and load(): converts kCells
-// doubles (read from `bytes`, little-endian, possibly unaligned) into `out`, adding the negatives
+// doubles (read from `bytes`, little-endian, possibly unaligned) into every third float of `out`
+// (the channel's place in the interleaved table), adding the negatives
 // to `negativeEntries`. Returns the index of the first NaN / Inf / beyond-float value, or kCells
 // if there is none. Written so that GCC vectorises it (the checks are on the float, the counters
 // int): it then costs a fraction of the read. A bad channel is rescanned for the first bad index.
@@ -126,7 +127,7 @@ std::size_t convertChannel(const unsigned char* bytes, float* out, std::size_t& 
     const float f = narrowed(i);
     bad |= !(std::fabs(f) <= kFloatMax);  // NaN, Inf, or a double beyond float range
     negatives += f < 0.0f;
-    out[i] = f > 0.0f ? f : 0.0f;  // negatives (and −0) become +0
+    out[3 * i] = f > 0.0f ? f : 0.0f;  // negatives (and −0) become +0
   }
   if (bad) {
     for (std::size_t i = 0; i < MerlBrdf::kCells; ++i)
@@ -155,8 +156,8 @@ MerlBrdf::MerlBrdf(std::span<const double> red, std::span<const double> green, s
   }
   const std::shared_ptr<float[]> values = allocateValues();
   for (int c = 0; c < 3; ++c) {
-    const std::size_t bad = convertChannel(reinterpret_cast<const unsigned char*>(channels[c].data()),
-                                           values.get() + c * kCells, negativeEntries_);
+    const std::size_t bad =
+        convertChannel(reinterpret_cast<const unsigned char*>(channels[c].data()), values.get() + c, negativeEntries_);
     if (bad != kCells) throw std::invalid_argument("MERL BRDF: " + badValueProblem(c, bad, channels[c][bad]));
   }
   values_ = values;
@@ -222,7 +223,7 @@ MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
   std::size_t negativeEntries = 0;
   for (int c = 0; c < 3; ++c) {
     const unsigned char* channelBytes = bytes.get() + kHeaderBytes + c * kChannelBytes;
-    const std::size_t bad = convertChannel(channelBytes, values.get() + c * kCells, negativeEntries);
+    const std::size_t bad = convertChannel(channelBytes, values.get() + c, negativeEntries);
     if (bad != kCells) {
       double v;
       std::memcpy(&v, channelBytes + bad * sizeof(double), sizeof(double));
@@ -240,10 +241,11 @@ void MerlBrdf::save(const fs::path& path) const {
   const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(kFileBytes);
   const int32_t dims[3] = {kThetaHalfCells, kThetaDiffCells, kPhiDiffCells};
   std::memcpy(bytes.get(), dims, kHeaderBytes);
-  for (std::size_t i = 0; i < 3 * kCells; ++i) {
-    const double v = values_[i];
-    std::memcpy(bytes.get() + kHeaderBytes + i * sizeof(double), &v, sizeof(double));
-  }
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < kCells; ++i) {
+      const double v = values_[3 * i + c];
+      std::memcpy(bytes.get() + kHeaderBytes + (c * kCells + i) * sizeof(double), &v, sizeof(double));
+    }
   writeFileAtomically(name, bytes.get(), kFileBytes);
 }
 
@@ -295,12 +297,20 @@ double MerlBrdf::phiDiffCentre(int k) { return (k + 0.5) / kPhiDiffCells * std::
 
 Rgb MerlBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wi.z > 0 && wo.z > 0)) return {};
-  const HalfDiffAngles a = toHalfDiff(wo, wi);
+  const HalfDiffAngles a = toHalfDiff(wo, wi, false);
   return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
 }
 
 std::string MerlBrdf::addToKey(ContentHash& content) const {
-  for (int c = 0; c < 3; ++c) content.values(channel(c));
+  // Channel after channel, as the file (and the keys of tables cached before the interleaved
+  // layout) has them; ContentHash streams, so chunks hash as the whole channel would.
+  std::array<float, 4096> chunk;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t first = 0; first < kCells; first += chunk.size()) {
+      const std::size_t n = std::min(chunk.size(), kCells - first);
+      for (std::size_t i = 0; i < n; ++i) chunk[i] = values_[3 * (first + i) + c];
+      content.values(std::span<const float>(chunk.data(), n));
+    }
   return interpolation_ == Interpolation::Nearest ? "interpolation=nearest" : "interpolation=trilinear";
 }
 
@@ -322,9 +332,10 @@ Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) c
       for (int c = 0; c < 2; ++c) {
         const double w = wb * (c ? p.t : 1.0 - p.t);
         const std::size_t index = flatIndex(a ? h.i1 : h.i0, b ? d.i1 : d.i0, c ? p.i1 : p.i0);
-        sum[0] += w * values_[index];
-        sum[1] += w * values_[kCells + index];
-        sum[2] += w * values_[2 * kCells + index];
+        const float* v = values_.get() + 3 * index;
+        sum[0] += w * v[0];
+        sum[1] += w * v[1];
+        sum[2] += w * v[2];
       }
     }
   }

@@ -143,7 +143,7 @@ std::array<double, 3> NeuralBrdf::evalHalfDiff(double thetaHalf, double thetaDif
 
 Rgb NeuralBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wi.z > 0 && wo.z > 0)) return {};
-  const HalfDiffAngles a = toHalfDiff(wo, wi);
+  const HalfDiffAngles a = toHalfDiff(wo, wi, false);
   const std::array<double, 3> f = evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
   return {static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2])};
 }

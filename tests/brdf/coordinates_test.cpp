@@ -9,6 +9,7 @@
 #include <random>
 
 #include "acdf/brdf/coordinates.h"
+#include "acdf/brdf/merl.h"
 
 namespace {
 
@@ -134,6 +135,64 @@ TEST(Coordinates, MatchesMerlReferenceOnRandomPairs) {
       ASSERT_NEAR(angleDistance(a.phiDiff, r.phiDiff), 0.0, 1e-7) << n;
     }
   }
+}
+
+// toHalfDiff as it was written first: the rotation by the cosines and sines of the angles
+// atan2 gave, Ry(−θh) · Rz(−φh), instead of ratios of h's components.
+HalfDiffAngles rotatedByAngles(const Vec3d& wo, const Vec3d& wi) {
+  const Vec3d sum = wi + wo;
+  HalfDiffAngles a;
+  if (sum.x != 0 || sum.y != 0 || sum.z != 0) {
+    a.thetaHalf = polarAngle(sum);
+    a.phiHalf = std::atan2(sum.y, sum.x);
+  }
+  const double cp = std::cos(-a.phiHalf), sp = std::sin(-a.phiHalf);
+  const double ct = std::cos(-a.thetaHalf), st = std::sin(-a.thetaHalf);
+  const Vec3d r{cp * wi.x - sp * wi.y, sp * wi.x + cp * wi.y, wi.z};
+  Vec3d d{ct * r.x + st * r.z, r.y, ct * r.z - st * r.x};
+  if ((wo.x == 0.0 && wo.y == 0.0) || (wi.x == 0.0 && wi.y == 0.0)) d.y = 0.0;
+  a.thetaDiff = polarAngle(d);
+  a.phiDiff = std::atan2(d.y, d.x);
+  return a;
+}
+
+// The conversion without trigonometric functions looks up the same MERL cells as the rotation by
+// the angles on random pairs, on pairs with a direction at the normal (the φd seam), near the
+// mirror direction (θh near 0) and at grazing angles; only rounding differs (angles within
+// 1e-12, θh within 1e-15: a square root instead of hypot), so a cell can differ only for angles
+// within that of a cell boundary, which none of these pairs is.
+TEST(Coordinates, ComponentRotationLooksUpTheSameMerlCells) {
+#ifdef ACDF_SANITIZED_BUILD
+  const int pairs = 20000;
+#else
+  const int pairs = 100000;
+#endif
+  Hemisphere gen;
+  std::uniform_real_distribution<double> tiny(-1e-6, 1e-6);
+  int differentCells = 0;
+  for (int n = 0; n < pairs; ++n) {
+    Vec3d wo = gen.direction(), wi = gen.direction();
+    switch (n % 4) {
+      case 1: wo = {0, 0, 1}; break;                                                             // at the normal
+      case 2: wi = normalize(Vec3d{-wo.x + tiny(gen.rng), -wo.y + tiny(gen.rng), wo.z}); break;  // near mirror
+      case 3: wi = normalize(Vec3d{wi.x, wi.y, 1e-4 * wi.z}); break;                             // grazing
+      default: break;
+    }
+    const HalfDiffAngles a = toHalfDiff(wo, wi), r = rotatedByAngles(wo, wi);
+    ASSERT_NEAR(a.thetaHalf, r.thetaHalf, 1e-15) << n;
+    ASSERT_NEAR(a.thetaDiff, r.thetaDiff, 1e-12) << n;
+    if (a.thetaDiff > 1e-6) ASSERT_NEAR(angleDistance(a.phiDiff, r.phiDiff), 0.0, 1e-9) << n;
+    differentCells += MerlBrdf::thetaHalfIndex(a.thetaHalf) != MerlBrdf::thetaHalfIndex(r.thetaHalf) ||
+                      MerlBrdf::thetaDiffIndex(a.thetaDiff) != MerlBrdf::thetaDiffIndex(r.thetaDiff) ||
+                      MerlBrdf::phiDiffIndex(a.phiDiff) != MerlBrdf::phiDiffIndex(r.phiDiff);
+    // Without φh, the rest is the same.
+    const HalfDiffAngles isotropic = toHalfDiff(wo, wi, false);
+    ASSERT_EQ(isotropic.phiHalf, 0.0);
+    ASSERT_EQ(isotropic.thetaHalf, a.thetaHalf);
+    ASSERT_EQ(isotropic.thetaDiff, a.thetaDiff);
+    ASSERT_EQ(isotropic.phiDiff, a.phiDiff);
+  }
+  EXPECT_EQ(differentCells, 0);
 }
 
 TEST(Coordinates, DirectionsRoundTrip) {

@@ -146,7 +146,7 @@ TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
   // One value of one channel.
   std::vector<double> rgb[3];
   for (int c = 0; c < 3; ++c) {
-    const std::span<const float> channel = brdf()->channel(c);
+    const auto channel = brdf()->channel(c);
     rgb[c].assign(channel.begin(), channel.end());
   }
   rgb[2][123456] = std::nextafter(static_cast<float>(rgb[2][123456]), 1e9f);
@@ -158,6 +158,19 @@ TEST(BrdfTable, KeyFollowsEveryValueAndEveryTableOption) {
   // Models of one table share its values: the same key (and so the cached table) for each.
   EXPECT_EQ(TabulatedBrdfSampler::tableKey(brdf()->withInterpolation(MerlBrdf::Interpolation::Nearest), base),
             TabulatedBrdfSampler::tableKey(*brdf(), base));
+}
+
+// The key hashes the values channel after channel, in file order, whatever the in-memory layout:
+// tables cached under the planar layout's keys stay valid.
+TEST(BrdfTable, KeyHashesTheChannelsInFileOrder) {
+  ContentHash fromModel, fromChannels;
+  EXPECT_EQ(brdf()->addToKey(fromModel), "interpolation=nearest");
+  for (int c = 0; c < 3; ++c) {
+    const auto channel = brdf()->channel(c);
+    const std::vector<float> values(channel.begin(), channel.end());
+    fromChannels.values(std::span<const float>(values));
+  }
+  EXPECT_EQ(fromModel.digest().hex(), fromChannels.digest().hex());
 }
 
 TEST(BrdfTable, ThroughATableCache) {

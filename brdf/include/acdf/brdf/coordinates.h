@@ -37,6 +37,9 @@ struct DirectionPair {
 // be unit vectors. When ωi = −ωo the half vector is undefined; the normal is used (θh = φh = 0),
 // so the result is still finite.
 HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi);
+// The same, with φh left 0 unless `withPhiHalf`: an isotropic model needs θh, θd and φd only, and
+// skips φh's atan2.
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi, bool withPhiHalf);
 
 // The frame in which a half vector (θh, φh) points up: maps ωi to its difference angles. Holds
 // the rotation's trigonometry, for loops converting many ωi against one half vector.
