@@ -68,8 +68,9 @@ test: deps
 	$(MAKE) build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
-# Sanitizer and fuzz builds: optimised, with line tables only (-g1: file and line in every stack
-# trace, at a fraction of full debug information's compile time), without the benchmarks.
+# Sanitizer and fuzz builds: optimised (apps/ and tests/ at -O1, cmake/Sanitizers.cmake), with
+# line tables only (-g1: file and line in every stack trace, at a fraction of full debug
+# information's compile time), without the benchmarks.
 SANITIZER_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG' \
                    -DACDF_BUILD_BENCHMARKS=OFF
 
