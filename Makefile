@@ -10,9 +10,11 @@
 #   make fuzz       libFuzzer targets (clang, build-fuzz/), each for FUZZ_SECONDS
 #   make stress     numerical stress program (1e8 samples per distribution; STRESS_ARGS)
 #   make test-tsan  ThreadSanitizer build (build-tsan/) + the multithreaded tests
+#   make install    the libraries, headers and CMake package (find_package(acdf)) into PREFIX
 # Each of these first runs `make deps` (scripts/install-deps, a no-op when all is installed).
 
 JOBS ?= 2
+PREFIX ?= /usr/local
 BUILD_DIR ?= build
 ASAN_DIR ?= build-asan
 RESULTS_DIR ?= bench/results
@@ -50,7 +52,7 @@ generator_for = $(if $(wildcard $(1)/CMakeCache.txt),,$(GENERATOR))
 SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 \
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build test configure-asan build-asan test-asan demo demo-materials bench clean \
+.PHONY: all deps configure build test install configure-asan build-asan test-asan demo demo-materials bench clean \
         configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan
 
 all: build
@@ -67,6 +69,9 @@ build: configure
 test: deps
 	$(MAKE) build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+install: build
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 # Sanitizer and fuzz builds: optimised (apps/ and tests/ at -O1, cmake/Sanitizers.cmake), with
 # line tables only (-g1: file and line in every stack trace, at a fraction of full debug
