@@ -149,20 +149,8 @@ std::optional<Json> readJsonFile(const fs::path& path) {
   return j;
 }
 
-Image readImageFile(const std::string& path) {
-  try {
-    return readImage(path);
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
-}
-
 void writeImage(const std::string& path, const Image& image, bool png) {
-  try {
-    png ? writeSrgbPng(path, image) : writeExr(path, image);
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  png ? writeSrgbPng(path, image) : writeExr(path, image);
 }
 
 template <class T, class Parse>
@@ -268,7 +256,7 @@ class BenchError {
     // The scene with its own strategies: its resolution, whether BRDF sampling matters, and the
     // reference render if there is none to reuse. Loading it validates the scene (exit 2).
     tables_.emplace(commandTableCache(args_.noCache));
-    Scene scene = loadCommandScene(args_.scene, {}, *tables_);
+    Scene scene = loadScene(args_.scene, {}, *tables_);
     const Film film = makeFilm(scene);
     width_ = film.width();
     height_ = film.height();
@@ -332,32 +320,31 @@ class BenchError {
   // check passed, so bad input leaves nothing behind.
   void prepareOutputDirectory() {
     std::error_code ec;
-    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
-      throw InputError(dir_.string(), "--out is not a directory");
+    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec)) throw FileError(dir_.string(), "--out is not a directory");
     if (fs::is_directory(dir_, ec)) {
-      if (access(dir_.c_str(), W_OK) != 0) throw InputError(dir_.string(), "the output directory is not writable");
+      if (access(dir_.c_str(), W_OK) != 0) throw FileError(dir_.string(), "the output directory is not writable");
     } else {
       const fs::path parent = dir_.parent_path().empty() ? fs::path(".") : dir_.parent_path();
-      if (!fs::is_directory(parent, ec)) throw InputError(dir_.string(), "its parent directory does not exist");
+      if (!fs::is_directory(parent, ec)) throw FileError(dir_.string(), "its parent directory does not exist");
       if (access(parent.c_str(), W_OK) != 0)
-        throw InputError(dir_.string(), "cannot create the output directory (parent not writable)");
+        throw FileError(dir_.string(), "cannot create the output directory (parent not writable)");
       if (!fs::create_directory(dir_, ec) && ec)
-        throw InputError(dir_.string(), "cannot create the output directory (" + ec.message() + ")");
+        throw FileError(dir_.string(), "cannot create the output directory (" + ec.message() + ")");
     }
     fs::create_directories(dir_ / "images", ec);
     if (!ec) fs::create_directories(dir_ / "diff", ec);
-    if (ec) throw InputError(dir_.string(), "cannot create its images/ and diff/ directories (" + ec.message() + ")");
+    if (ec) throw FileError(dir_.string(), "cannot create its images/ and diff/ directories (" + ec.message() + ")");
   }
 
   void checkReferenceShape(const Image& image, const std::string& file) const {
     if (image.width != width_ || image.height != height_)
-      throw InputError(file, fmt::format("the reference is {}x{} but {} renders {}x{}", image.width, image.height,
-                                         args_.scene, width_, height_));
-    if (image.channels != 3) throw InputError(file, "the reference must have RGB channels");
+      throw FileError(file, fmt::format("the reference is {}x{} but {} renders {}x{}", image.width, image.height,
+                                        args_.scene, width_, height_));
+    if (image.channels != 3) throw FileError(file, "the reference must have RGB channels");
   }
 
   void loadGivenReference() {
-    reference_ = readImageFile(args_.reference);
+    reference_ = readImage(args_.reference);
     checkReferenceShape(reference_, args_.reference);
     referenceDescription_ = args_.reference;
     referenceOrigin_ = "given";
@@ -477,7 +464,7 @@ class BenchError {
       overrides.mis = s.mis;
       const std::size_t builtBefore = tables_->tablesBuilt().size(), cachedBefore = tables_->tablesFromCache().size();
       const auto setupStart = Clock::now();
-      Scene scene = loadCommandScene(args_.scene, overrides, *tables_);
+      Scene scene = loadScene(args_.scene, overrides, *tables_);
       const double tableMs = millisecondsSince(setupStart);
       const TableMemory memory = tableMemory(scene);
       for (double budget : budgets_) {
@@ -544,7 +531,7 @@ class BenchError {
       const fs::path file = dir_ / "images" / (s.id() + ".exr");
       std::error_code ec;
       if (!fs::is_regular_file(file, ec)) continue;
-      Image image = readImageFile(file.string());
+      Image image = readImage(file.string());
       if (image.width != width_ || image.height != height_ || image.channels != 3) continue;
       images.emplace(s.id(), std::move(image));
     }

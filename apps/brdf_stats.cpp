@@ -234,12 +234,8 @@ std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const
 }
 
 std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args) {
-  try {
-    if (RglBrdf::isRglFile(path)) return std::make_shared<const RglBrdf>(RglBrdf::load(path));
-    return std::make_shared<const MerlBrdf>(MerlBrdf::load(path, brdfInterpolation(args)));
-  } catch (const BrdfFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  if (RglBrdf::isRglFile(path)) return std::make_shared<const RglBrdf>(RglBrdf::load(path));
+  return std::make_shared<const MerlBrdf>(MerlBrdf::load(path, brdfInterpolation(args)));
 }
 
 Command addBrdfStats(CLI::App& parent) {

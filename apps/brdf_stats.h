@@ -47,8 +47,8 @@ std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const
                                                            const BrdfTableArgs& args, DimensionMethod method);
 
 // The measured BRDF in `path`: an RGL .bsdf when the file starts with the tensor file magic
-// (RglBrdf::load), else a MERL .binary (MerlBrdf::load with the flags' interpolation). Errors
-// become InputError ("<file>: <problem>", exit 2).
+// (RglBrdf::load), else a MERL .binary (MerlBrdf::load with the flags' interpolation). Throws
+// FileError ("<file>: <problem>", exit 2).
 std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args);
 
 }  // namespace acdf::app

@@ -118,9 +118,9 @@ auto buildFor(const std::string& path, Build&& build) {
   try {
     return build();
   } catch (const std::invalid_argument& e) {
-    throw InputError(path, e.what());
+    throw FileError(path, e.what());
   } catch (const std::length_error& e) {
-    throw InputError(path, e.what());
+    throw FileError(path, e.what());
   }
 }
 

@@ -50,7 +50,7 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
     throw UsageError(std::string("chi2 --envmap: ") + e.what());
   }
   const auto map = readEnvironmentMap(args.envmap, args.sanitize);
-  if (map->isBlack()) throw InputError(args.envmap, "the map is black everywhere: nothing to sample");
+  if (map->isBlack()) throw FileError(args.envmap, "the map is black everywhere: nothing to sample");
   const EnvironmentLight light(map, options);
   return lightChiSquareTest(light, {.samples = args.samples, .seed = args.seed, .alpha = kAlpha});
 }

@@ -12,7 +12,7 @@ namespace acdf::app {
 
 struct Command {
   CLI::App* app = nullptr;
-  // Runs the subcommand after a successful parse; returns the exit code. Throws InputError /
+  // Runs the subcommand after a successful parse; returns the exit code. Throws FileError /
   // UsageError for bad input; main() reports them.
   std::function<int()> run;
 };

@@ -59,11 +59,7 @@ int runEnvGen(const EnvGenArgs& args) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("env-gen: ") + e.what());
   }
-  try {
-    writeExr(args.output, image);
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  writeExr(args.output, image);
   std::printf("%s: %u x %u sun and sky (%s), %.0f ms\n", args.output.c_str(), args.width, height, describe(p).c_str(),
               millisecondsSince(start));
   return std::fflush(stdout) == 0 ? 0 : 1;

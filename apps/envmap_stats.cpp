@@ -153,7 +153,7 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
   if (!(args.epsilon >= 0)) throw UsageError("envmap-stats: --epsilon must be >= 0");
   const std::shared_ptr<const EnvironmentMap> map = readEnvironmentMap(args.input, args.sanitize);
   if (map->isBlack())
-    throw InputError(args.input, "the map is black everywhere: a light that emits nothing has no table to report on");
+    throw FileError(args.input, "the map is black everywhere: a light that emits nothing has no table to report on");
 
   const Table uniform = build(map, EnvironmentSampling::Uniform, args.epsilon);
   const Table alias = build(map, EnvironmentSampling::Alias, args.epsilon);

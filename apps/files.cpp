@@ -18,25 +18,25 @@ namespace acdf::app {
 namespace fs = std::filesystem;
 
 std::uintmax_t checkInputFile(const std::string& path) {
-  if (path.empty()) throw InputError(path, "empty file name");
-  if (const auto problem = regularFileProblem(path)) throw InputError(path, *problem);
+  if (path.empty()) throw FileError(path, "empty file name");
+  if (const auto problem = regularFileProblem(path)) throw FileError(path, *problem);
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw InputError(path, "cannot read file size (" + ec.message() + ")");
-  if (size == 0) throw InputError(path, "file is empty");
+  if (ec) throw FileError(path, "cannot read file size (" + ec.message() + ")");
+  if (size == 0) throw FileError(path, "file is empty");
   std::ifstream probe(path, std::ios::binary);
-  if (!probe) throw InputError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
+  if (!probe) throw FileError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
   return size;
 }
 
 std::vector<unsigned char> readFileBytes(const std::string& path) {
   const std::uintmax_t size = checkInputFile(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
+  if (!in) throw FileError(path, std::string("cannot open file (") + std::strerror(errno) + ")");
   std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (static_cast<std::uintmax_t>(in.gcount()) != size)
-    throw InputError(path, "read error (file changed while reading?)");
+    throw FileError(path, "read error (file changed while reading?)");
   return bytes;
 }
 
@@ -51,13 +51,13 @@ void writeTextFileAtomically(const std::string& path, std::string_view text) {
     out.close();
     if (!out) {
       fs::remove(temp, ec);
-      throw InputError(path, "cannot write the temporary file " + temp);
+      throw FileError(path, "cannot write the temporary file " + temp);
     }
   }
   fs::rename(temp, path, ec);
   if (ec) {
     fs::remove(temp, ec);
-    throw InputError(path, "cannot rename the temporary file into place");
+    throw FileError(path, "cannot rename the temporary file into place");
   }
 }
 

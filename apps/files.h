@@ -8,16 +8,16 @@
 
 namespace acdf::app {
 
-// Throws InputError ("no such file", "is a directory", "file is empty", ...) unless `path` is a
+// Throws FileError ("no such file", "is a directory", "file is empty", ...) unless `path` is a
 // readable, non-empty regular file (symlinks followed). Returns its size in bytes.
 std::uintmax_t checkInputFile(const std::string& path);
 
-// The whole file, after checkInputFile(). Throws InputError if it cannot be read.
+// The whole file, after checkInputFile(). Throws FileError if it cannot be read.
 std::vector<unsigned char> readFileBytes(const std::string& path);
 
 // Writes `text` to a temporary file next to `path` (guarded against signals, temporary_files.h)
 // and renames it over `path`: a reader sees the old file or the new one, never a partial one.
-// Throws InputError naming `path`.
+// Throws FileError naming `path`.
 void writeTextFileAtomically(const std::string& path, std::string_view text);
 
 }  // namespace acdf::app

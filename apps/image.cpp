@@ -12,19 +12,15 @@ namespace acdf::app {
 
 namespace {
 
-Image readOrThrowInputError(const std::string& path, const ImageReadOptions& options) {
+Image readCheckedImage(const std::string& path, const ImageReadOptions& options) {
   checkInputFile(path);
-  try {
-    return readImage(path, options);
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  return readImage(path, options);
 }
 
 }  // namespace
 
 LuminanceImage readLuminanceImage(const std::string& path) {
-  const Image raw = readOrThrowInputError(path, {});
+  const Image raw = readCheckedImage(path, {});
   LuminanceImage image;
   image.width = raw.width;
   image.height = raw.height;
@@ -45,20 +41,16 @@ LuminanceImage readLuminanceImage(const std::string& path) {
     // Three finite floats cannot sum beyond the float range by more than the weights allow, but be
     // exact about it: the engine must see finite values.
     if (lum > std::numeric_limits<float>::max())
-      throw InputError(path, fmt::format("pixel (x {}, y {}) has luminance {:g}, beyond the float range",
-                                         i % image.width, i / image.width, lum));
+      throw FileError(path, fmt::format("pixel (x {}, y {}) has luminance {:g}, beyond the float range",
+                                        i % image.width, i / image.width, lum));
     image.values[i] = static_cast<float>(lum);
   }
   return image;
 }
 
 std::shared_ptr<const EnvironmentMap> readEnvironmentMap(const std::string& path, bool replaceNonFinite) {
-  const Image raw = readOrThrowInputError(path, {.replaceNonFinite = replaceNonFinite});
-  try {
-    return std::make_shared<const EnvironmentMap>(EnvironmentMap::fromImage(raw, path));
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  const Image raw = readCheckedImage(path, {.replaceNonFinite = replaceNonFinite});
+  return std::make_shared<const EnvironmentMap>(EnvironmentMap::fromImage(raw, path));
 }
 
 }  // namespace acdf::app

@@ -1,7 +1,7 @@
 #pragma once
 // Images for the subcommands, read through the one OpenImageIO reader of the tree
 // (acdf/envmap/image_file.h): as a 2D grid of luminance (cdf-stats) or as an environment map.
-// Reader errors become InputError("<path>: <problem>").
+// Reader errors are FileError("<path>: <problem>").
 
 #include <cstddef>
 #include <memory>
@@ -25,11 +25,11 @@ struct LuminanceImage {
 // channels; an image with one or two channels (gray, gray + alpha) uses channel 0. Channels enter
 // the luminance as they are (a slightly negative channel of a lossy file is counted, not changed);
 // a negative luminance is clamped to 0 and counted; a NaN or Inf in a used channel is an error.
-// Throws InputError("<path>: <problem>").
+// Throws FileError("<path>: <problem>").
 LuminanceImage readLuminanceImage(const std::string& path);
 
 // EnvironmentMap::load (negative channels clamped and counted; NaN / Inf an error, or replaced
-// with 0 and counted when replaceNonFinite). Throws InputError.
+// with 0 and counted when replaceNonFinite). Throws FileError.
 std::shared_ptr<const EnvironmentMap> readEnvironmentMap(const std::string& path, bool replaceNonFinite);
 
 }  // namespace acdf::app

@@ -62,11 +62,11 @@ std::vector<GridAxis> unitAxes(const InputGrid& grid) {
   axes.reserve(grid.dims.size());
   for (std::size_t d = 0; d < grid.dims.size(); ++d) {
     if (grid.dims[d] > std::numeric_limits<uint32_t>::max())
-      throw InputError(grid.path, fmt::format("axis {} has {} cells, more than a grid axis can hold", d, grid.dims[d]));
+      throw FileError(grid.path, fmt::format("axis {} has {} cells, more than a grid axis can hold", d, grid.dims[d]));
     try {
       axes.emplace_back(static_cast<uint32_t>(grid.dims[d]), 0.0f, 1.0f);
     } catch (const std::invalid_argument& e) {
-      throw InputError(grid.path, fmt::format("axis {} ({} cells over [0,1)): {}", d, grid.dims[d], e.what()));
+      throw FileError(grid.path, fmt::format("axis {} ({} cells over [0,1)): {}", d, grid.dims[d], e.what()));
     }
   }
   return axes;
@@ -77,7 +77,7 @@ void checkValues(const InputGrid& grid, const std::vector<GridAxis>& axes) {
     checkGridShape(grid.values.size(), axes);
     checkNonNegativeFinite(grid.values, axes);
   } catch (const std::invalid_argument& e) {
-    throw InputError(grid.path, e.what());
+    throw FileError(grid.path, e.what());
   }
 }
 

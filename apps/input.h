@@ -20,14 +20,14 @@ struct InputGrid {
 };
 
 // A file starting with the .npy magic string (or named *.npy) is read as .npy, anything else
-// with OpenImageIO. Throws InputError. Values of a .npy file are not checked here.
+// with OpenImageIO. Throws FileError. Values of a .npy file are not checked here.
 InputGrid readInputGrid(const std::string& path);
 
-// One GridAxis(size, 0, 1) per dimension. Throws InputError (naming the axis) when the engine
+// One GridAxis(size, 0, 1) per dimension. Throws FileError (naming the axis) when the engine
 // cannot represent an axis, e.g. more cells than [0,1) in float can hold.
 std::vector<GridAxis> unitAxes(const InputGrid& grid);
 
-// acdf::checkNonNegativeFinite on the values, its message rethrown as InputError for the file.
+// acdf::checkNonNegativeFinite on the values, its message rethrown as FileError for the file.
 void checkValues(const InputGrid& grid, const std::vector<GridAxis>& axes);
 
 const char* kindName(InputGrid::Kind kind);

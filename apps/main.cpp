@@ -33,7 +33,7 @@ constexpr int kExitInternal = 1;
 constexpr int kExitBadInput = 2;
 
 int report(const std::string& message, int code) {
-  std::fprintf(stderr, "acdf: %s\n", acdf::app::oneLine(message).c_str());
+  std::fprintf(stderr, "acdf: %s\n", acdf::oneLine(message).c_str());
   return code;
 }
 
@@ -71,7 +71,7 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return run(argc, argv);
-  } catch (const acdf::app::InputError& e) {
+  } catch (const acdf::FileError& e) {
     return report(e.what(), kExitBadInput);
   } catch (const acdf::app::UsageError& e) {
     return report(e.what(), kExitBadInput);

@@ -31,20 +31,11 @@ struct MerlGenArgs {
   bool list = false;
 };
 
-// A weights-file or output-file problem as the CLI reports it: "<file>: <problem>", exit 2.
-[[noreturn]] void rethrowAsInputError(const BrdfFileError& e) { throw InputError(e.file(), e.problem()); }
-
 int runMerlGen(const MerlGenArgs& args) {
   if (args.list) {
     if (!args.material.empty() || !args.preset.empty() || !args.output.empty())
       throw UsageError("merl-gen: --list cannot be combined with --nbrdf, --preset or -o");
-    std::vector<std::string> names;
-    try {
-      names = NeuralBrdf::materials(args.weights);
-    } catch (const BrdfFileError& e) {
-      rethrowAsInputError(e);
-    }
-    for (const std::string& name : names) std::printf("%s\n", name.c_str());
+    for (const std::string& name : NeuralBrdf::materials(args.weights)) std::printf("%s\n", name.c_str());
     return 0;
   }
   if (!args.material.empty() && !args.preset.empty())
@@ -54,29 +45,25 @@ int runMerlGen(const MerlGenArgs& args) {
   if (args.output.empty()) throw UsageError("merl-gen: give the output file with -o OUT.binary");
 
   const auto start = std::chrono::steady_clock::now();
-  try {
-    std::vector<double> table;
-    std::string what;
-    if (!args.preset.empty()) {
-      try {
-        table = AnalyticBrdf::preset(args.preset).merlTable();
-      } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("merl-gen: ") + e.what());
-      }
-      what = "preset '" + args.preset + "'";
-    } else {
-      table = NeuralBrdf::load(args.weights, args.material).merlTable();
-      what = "neural fit of '" + args.material + "'";
+  std::vector<double> table;
+  std::string what;
+  if (!args.preset.empty()) {
+    try {
+      table = AnalyticBrdf::preset(args.preset).merlTable();
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("merl-gen: ") + e.what());
     }
-    std::size_t below = 0;
-    for (std::size_t i = 0; i < MerlBrdf::kCells; ++i) below += table[i] == -1.0;
-    MerlBrdf::saveRaw(args.output, table);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("%s: %s, %zu cells (%zu below the horizon, -1), %.2f s\n", args.output.c_str(), what.c_str(),
-                MerlBrdf::kCells, below, seconds);
-  } catch (const BrdfFileError& e) {
-    rethrowAsInputError(e);
+    what = "preset '" + args.preset + "'";
+  } else {
+    table = NeuralBrdf::load(args.weights, args.material).merlTable();
+    what = "neural fit of '" + args.material + "'";
   }
+  std::size_t below = 0;
+  for (std::size_t i = 0; i < MerlBrdf::kCells; ++i) below += table[i] == -1.0;
+  MerlBrdf::saveRaw(args.output, table);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s: %s, %zu cells (%zu below the horizon, -1), %.2f s\n", args.output.c_str(), what.c_str(),
+              MerlBrdf::kCells, below, seconds);
   return 0;
 }
 

@@ -92,7 +92,7 @@ class HeaderParser {
   char peek() const { return text_[pos_]; }
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(name_, fmt::format("bad .npy header: {} at header offset {}", what, pos_));
+    throw FileError(name_, fmt::format("bad .npy header: {} at header offset {}", what, pos_));
   }
 
   void expect(char c, const std::string& what) {
@@ -211,29 +211,29 @@ bool hasNpyMagic(std::span<const unsigned char> bytes) {
 }
 
 NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name) {
-  if (bytes.empty()) throw InputError(name, "file is empty");
+  if (bytes.empty()) throw FileError(name, "file is empty");
   if (!hasNpyMagic(bytes)) {
     if (bytes.size() < sizeof(kMagic) && std::memcmp(bytes.data(), kMagic, bytes.size()) == 0)
-      throw InputError(name, "truncated .npy file (ends inside the magic string)");
-    throw InputError(name, "not a .npy file (missing the \\x93NUMPY magic string)");
+      throw FileError(name, "truncated .npy file (ends inside the magic string)");
+    throw FileError(name, "not a .npy file (missing the \\x93NUMPY magic string)");
   }
-  if (bytes.size() < 8) throw InputError(name, "truncated .npy file (ends before the format version)");
+  if (bytes.size() < 8) throw FileError(name, "truncated .npy file (ends before the format version)");
 
   NpyArray array;
   const int major = bytes[6];
   const int minor = bytes[7];
   if (major < 1 || major > 3 || minor != 0)
-    throw InputError(name,
-                     fmt::format("unsupported .npy format version {}.{} (supported: 1.0, 2.0, 3.0)", major, minor));
+    throw FileError(name,
+                    fmt::format("unsupported .npy format version {}.{} (supported: 1.0, 2.0, 3.0)", major, minor));
   array.majorVersion = major;
 
   const std::size_t lengthBytes = major == 1 ? 2 : 4;
-  if (bytes.size() < 8 + lengthBytes) throw InputError(name, "truncated .npy file (ends inside the header length)");
+  if (bytes.size() < 8 + lengthBytes) throw FileError(name, "truncated .npy file (ends inside the header length)");
   const std::size_t headerLength = major == 1 ? readLe16(&bytes[8]) : readLe32(&bytes[8]);
   const std::size_t headerStart = 8 + lengthBytes;
   if (headerLength > bytes.size() - headerStart)
-    throw InputError(name, fmt::format("truncated .npy file (header of {} bytes, but only {} bytes follow)",
-                                       headerLength, bytes.size() - headerStart));
+    throw FileError(name, fmt::format("truncated .npy file (header of {} bytes, but only {} bytes follow)",
+                                      headerLength, bytes.size() - headerStart));
   const std::string_view header(reinterpret_cast<const char*>(&bytes[headerStart]), headerLength);
 
   HeaderParser parser(header, name);
@@ -249,48 +249,48 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
     else if (key == "shape")
       shape = &value;
     else
-      throw InputError(name, fmt::format("bad .npy header: unexpected key '{}'", printable(key)));
+      throw FileError(name, fmt::format("bad .npy header: unexpected key '{}'", printable(key)));
   }
-  if (!descr) throw InputError(name, "bad .npy header: no 'descr' key");
-  if (!fortran) throw InputError(name, "bad .npy header: no 'fortran_order' key");
-  if (!shape) throw InputError(name, "bad .npy header: no 'shape' key");
+  if (!descr) throw FileError(name, "bad .npy header: no 'descr' key");
+  if (!fortran) throw FileError(name, "bad .npy header: no 'fortran_order' key");
+  if (!shape) throw FileError(name, "bad .npy header: no 'shape' key");
 
   // dtype
   constexpr const char* kNeed = "need float32 ('<f4') or float64 ('<f8')";
   if (descr->kind != Value::Kind::String)
-    throw InputError(name, fmt::format("unsupported dtype (structured or non-string 'descr'); {}", kNeed));
+    throw FileError(name, fmt::format("unsupported dtype (structured or non-string 'descr'); {}", kNeed));
   const std::string d = printable(descr->text);
   if (d == "<f4")
     array.dtype = NpyDtype::Float32;
   else if (d == "<f8")
     array.dtype = NpyDtype::Float64;
   else if (d == ">f4" || d == ">f8")
-    throw InputError(name, fmt::format("big-endian dtype '{}' is not supported; {} (convert with "
-                                       "a.astype('<{}'))",
-                                       d, kNeed, d.substr(1)));
+    throw FileError(name, fmt::format("big-endian dtype '{}' is not supported; {} (convert with "
+                                      "a.astype('<{}'))",
+                                      d, kNeed, d.substr(1)));
   else
-    throw InputError(name, fmt::format("unsupported dtype '{}'; {}", d, kNeed));
+    throw FileError(name, fmt::format("unsupported dtype '{}'; {}", d, kNeed));
 
   if (fortran->kind != Value::Kind::Bool)
-    throw InputError(name, "bad .npy header: 'fortran_order' is not True or False");
+    throw FileError(name, "bad .npy header: 'fortran_order' is not True or False");
   if (fortran->flag)
-    throw InputError(name,
-                     "fortran_order is True (column-major data) and is not supported; save a "
-                     "C-order array (np.ascontiguousarray)");
+    throw FileError(name,
+                    "fortran_order is True (column-major data) and is not supported; save a "
+                    "C-order array (np.ascontiguousarray)");
 
-  if (shape->kind != Value::Kind::Tuple) throw InputError(name, "bad .npy header: 'shape' is not a tuple of integers");
+  if (shape->kind != Value::Kind::Tuple) throw FileError(name, "bad .npy header: 'shape' is not a tuple of integers");
   array.shape = shape->numbers;
-  if (array.shape.empty()) throw InputError(name, "0-dimensional (scalar) array; need 1 to 4 dimensions");
+  if (array.shape.empty()) throw FileError(name, "0-dimensional (scalar) array; need 1 to 4 dimensions");
   if (array.shape.size() > kNpyMaxDims)
-    throw InputError(name, fmt::format("{} dimensions, shape {}; at most {} are supported", array.shape.size(),
-                                       shapeString(array.shape), kNpyMaxDims));
+    throw FileError(name, fmt::format("{} dimensions, shape {}; at most {} are supported", array.shape.size(),
+                                      shapeString(array.shape), kNpyMaxDims));
   std::size_t count = 1;
   for (std::size_t i = 0; i < array.shape.size(); ++i) {
     if (array.shape[i] == 0)
-      throw InputError(name, fmt::format("dimension {} has size 0, shape {}; empty arrays are not supported", i,
-                                         shapeString(array.shape)));
+      throw FileError(name, fmt::format("dimension {} has size 0, shape {}; empty arrays are not supported", i,
+                                        shapeString(array.shape)));
     if (count > std::numeric_limits<std::size_t>::max() / array.shape[i])
-      throw InputError(name, fmt::format("shape {} is too large", shapeString(array.shape)));
+      throw FileError(name, fmt::format("shape {} is too large", shapeString(array.shape)));
     count *= array.shape[i];
   }
 
@@ -299,14 +299,14 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
   const std::size_t dataStart = headerStart + headerLength;
   const std::size_t available = bytes.size() - dataStart;
   if (count > std::numeric_limits<std::size_t>::max() / itemSize)
-    throw InputError(name, fmt::format("shape {} is too large", shapeString(array.shape)));
+    throw FileError(name, fmt::format("shape {} is too large", shapeString(array.shape)));
   const std::size_t needed = count * itemSize;
   if (available < needed)
-    throw InputError(name, fmt::format("truncated data: shape {} of '{}' needs {} bytes, the file has {}",
-                                       shapeString(array.shape), d, needed, available));
+    throw FileError(name, fmt::format("truncated data: shape {} of '{}' needs {} bytes, the file has {}",
+                                      shapeString(array.shape), d, needed, available));
   if (available > needed)
-    throw InputError(name, fmt::format("{} unexpected bytes after the data (shape {} of '{}' is {} bytes)",
-                                       available - needed, shapeString(array.shape), d, needed));
+    throw FileError(name, fmt::format("{} unexpected bytes after the data (shape {} of '{}' is {} bytes)",
+                                      available - needed, shapeString(array.shape), d, needed));
 
   array.values.resize(count);
   const unsigned char* data = bytes.data() + dataStart;
@@ -318,8 +318,8 @@ NpyArray parseNpy(std::span<const unsigned char> bytes, const std::string& name)
       double v;
       std::memcpy(&v, data + i * 8, 8);
       if (std::isfinite(v) && std::fabs(v) > kFloatMax)
-        throw InputError(name, fmt::format("value at {} is {:g}, which overflows float32 (largest {:g})",
-                                           elementName(i, array.shape), v, kFloatMax));
+        throw FileError(name, fmt::format("value at {} is {:g}, which overflows float32 (largest {:g})",
+                                          elementName(i, array.shape), v, kFloatMax));
       array.values[i] = static_cast<float>(v);  // NaN and Inf stay NaN and Inf
     }
   }

@@ -5,7 +5,7 @@
 // > 0, C (row-major) order. float64 is converted to float; a finite value beyond the float range
 // is an error. The values themselves are not checked (negative, NaN and Inf are the caller's
 // business: acdf::checkNonNegativeFinite reports them by index).
-// Every problem is reported as InputError("<name>: <problem>").
+// Every problem is reported as FileError("<name>: <problem>").
 
 #include <cstddef>
 #include <span>

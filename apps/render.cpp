@@ -65,17 +65,13 @@ int runRender(const RenderArgs& args) {
 
   const auto setupStart = Clock::now();
   TableProvider tables(commandTableCache(args.noCache));
-  const Scene scene = loadCommandScene(args.scene, overrides, tables);
+  const Scene scene = loadScene(args.scene, overrides, tables);
   const double setupMs = millisecondsSince(setupStart);
 
   Film film = makeFilm(scene);
   const RenderStats stats = renderWithProgress(scene, film, args.seconds);
 
-  try {
-    film.write(args.output, png);
-  } catch (const ImageFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  film.write(args.output, png);
 
   const double samplesPerSecond = stats.seconds > 0 ? stats.paths / stats.seconds : 0.0;
   const double raysPerSecond = stats.seconds > 0 ? stats.rays / stats.seconds : 0.0;

@@ -32,11 +32,7 @@ int runRglGen(const RglGenArgs& args) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("rgl-gen: ") + e.what());
   }
-  try {
-    file.save(args.output);
-  } catch (const BrdfFileError& e) {
-    throw InputError(e.file(), e.problem());
-  }
+  file.save(args.output);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const RglSynthesisOptions& o = args.options;
   std::printf("%s: preset '%s', %u theta_i, vndf %u x %u, %s %u x %u, ndf %u, %.2f s\n", args.output.c_str(),

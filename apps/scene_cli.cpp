@@ -39,23 +39,15 @@ void checkOutputPath(const std::string& path) {
   const fs::path p(path);
   const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(path, "the output directory does not exist");
-  if (fs::is_directory(p, ec)) throw InputError(path, "is a directory");
-  if (access(dir.c_str(), W_OK) != 0) throw InputError(path, "the output directory is not writable");
+  if (!fs::is_directory(dir, ec)) throw FileError(path, "the output directory does not exist");
+  if (fs::is_directory(p, ec)) throw FileError(path, "is a directory");
+  if (access(dir.c_str(), W_OK) != 0) throw FileError(path, "the output directory is not writable");
 }
 
 TableCache commandTableCache(bool disabled) {
   if (disabled) return TableCache::disabled();
   return TableCache::atDefaultLocation(
       [](const std::string& message) { std::fprintf(stderr, "acdf: warning: %s\n", oneLine(message).c_str()); });
-}
-
-Scene loadCommandScene(const std::string& file, const SceneOverrides& overrides, TableProvider& tables) {
-  try {
-    return loadScene(file, overrides, tables);
-  } catch (const SceneError& e) {
-    throw InputError(e.file(), e.problem());
-  }
 }
 
 RenderStats renderWithProgress(const Scene& scene, Film& film, std::optional<double> seconds) {

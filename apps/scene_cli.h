@@ -1,7 +1,7 @@
 #pragma once
 // What `acdf render` and `acdf bench-error` share: the output-path check made before rendering,
-// the render with a terminal progress bar, the table cache with its warnings on stderr, and scene
-// loading with a SceneError reported as an InputError (exit 2).
+// the render with a terminal progress bar, the table cache with its warnings on stderr, and the
+// parsing of an option value.
 
 #include <optional>
 #include <stdexcept>
@@ -17,16 +17,13 @@
 
 namespace acdf::app {
 
-// Throws InputError unless a file can be written at `path` (its directory exists and is
+// Throws FileError unless a file can be written at `path` (its directory exists and is
 // writable, and `path` is not a directory): fails before rendering, not after.
 void checkOutputPath(const std::string& path);
 
 // The on-disk table cache (disabled: --no-cache). Cache problems are warnings on stderr: a
 // rejected file is rebuilt, a failed store only costs time.
 TableCache commandTableCache(bool disabled);
-
-// loadScene(), with a SceneError thrown as InputError.
-Scene loadCommandScene(const std::string& file, const SceneOverrides& overrides, TableProvider& tables);
 
 // render(), for `seconds` (else the scene's sample count), with a progress bar when stderr is a
 // terminal.

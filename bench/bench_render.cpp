@@ -19,9 +19,9 @@
 
 #include <oneapi/tbb/task_arena.h>
 
-#include "acdf/sampling/frame.h"
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/sampling/frame.h"
 #include "acdf/sampling/rng.h"
 
 namespace acdf {
@@ -48,7 +48,7 @@ DemoScene& demoScene() {
     d.tables = std::make_unique<TableProvider>(TableCache::atDefaultLocation());
     try {
       d.scene = loadSceneText(json.dump(), file, {}, *d.tables);
-    } catch (const SceneError& e) {
+    } catch (const FileError& e) {
       d.problem = std::string(e.what()) + " (run `make demo` first)";
     }
     return d;

@@ -3,7 +3,7 @@
 // plugins are chosen by extension first, then by content), then readImage(), and for a small
 // image EnvironmentMap::fromImage() and an EnvironmentLight of each strategy.
 // Invariants: readImage() returns an image of consistent size with finite pixels, or throws
-// ImageFileError with a one-line message naming the file; the light's samples are unit
+// FileError with a one-line message naming the file; the light's samples are unit
 // directions with a finite pdf > 0 (a light that emits nothing returns pdf 0).
 
 #include <cmath>
@@ -56,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   Image image;
   try {
     image = readImage(file.path(), {.replaceNonFinite = (mode & 8) != 0});
-  } catch (const ImageFileError& e) {
+  } catch (const FileError& e) {
     const std::string message = e.what();
     fuzz::require(message.rfind(file.path() + ": ", 0) == 0, "image: message does not name the file", message);
     return 0;

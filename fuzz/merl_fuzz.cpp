@@ -2,7 +2,7 @@
 // length: the rest of the input as it is (header checks, truncation), or padded with zeros —
 // sparsely, by truncate() — to the exact MERL size or a few bytes off it, so the dimension check, the size
 // checks and the value conversion (NaN, Inf, beyond-float, negatives in the input's first
-// doubles) are all reached. Invariants: load() returns a table or throws BrdfFileError with a
+// doubles) are all reached. Invariants: load() returns a table or throws FileError with a
 // one-line message naming the file; a loaded table evaluates to finite, non-negative values.
 
 #include <unistd.h>
@@ -48,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const MerlBrdf brdf = MerlBrdf::load(file.path());
     fuzz::Bytes angles(data + 1, size - 1);
     checkEval(brdf, angles);
-  } catch (const BrdfFileError& e) {
+  } catch (const FileError& e) {
     const std::string message = e.what();
     fuzz::require(message.rfind(file.path() + ": ", 0) == 0, "merl: message does not name the file", message);
     fuzz::require(message.find('\n') == std::string::npos, "merl: message spans lines", message);

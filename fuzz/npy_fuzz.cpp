@@ -1,5 +1,5 @@
 // Fuzzes the .npy reader of the acdf CLI (apps/npy.h): any bytes either parse into an array that
-// matches its header or raise InputError with a one-line message naming the file.
+// matches its header or raise FileError with a one-line message naming the file.
 
 #include <cmath>
 #include <cstdint>
@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     fuzz::require(count == array.values.size(), "npy: value count differs from the shape");
     const std::size_t item = array.dtype == app::NpyDtype::Float32 ? 4 : 8;
     fuzz::require(count * item < size, "npy: more data than bytes");
-  } catch (const app::InputError& e) {
+  } catch (const FileError& e) {
     const std::string message = e.what();
     fuzz::require(message.rfind("input.npy: ", 0) == 0, "npy: message does not name the file", message);
     fuzz::require(message.find('\n') == std::string::npos, "npy: message spans lines", message);

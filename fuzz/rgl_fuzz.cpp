@@ -1,7 +1,7 @@
 // Fuzzes the RGL .bsdf reader (acdf/brdf/tensor_file.h, acdf/brdf/rgl.h) on the bytes as they are:
 // the tensor file's header (counts, names, dtypes, extents, offsets beyond the file) and the RGL
 // fields' checks (missing, wrong dtype or shape, NaN/Inf, negative, zero slices). Invariants: the
-// reader returns a model or throws BrdfFileError with a one-line message naming the file; a model
+// reader returns a model or throws FileError with a one-line message naming the file; a model
 // evaluates to finite, non-negative values, and its own sampler (rgl_sampler.h) returns unit
 // directions with a finite, positive pdf, at directions taken from the input's last bytes.
 
@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const TensorFile file = TensorFile::parse({data, size}, kName);
     const auto model = std::make_shared<const RglBrdf>(file, kName);
     checkModel(model, data, size);
-  } catch (const BrdfFileError& e) {
+  } catch (const FileError& e) {
     const std::string message = e.what();
     fuzz::require(message.rfind(std::string(kName) + ": ", 0) == 0, "rgl: message does not name the file", message);
     fuzz::require(message.find('\n') == std::string::npos, "rgl: message spans lines", message);

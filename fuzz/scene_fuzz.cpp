@@ -1,5 +1,5 @@
 // Fuzzes the scene loader of `acdf render` (acdf/integrator/scene.h): any text either loads into a
-// scene or raises SceneError with a one-line message naming the scene file or the file it refers
+// scene or raises FileError with a one-line message naming the scene file or the file it refers
 // to. Seeds use constant environments: a map's table takes seconds to build under ASan. The scene "lives" in
 // the source tree's scenes/ directory, so relative paths such as ../data/envmaps/… resolve; tables
 // are built (never cached) only for what the scene uses.
@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   try {
     const Scene scene = loadSceneText(std::string(reinterpret_cast<const char*>(data), size), file, {}, tables);
     fuzz::require(scene.camera && scene.geometry && scene.environment, "scene: loaded without a part");
-  } catch (const SceneError& e) {
+  } catch (const FileError& e) {
     // "<file>: <problem>", where the file is the scene or a file it refers to.
     const std::string message = e.what();
     fuzz::require(!e.file().empty() && message == e.file() + ": " + e.problem(), "scene: message does not name a file",

@@ -99,9 +99,6 @@ int clampIndex(double g, int cells) {
 
 }  // namespace
 
-BrdfFileError::BrdfFileError(const std::string& file, const std::string& problem)
-    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
-
 // ---------------------------------------------------------------------------------------------
 // Construction and validation
 
@@ -169,19 +166,19 @@ MerlBrdf MerlBrdf::withInterpolation(Interpolation interpolation) const {
 
 MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
   const std::string name = path.string();
-  if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
+  if (const auto problem = regularFileProblem(path)) throw FileError(name, *problem);
 
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw BrdfFileError(name, "cannot open file (" + errnoText() + ")");
+  if (!in) throw FileError(name, "cannot open file (" + errnoText() + ")");
   in.seekg(0, std::ios::end);
   const std::streamoff end = in.tellg();
   in.seekg(0, std::ios::beg);
-  if (end < 0 || !in) throw BrdfFileError(name, "cannot determine the file size");
+  if (end < 0 || !in) throw FileError(name, "cannot determine the file size");
   const auto size = static_cast<std::size_t>(end);
 
   if (size < kHeaderBytes) {
-    throw BrdfFileError(name, "truncated header: the file has " + std::to_string(size) +
-                                  " bytes, a MERL header is 12 (three int32 dimensions)");
+    throw FileError(name, "truncated header: the file has " + std::to_string(size) +
+                              " bytes, a MERL header is 12 (three int32 dimensions)");
   }
   const auto checkDimensions = [&](const unsigned char* header) {
     int32_t dims[3];
@@ -190,24 +187,24 @@ MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
     // Exact wherever it matters: any product near kCells is far below 2^53.
     const double product = static_cast<double>(dims[0]) * dims[1] * dims[2];
     if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0 || product != static_cast<double>(kCells)) {
-      throw BrdfFileError(name, "wrong dimensions " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
-                                    " x " + std::to_string(dims[2]) +
-                                    " in the header; a MERL table has 90 x 90 x 180 = 1458000 entries");
+      throw FileError(name, "wrong dimensions " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+                                std::to_string(dims[2]) +
+                                " in the header; a MERL table has 90 x 90 x 180 = 1458000 entries");
     }
   };
   // A file of the wrong size is an error whatever it holds: read only its header, to say which
   // error, rather than all of a possibly huge file.
   if (size != kFileBytes) {
     unsigned char header[kHeaderBytes];
-    if (!in.read(reinterpret_cast<char*>(header), kHeaderBytes)) throw BrdfFileError(name, "read error");
+    if (!in.read(reinterpret_cast<char*>(header), kHeaderBytes)) throw FileError(name, "read error");
     checkDimensions(header);
     if (size < kFileBytes) {
-      throw BrdfFileError(name, "truncated data: " + std::to_string(size - kHeaderBytes) +
-                                    " bytes after the header, expected " + std::to_string(3 * kChannelBytes) +
-                                    " (3 channels of 1458000 float64)");
+      throw FileError(name, "truncated data: " + std::to_string(size - kHeaderBytes) +
+                                " bytes after the header, expected " + std::to_string(3 * kChannelBytes) +
+                                " (3 channels of 1458000 float64)");
     }
-    throw BrdfFileError(name, std::to_string(size - kFileBytes) + " extra trailing bytes after the data (file is " +
-                                  std::to_string(size) + " bytes, expected " + std::to_string(kFileBytes) + ")");
+    throw FileError(name, std::to_string(size - kFileBytes) + " extra trailing bytes after the data (file is " +
+                              std::to_string(size) + " bytes, expected " + std::to_string(kFileBytes) + ")");
   }
 
   // The whole file in one read; for_overwrite because zero-filling 35 MB first would cost about
@@ -215,7 +212,7 @@ MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
   const auto bytes = std::make_unique_for_overwrite<unsigned char[]>(size);
   in.read(reinterpret_cast<char*>(bytes.get()), static_cast<std::streamsize>(size));
   if (static_cast<std::size_t>(in.gcount()) != size || in.peek() != std::ifstream::traits_type::eof()) {
-    throw BrdfFileError(name, "read error (file changed while reading?)");
+    throw FileError(name, "read error (file changed while reading?)");
   }
   checkDimensions(bytes.get());
 
@@ -227,7 +224,7 @@ MerlBrdf MerlBrdf::load(const fs::path& path, Interpolation interpolation) {
     if (bad != kCells) {
       double v;
       std::memcpy(&v, channelBytes + bad * sizeof(double), sizeof(double));
-      throw BrdfFileError(name, badValueProblem(c, bad, v));
+      throw FileError(name, badValueProblem(c, bad, v));
     }
   }
   return MerlBrdf(values, negativeEntries, interpolation);

@@ -25,17 +25,17 @@ constexpr double kHalfPi = std::numbers::pi / 2;
 
 json readJson(const fs::path& path) {
   const std::string name = path.string();
-  if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
+  if (const auto problem = regularFileProblem(path)) throw FileError(name, *problem);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw BrdfFileError(name, "cannot open file");
+  if (!in) throw FileError(name, "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw BrdfFileError(name, "read error");
+  if (in.bad()) throw FileError(name, "read error");
   try {
     json j = json::parse(text);
-    if (!j.is_object()) throw BrdfFileError(name, "not a neural BRDF weights file: the top level is not a JSON object");
+    if (!j.is_object()) throw FileError(name, "not a neural BRDF weights file: the top level is not a JSON object");
     return j;
   } catch (const json::exception& e) {  // a syntax error, or a number beyond double (out_of_range 406)
-    throw BrdfFileError(name, std::string("invalid JSON (") + e.what() + ")");
+    throw FileError(name, std::string("invalid JSON (") + e.what() + ")");
   }
 }
 
@@ -47,12 +47,12 @@ std::vector<std::string> sortedKeys(const json& j) {
 }
 
 // Copies a JSON array of `rows` arrays of `cols` numbers (or, with rows = 0, one array of `cols`
-// numbers) into out, row-major; throws BrdfFileError describing the shape found otherwise.
+// numbers) into out, row-major; throws FileError describing the shape found otherwise.
 void readMatrix(const json& value, std::size_t rows, std::size_t cols, double* out, const std::string& file,
                 const std::string& what) {
   const auto shapeError = [&](const std::string& found) {
     const std::string expected = rows ? std::to_string(rows) + " x " + std::to_string(cols) : std::to_string(cols);
-    return BrdfFileError(file, what + " is " + found + ", expected " + expected + " numbers");
+    return FileError(file, what + " is " + found + ", expected " + expected + " numbers");
   };
   const auto readRow = [&](const json& row, double* dst, const std::string& where) {
     if (!row.is_array()) throw shapeError(where + "not an array");
@@ -97,20 +97,20 @@ NeuralBrdf NeuralBrdf::load(const fs::path& weightsFile, const std::string& mate
     std::string known;
     for (std::size_t i = 0; i < names.size() && i < 5; ++i) known += (i ? ", " : "") + names[i];
     if (names.size() > 5) known += ", ...";
-    throw BrdfFileError(file, "no material named '" + material + "' (it has " + std::to_string(names.size()) +
-                                  " materials: " + (names.empty() ? std::string("none") : known) +
-                                  "; see acdf merl-gen --list)");
+    throw FileError(file, "no material named '" + material + "' (it has " + std::to_string(names.size()) +
+                              " materials: " + (names.empty() ? std::string("none") : known) +
+                              "; see acdf merl-gen --list)");
   }
   const std::string prefix = "material '" + material + "': ";
   const json& entry = *found;
   if (!entry.is_object() || !entry.contains("layers") || !entry["layers"].is_array())
-    throw BrdfFileError(file, prefix + "no \"layers\" array");
+    throw FileError(file, prefix + "no \"layers\" array");
   const json& layers = entry["layers"];
   if (layers.size() != 3)
-    throw BrdfFileError(file, prefix + std::to_string(layers.size()) + " layers, expected 3 (6 -> 21 -> 21 -> 3)");
+    throw FileError(file, prefix + std::to_string(layers.size()) + " layers, expected 3 (6 -> 21 -> 21 -> 3)");
   for (std::size_t l = 0; l < 3; ++l) {
     if (!layers[l].is_object() || !layers[l].contains("W") || !layers[l].contains("b"))
-      throw BrdfFileError(file, prefix + "layer " + std::to_string(l) + " lacks \"W\" or \"b\"");
+      throw FileError(file, prefix + "layer " + std::to_string(l) + " lacks \"W\" or \"b\"");
   }
 
   NeuralBrdf net;

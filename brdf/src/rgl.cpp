@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "acdf/brdf/spectrum.h"
+#include "acdf/sampling/file_error.h"
 
 namespace acdf {
 
@@ -22,11 +23,11 @@ class Fields {
   Fields(const TensorFile& tensors, const std::string& file) : tensors_(tensors), file_(file) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
-    throw BrdfFileError(file_, "field '" + field + "': " + problem);
+    throw FileError(file_, "field '" + field + "': " + problem);
   }
   const TensorField& get(const std::string& name, TensorField::Type type, std::size_t dims) const {
     const TensorField* f = tensors_.find(name);
-    if (!f) throw BrdfFileError(file_, "field '" + name + "' is missing (not an RGL BRDF file?)");
+    if (!f) throw FileError(file_, "field '" + name + "' is missing (not an RGL BRDF file?)");
     if (f->type != type)
       fail(name,
            std::string("dtype is ") + TensorField::typeName(f->type) + ", expected " + TensorField::typeName(type));

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "acdf/brdf/merl.h"
+#include "acdf/sampling/file_error.h"
 #include "acdf/sampling/regular_file.h"
 #include "write_atomically.h"
 
@@ -43,7 +43,7 @@ class HeaderReader {
  private:
   void need(std::size_t n, const std::string& what) {
     if (bytes_.size() - pos_ < n) {
-      throw BrdfFileError(file_, "truncated header: the file ends inside " + what + " (at byte " +
+      throw FileError(file_, "truncated header: the file ends inside " + what + " (at byte " +
                                      std::to_string(pos_) + " of " + std::to_string(bytes_.size()) + ")");
     }
   }
@@ -108,11 +108,11 @@ bool TensorFile::hasMagic(std::span<const unsigned char> head) {
 }
 
 TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::string& file) {
-  if (!hasMagic(bytes)) throw BrdfFileError(file, "not a tensor file (an RGL .bsdf starts with \"tensor_file\\0\")");
+  if (!hasMagic(bytes)) throw FileError(file, "not a tensor file (an RGL .bsdf starts with \"tensor_file\\0\")");
   if (bytes.size() < kHeaderBytes)
-    throw BrdfFileError(file, "truncated header: " + std::to_string(bytes.size()) + " bytes, the header alone is 18");
+    throw FileError(file, "truncated header: " + std::to_string(bytes.size()) + " bytes, the header alone is 18");
   if (bytes[12] != 1 || bytes[13] != 0) {
-    throw BrdfFileError(file, "tensor file version " + std::to_string(bytes[12]) + "." + std::to_string(bytes[13]) +
+    throw FileError(file, "tensor file version " + std::to_string(bytes[12]) + "." + std::to_string(bytes[13]) +
                                   ", only 1.0 is supported");
   }
   uint32_t count;
@@ -120,7 +120,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
   // Each field's header takes at least 13 bytes: a count beyond that is a corrupt file, refused
   // before reserving anything for it.
   if (count > (bytes.size() - kHeaderBytes) / 13) {
-    throw BrdfFileError(file, "header claims " + std::to_string(count) + " fields, more than its " +
+    throw FileError(file, "header claims " + std::to_string(count) + " fields, more than its " +
                                   std::to_string(bytes.size()) + " bytes can describe");
   }
   TensorFile result;
@@ -135,10 +135,10 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
     const auto code = in.take<uint8_t>(where);
     const auto offset = in.take<uint64_t>(where);
     if (ndim > TensorField::kMaxDims) {
-      throw BrdfFileError(file, field + " has " + std::to_string(ndim) + " dimensions, at most " +
+      throw FileError(file, field + " has " + std::to_string(ndim) + " dimensions, at most " +
                                     std::to_string(TensorField::kMaxDims) + " are supported");
     }
-    if (code < 1 || code > 11) throw BrdfFileError(file, field + " has an unknown dtype code " + std::to_string(code));
+    if (code < 1 || code > 11) throw FileError(file, field + " has an unknown dtype code " + std::to_string(code));
     TensorField f;
     f.type = static_cast<TensorField::Type>(code);
     const std::size_t elementBytes = TensorField::elementBytes(f.type);
@@ -151,7 +151,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
         size *= extent;
       f.shape.push_back(extent);
     }
-    if (result.find(name)) throw BrdfFileError(file, field + " appears twice");
+    if (result.find(name)) throw FileError(file, field + " appears twice");
     result.fields_.emplace_back(name, std::move(f));
     extents.push_back({offset, size});
   }
@@ -161,7 +161,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
     TensorField& f = result.fields_[i].second;
     const std::string field = "field '" + printable(result.fields_[i].first) + "'";
     if (offset > bytes.size() || size > bytes.size() - offset) {
-      throw BrdfFileError(file, field + " (" + TensorField::typeName(f.type) + ", " + std::to_string(f.elements()) +
+      throw FileError(file, field + " (" + TensorField::typeName(f.type) + ", " + std::to_string(f.elements()) +
                                     " elements at offset " + std::to_string(offset) +
                                     ") lies beyond the end of the file (" + std::to_string(bytes.size()) + " bytes)");
     }
@@ -173,17 +173,17 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
 
 TensorFile TensorFile::load(const std::filesystem::path& path) {
   const std::string name = path.string();
-  if (const auto problem = regularFileProblem(path)) throw BrdfFileError(name, *problem);
+  if (const auto problem = regularFileProblem(path)) throw FileError(name, *problem);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw BrdfFileError(name, std::string("cannot open file (") + std::strerror(errno) + ")");
+  if (!in) throw FileError(name, std::string("cannot open file (") + std::strerror(errno) + ")");
   in.seekg(0, std::ios::end);
   const std::streamoff end = in.tellg();
   in.seekg(0, std::ios::beg);
-  if (end < 0 || !in) throw BrdfFileError(name, "cannot determine the file size");
-  if (end == 0) throw BrdfFileError(name, "file is empty");
+  if (end < 0 || !in) throw FileError(name, "cannot determine the file size");
+  if (end == 0) throw FileError(name, "file is empty");
   std::vector<unsigned char> bytes(static_cast<std::size_t>(end));
   in.read(reinterpret_cast<char*>(bytes.data()), end);
-  if (in.gcount() != end) throw BrdfFileError(name, "read error (file changed while reading?)");
+  if (in.gcount() != end) throw FileError(name, "read error (file changed while reading?)");
   return parse(bytes, name);
 }
 

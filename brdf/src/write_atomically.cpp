@@ -9,7 +9,7 @@
 #include <memory>
 #include <random>
 
-#include "acdf/brdf/merl.h"
+#include "acdf/sampling/file_error.h"
 #include "acdf/sampling/temporary_files.h"
 
 namespace acdf {
@@ -42,13 +42,13 @@ void writeFileAtomically(const std::string& name, const unsigned char* data, std
     errno = openError;  // for the message below
     if (openError != EEXIST) break;
   }
-  if (fd < 0) throw BrdfFileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
+  if (fd < 0) throw FileError(name, "cannot create a temporary file next to it (" + errnoText() + ")");
 
   const auto fail = [&](const std::string& problem) {
     const std::string reason = problem + " (" + errnoText() + ")";
     if (fd >= 0) ::close(fd);
     ::unlink(temp.c_str());
-    throw BrdfFileError(name, reason);
+    throw FileError(name, reason);
   };
   std::size_t written = 0;
   while (written < size) {

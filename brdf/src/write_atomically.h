@@ -7,7 +7,7 @@
 
 namespace acdf {
 
-// Throws BrdfFileError naming `name` (the temporary is removed on failure, and on a signal).
+// Throws FileError naming `name` (the temporary is removed on failure, and on a signal).
 void writeFileAtomically(const std::string& name, const unsigned char* data, std::size_t size);
 
 }  // namespace acdf

@@ -52,7 +52,7 @@ EnvironmentMap EnvironmentMap::fromImage(const Image& image, const std::string& 
     map.nonFiniteReplaced_ = image.nonFiniteReplaced;
     return map;
   } catch (const std::invalid_argument& e) {
-    throw ImageFileError(path, e.what());
+    throw FileError(path, e.what());
   }
 }
 

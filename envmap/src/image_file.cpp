@@ -18,9 +18,6 @@ namespace acdf {
 
 namespace fs = std::filesystem;
 
-ImageFileError::ImageFileError(const std::string& file, const std::string& problem)
-    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
-
 namespace {
 
 // OpenImageIO keeps unretrieved error messages (per thread) and prints them at exit: always
@@ -49,16 +46,16 @@ constexpr int kScanlinesPerConversion = 256;
 }  // namespace
 
 Image readImage(const std::string& path, const ImageReadOptions& options) {
-  if (const auto problem = regularFileProblem(path)) throw ImageFileError(path, *problem);
+  if (const auto problem = regularFileProblem(path)) throw FileError(path, *problem);
   auto input = OIIO::ImageInput::open(path);
-  if (!input) throw ImageFileError(path, withDetail("not an image OpenImageIO can read", takeGlobalError()));
+  if (!input) throw FileError(path, withDetail("not an image OpenImageIO can read", takeGlobalError()));
   // Errors from here on are attached to `input`; fetch them before it is destroyed.
   auto fail = [&](const std::string& what) {
     std::string detail = input->geterror();
     const std::string global = takeGlobalError();
     if (detail.empty()) detail = global;
     input->close();
-    throw ImageFileError(path, withDetail(what, detail));
+    throw FileError(path, withDetail(what, detail));
   };
 
   if (!input->seek_subimage(0, 0)) fail("cannot read subimage 0, MIP level 0");
@@ -106,8 +103,8 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
       static const char* const kRgb[3] = {"R", "G", "B"};
       const std::size_t pixel = i / image.channels;
       const std::string channel = image.channels == 3 ? kRgb[i % 3] : "0";
-      throw ImageFileError(path, fmt::format("pixel (x {}, y {}) has channel {} = {}; NaN and Inf are not allowed",
-                                             pixel % image.width, pixel / image.width, channel, v));
+      throw FileError(path, fmt::format("pixel (x {}, y {}) has channel {} = {}; NaN and Inf are not allowed",
+                                        pixel % image.width, pixel / image.width, channel, v));
     }
     v = 0.0f;
     ++image.nonFiniteReplaced;
@@ -119,9 +116,9 @@ namespace {
 
 void checkWritable(const std::string& path, const Image& image) {
   if (image.channels != 1 && image.channels != 3)
-    throw ImageFileError(path, fmt::format("cannot write {} channels (1 or 3 expected)", image.channels));
+    throw FileError(path, fmt::format("cannot write {} channels (1 or 3 expected)", image.channels));
   if (image.pixels.size() != std::size_t{image.width} * image.height * image.channels || image.pixels.empty())
-    throw ImageFileError(path, "pixel count does not match the image size");
+    throw FileError(path, "pixel count does not match the image size");
 }
 
 // Writes `pixels` (of `type`, image's size and channels) in OpenImageIO's `format` to a temporary
@@ -132,8 +129,7 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
   std::random_device random;
   const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
   auto output = OIIO::ImageOutput::create(format);
-  if (!output)
-    throw ImageFileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
+  if (!output) throw FileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
   OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), static_cast<int>(image.channels),
                        type);
   if (image.channels == 1) spec.channelnames = {"Y"};
@@ -144,7 +140,7 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
     output->close();
     std::error_code ignored;
     fs::remove(temp, ignored);
-    throw ImageFileError(path, withDetail(what, detail));
+    throw FileError(path, withDetail(what, detail));
   };
   // Removed if a signal kills us mid-write; guarded before it exists, so no signal finds it unguarded.
   const TemporaryFileGuard guard(temp);
@@ -155,7 +151,7 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
   fs::rename(temp, path, ec);
   if (ec) {
     fs::remove(temp, ec);
-    throw ImageFileError(path, "cannot rename the temporary file into place");
+    throw FileError(path, "cannot rename the temporary file into place");
   }
 }
 

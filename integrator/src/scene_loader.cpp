@@ -35,7 +35,7 @@ class Node {
   Node(const Json& value, std::string path, const std::string& file)
       : value_(value), path_(std::move(path)), file_(file) {}
 
-  [[noreturn]] void fail(const std::string& problem) const { throw SceneError(file_, path_ + ": " + problem); }
+  [[noreturn]] void fail(const std::string& problem) const { throw FileError(file_, path_ + ": " + problem); }
 
   // An object whose keys are all among `allowed`.
   const Node& object(std::initializer_list<std::string_view> allowed) const {
@@ -122,7 +122,7 @@ class Node {
   }
   static void requireFile(const fs::path& file, const std::string& where) {
     std::error_code ec;
-    if (!fs::exists(file, ec)) throw SceneError(file.string(), "no such file (referenced by " + where + ")");
+    if (!fs::exists(file, ec)) throw FileError(file.string(), "no such file (referenced by " + where + ")");
   }
   template <class Parse>
   auto parsed(Parse parse) const {
@@ -186,8 +186,8 @@ TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& tr
   if (!reader.ParseFromFile(path.string(), config)) {
     std::string message = reader.Error();
     while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
-    throw SceneError(path.string(),
-                     (message.empty() ? "cannot read the OBJ file" : message) + " (referenced by " + node.path() + ")");
+    throw FileError(path.string(),
+                    (message.empty() ? "cannot read the OBJ file" : message) + " (referenced by " + node.path() + ")");
   }
   TriangleMesh mesh;
   const auto& vertices = reader.GetAttrib().vertices;
@@ -200,13 +200,13 @@ TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& tr
       for (int k = 0; k < 3; ++k) {
         const int v = idx[i + k].vertex_index;
         if (v < 0 || static_cast<std::size_t>(v) >= mesh.positions.size())
-          throw SceneError(path.string(), "a face refers to a vertex that does not exist");
+          throw FileError(path.string(), "a face refers to a vertex that does not exist");
         tri[k] = static_cast<uint32_t>(v);
       }
       mesh.triangles.push_back(tri);
     }
   }
-  if (mesh.triangles.empty()) throw SceneError(path.string(), "no faces (referenced by " + node.path() + ")");
+  if (mesh.triangles.empty()) throw FileError(path.string(), "no faces (referenced by " + node.path() + ")");
   return mesh;
 }
 
@@ -294,8 +294,8 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
       if (file) {
         try {
           brdf = tables.merlFile(*file, interpolation);
-        } catch (const BrdfFileError& e) {
-          throw SceneError(e.file(), e.problem() + " (referenced by " + where + ")");
+        } catch (const FileError& e) {
+          throw FileError(e.file(), e.problem() + " (referenced by " + where + ")");
         }
         key = file->string();
       } else {
@@ -369,8 +369,8 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
   if (spec.file) {
     try {
       map = tables.environmentMap(*spec.file);
-    } catch (const ImageFileError& e) {
-      throw SceneError(e.file(), e.problem() + " (referenced by " + where + ")");
+    } catch (const FileError& e) {
+      throw FileError(e.file(), e.problem() + " (referenced by " + where + ")");
     }
     key = spec.file->string();
   } else {
@@ -396,9 +396,6 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
 
 }  // namespace
 
-SceneError::SceneError(const std::string& file, const std::string& problem)
-    : std::runtime_error(file + ": " + problem), file_(file), problem_(problem) {}
-
 std::string_view toString(MisMode mode) {
   switch (mode) {
     case MisMode::Power: return "power";
@@ -418,9 +415,9 @@ MisMode parseMisMode(std::string_view name) {
 Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
-    throw SceneError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
+    throw FileError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
   std::ifstream in(file);
-  if (!in) throw SceneError(file.string(), "cannot open the file");
+  if (!in) throw FileError(file.string(), "cannot open the file");
   std::stringstream text;
   text << in.rdbuf();
   return loadSceneText(text.str(), file, overrides, tables);
@@ -434,7 +431,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   try {
     json = Json::parse(text);
   } catch (const Json::exception& e) {  // a syntax error, or a number beyond double (out_of_range 406)
-    throw SceneError(name, std::string("invalid JSON: ") + e.what());
+    throw FileError(name, std::string("invalid JSON: ") + e.what());
   }
   const Node root(json, "$", name);
   root.object({"camera", "render", "environment", "materials", "shapes"});
@@ -536,7 +533,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
   } catch (const std::invalid_argument& e) {
-    throw SceneError(name, std::string("$.shapes: ") + e.what());
+    throw FileError(name, std::string("$.shapes: ") + e.what());
   }
   return scene;
 }

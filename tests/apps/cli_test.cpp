@@ -55,7 +55,7 @@ class Cli : public TempDirTest {
 
   // Expects a bad-input failure: exit 2, nothing on stdout, exactly one stderr line
   // "acdf: <file>: <problem>" whose problem contains `needle`.
-  void expectInputError(const std::string& file, const std::string& needle, std::vector<std::string> extra = {}) {
+  void expectFileError(const std::string& file, const std::string& needle, std::vector<std::string> extra = {}) {
     std::vector<std::string> args{"cdf-stats", file};
     args.insert(args.end(), extra.begin(), extra.end());
     for (bool asJson : {false, true}) {
@@ -288,89 +288,89 @@ TEST_F(Cli, BundledSunsetEnvironmentMap) {
 
 // ---- bad input: exit 2, one line on stderr naming the file -------------------------------------
 
-TEST_F(Cli, MissingFile) { expectInputError(path("nope.npy"), "no such file"); }
+TEST_F(Cli, MissingFile) { expectFileError(path("nope.npy"), "no such file"); }
 
-TEST_F(Cli, MissingImage) { expectInputError(path("nope.exr"), "no such file"); }
+TEST_F(Cli, MissingImage) { expectFileError(path("nope.exr"), "no such file"); }
 
 TEST_F(Cli, Directory) {
   fs::create_directory(path("adir"));
-  expectInputError(path("adir"), "directory");
+  expectFileError(path("adir"), "directory");
 }
 
 TEST_F(Cli, EmptyFile) {
   writeFile(path("empty.npy"), "");
-  expectInputError(path("empty.npy"), "empty");
+  expectFileError(path("empty.npy"), "empty");
   writeFile(path("empty.exr"), "");
-  expectInputError(path("empty.exr"), "empty");
+  expectFileError(path("empty.exr"), "empty");
 }
 
 TEST_F(Cli, TruncatedNpy) {
   const std::string whole = npyF4({8, 8}, peakedGrid(8, 8));
   writeFile(path("trunc.npy"), whole.substr(0, whole.size() - 1));
-  expectInputError(path("trunc.npy"), "truncated");
+  expectFileError(path("trunc.npy"), "truncated");
   writeFile(path("trunc_header.npy"), whole.substr(0, 30));
-  expectInputError(path("trunc_header.npy"), "truncated");
+  expectFileError(path("trunc_header.npy"), "truncated");
 }
 
 TEST_F(Cli, BadHeader) {
   writeFile(path("hdr.npy"), npyPreamble("{'descr': '<f4', 'fortran_order': False, 'shape': [4]}") +
                                  rawBytes(std::vector<float>(4, 1.0f)));
-  expectInputError(path("hdr.npy"), "bad .npy header");
+  expectFileError(path("hdr.npy"), "bad .npy header");
 }
 
 TEST_F(Cli, BadDtype) {
   writeFile(path("int.npy"), npyPreamble(npyDict("<i4", {4})) + rawBytes(std::vector<int32_t>(4, 1)));
-  expectInputError(path("int.npy"), "unsupported dtype '<i4'");
+  expectFileError(path("int.npy"), "unsupported dtype '<i4'");
   writeFile(path("be.npy"), npyPreamble(npyDict(">f8", {4})) + std::string(32, '\0'));
-  expectInputError(path("be.npy"), "big-endian");
+  expectFileError(path("be.npy"), "big-endian");
 }
 
 TEST_F(Cli, FortranOrderTooManyDimsZeroSizeTrailingBytes) {
   writeFile(path("f.npy"), npyPreamble(npyDict("<f4", {2, 2}, true)) + rawBytes(std::vector<float>(4, 1.0f)));
-  expectInputError(path("f.npy"), "fortran_order");
+  expectFileError(path("f.npy"), "fortran_order");
   writeFile(path("d5.npy"), npyF4({1, 1, 1, 1, 2}, {1.0f, 2.0f}));
-  expectInputError(path("d5.npy"), "at most 4");
+  expectFileError(path("d5.npy"), "at most 4");
   writeFile(path("z.npy"), npyPreamble(npyDict("<f4", {0})));
-  expectInputError(path("z.npy"), "size 0");
+  expectFileError(path("z.npy"), "size 0");
   writeFile(path("trail.npy"), npyF4({2}, {1.0f, 2.0f}) + "!");
-  expectInputError(path("trail.npy"), "1 unexpected bytes");
+  expectFileError(path("trail.npy"), "1 unexpected bytes");
 }
 
 TEST_F(Cli, BadValues) {
   std::vector<float> v = peakedGrid(4, 4);
   v[6] = -3.0f;
   writeFile(path("neg.npy"), npyF4({4, 4}, v));
-  expectInputError(path("neg.npy"), "index 6");
+  expectFileError(path("neg.npy"), "index 6");
 
   v = peakedGrid(4, 4);
   v[9] = std::numeric_limits<float>::quiet_NaN();
   writeFile(path("nan.npy"), npyF4({4, 4}, v));
-  expectInputError(path("nan.npy"), "NaN");
+  expectFileError(path("nan.npy"), "NaN");
 
   std::vector<double> d(4, 1.0);
   d[3] = std::numeric_limits<double>::infinity();
   writeFile(path("inf.npy"), npyF8({4}, d));
-  expectInputError(path("inf.npy"), "index 3");
+  expectFileError(path("inf.npy"), "index 3");
 
   d[3] = 1e200;
   writeFile(path("big.npy"), npyF8({4}, d));
-  expectInputError(path("big.npy"), "overflows float32");
+  expectFileError(path("big.npy"), "overflows float32");
 }
 
 TEST_F(Cli, AxisTooFineForFloat) {
   // 2^24 cells over [0,1) are narrower than a float can resolve; the engine's GridAxis refuses.
   const std::size_t n = std::size_t{1} << 24;
   writeFile(path("fine.npy"), npyF4({n}, std::vector<float>(n, 1.0f)));
-  expectInputError(path("fine.npy"), "axis 0", {"--samples", "0"});
+  expectFileError(path("fine.npy"), "axis 0", {"--samples", "0"});
 }
 
 TEST_F(Cli, NotAnImage) {
   writeFile(path("notes.txt"), "hello\n");
-  expectInputError(path("notes.txt"), "not an image");
+  expectFileError(path("notes.txt"), "not an image");
   writeFile(path("fake.png"), "definitely not a PNG file, just text pretending to be one\n");
-  expectInputError(path("fake.png"), "not an image");
+  expectFileError(path("fake.png"), "not an image");
   writeFile(path("noise.exr"), std::string(1000, '\x42'));
-  expectInputError(path("noise.exr"), "not an image");
+  expectFileError(path("noise.exr"), "not an image");
 }
 
 TEST_F(Cli, TruncatedImage) {
@@ -394,12 +394,12 @@ TEST_F(Cli, ImageWithNanOrInf) {
   std::vector<float> rgb(static_cast<std::size_t>(w * h * 3), 1.0f);
   rgb[3 * 13 + 2] = std::numeric_limits<float>::quiet_NaN();
   writeImage(path("nan.exr"), w, h, 3, rgb);
-  expectInputError(path("nan.exr"), "pixel (x 5, y 1)");
+  expectFileError(path("nan.exr"), "pixel (x 5, y 1)");
 
   rgb[3 * 13 + 2] = 1.0f;
   rgb[3 * 30] = std::numeric_limits<float>::infinity();
   writeImage(path("inf.exr"), w, h, 3, rgb);
-  expectInputError(path("inf.exr"), "pixel (x 6, y 3) has channel R");
+  expectFileError(path("inf.exr"), "pixel (x 6, y 3) has channel R");
 }
 
 // ---- usage errors: exit 2, one line ------------------------------------------------------------

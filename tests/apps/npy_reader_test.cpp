@@ -17,7 +17,7 @@
 namespace acdf::apptest {
 namespace {
 
-using acdf::app::InputError;
+using acdf::FileError;
 using acdf::app::NpyDtype;
 using acdf::app::readNpy;
 
@@ -34,7 +34,7 @@ class NpyReader : public TempDirTest {
     try {
       const auto array = readNpy(file);
       ADD_FAILURE() << "readNpy(" << file << ") succeeded with " << array.values.size() << " values";
-    } catch (const InputError& e) {
+    } catch (const FileError& e) {
       const std::string what = e.what();
       EXPECT_EQ(what.rfind(file + ": ", 0), 0u) << "message does not start with the file: " << what;
       EXPECT_EQ(e.file(), file);
@@ -266,7 +266,7 @@ class InputLayer : public TempDirTest {
       const auto grid = acdf::app::readInputGrid(file);
       const auto axes = acdf::app::unitAxes(grid);
       acdf::app::checkValues(grid, axes);
-    } catch (const InputError& e) {
+    } catch (const FileError& e) {
       EXPECT_EQ(std::string(e.what()).rfind(file + ": ", 0), 0u) << e.what();
       return e.problem();
     }
@@ -321,7 +321,7 @@ TEST_F(InputLayer, NotAnImage) {
   try {
     (void)acdf::app::readInputGrid(file);
     ADD_FAILURE() << "read a text file as an image";
-  } catch (const InputError& e) {
+  } catch (const FileError& e) {
     EXPECT_EQ(std::string(e.what()).rfind(file + ": ", 0), 0u) << e.what();
     EXPECT_NE(e.problem().find("not an image"), std::string::npos) << e.what();
   }

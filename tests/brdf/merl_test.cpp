@@ -117,12 +117,12 @@ class MerlFiles : public ::testing::Test {
     return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
 
-  // Expects load(path) to throw a BrdfFileError naming the file and containing `problem`.
+  // Expects load(path) to throw a FileError naming the file and containing `problem`.
   void expectLoadError(const fs::path& path, const std::string& problem) {
     try {
       (void)MerlBrdf::load(path);
       ADD_FAILURE() << "no error loading " << path << ", expected: " << problem;
-    } catch (const BrdfFileError& e) {
+    } catch (const FileError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(path.string()), std::string::npos) << what;
       EXPECT_NE(what.find(problem), std::string::npos) << what << "\n  expected: " << problem;
@@ -182,7 +182,7 @@ TEST_F(MerlFiles, FailedSaveLeavesNoOutput) {
   try {
     a.save(missing);
     ADD_FAILURE() << "save into a missing directory succeeded";
-  } catch (const BrdfFileError& e) {
+  } catch (const FileError& e) {
     EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(missing));
@@ -190,7 +190,7 @@ TEST_F(MerlFiles, FailedSaveLeavesNoOutput) {
   const fs::path target = file("target");
   fs::create_directory(target);
   writeFile(target / "keep", {42});
-  EXPECT_THROW(a.save(target), BrdfFileError);
+  EXPECT_THROW(a.save(target), FileError);
   EXPECT_TRUE(fs::is_directory(target));
   EXPECT_TRUE(fs::exists(target / "keep"));
   EXPECT_EQ(entries(), 1u) << "a temporary file was left behind";

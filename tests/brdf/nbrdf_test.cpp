@@ -66,12 +66,12 @@ class NeuralBrdfTest : public ::testing::Test {
   }
   std::string writeJson(const json& j) { return write("weights.json", j.dump()); }
 
-  // Expects load() to throw BrdfFileError naming `file` whose problem contains `needle`.
+  // Expects load() to throw FileError naming `file` whose problem contains `needle`.
   void expectError(const std::string& file, const std::string& material, const std::string& needle) {
     try {
       NeuralBrdf::load(file, material);
       ADD_FAILURE() << "no error for " << file << " / " << material;
-    } catch (const BrdfFileError& e) {
+    } catch (const FileError& e) {
       EXPECT_EQ(e.file(), file);
       EXPECT_NE(e.problem().find(needle), std::string::npos) << "'" << needle << "' not in: " << e.problem();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
@@ -240,7 +240,7 @@ TEST_F(NeuralBrdfTest, SaveRawKeepsMinusOneAndDoubles) {
   values.pop_back();
   EXPECT_THROW(MerlBrdf::saveRaw(file, values), std::invalid_argument);
   EXPECT_THROW(MerlBrdf::saveRaw((dir_ / "no" / "dir" / "t.binary").string(), std::vector<double>(3 * kN, 1.0)),
-               BrdfFileError);
+               FileError);
   EXPECT_FALSE(fs::exists(dir_ / "no"));
 }
 

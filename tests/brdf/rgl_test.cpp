@@ -144,7 +144,7 @@ void expectRefused(const std::function<void(std::vector<unsigned char>&)>& corru
   try {
     RglBrdf(TensorFile::parse(bytes, "bad.bsdf"), "bad.bsdf");
     ADD_FAILURE() << "accepted; expected an error containing '" << expected << "'";
-  } catch (const BrdfFileError& e) {
+  } catch (const FileError& e) {
     const std::string m = e.what();
     EXPECT_EQ(m.rfind("bad.bsdf: ", 0), 0u) << m;
     EXPECT_NE(m.find(expected), std::string::npos) << m;
@@ -207,13 +207,13 @@ TEST(RglBrdf, MalformedFilesAreRefusedNamingTheField) {
 }
 
 TEST(RglBrdf, MissingAndEmptyFilesAreRefused) {
-  EXPECT_THROW(RglBrdf::load("/nonexistent/x.bsdf"), BrdfFileError);
+  EXPECT_THROW(RglBrdf::load("/nonexistent/x.bsdf"), FileError);
   const fs::path empty = fs::temp_directory_path() / "acdf_rgl_empty.bsdf";
   { std::ofstream(empty.string()); }
   try {
     RglBrdf::load(empty);
     ADD_FAILURE();
-  } catch (const BrdfFileError& e) {
+  } catch (const FileError& e) {
     EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
   }
   fs::remove(empty);

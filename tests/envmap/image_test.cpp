@@ -134,7 +134,7 @@ TEST_F(ReadImage, NanAndInfAreErrorsNamingTheFileAndPixel) {
     try {
       (void)EnvironmentMap::load(file);
       FAIL() << "no error for " << bad;
-    } catch (const ImageFileError& e) {
+    } catch (const FileError& e) {
       EXPECT_EQ(e.file(), file);
       EXPECT_NE(std::string(e.what()).find(file), std::string::npos);
       EXPECT_NE(e.problem().find("pixel (x 1, y 1) has channel G"), std::string::npos) << e.problem();
@@ -209,7 +209,7 @@ TEST_F(ReadImage, BrokenFilesAreErrorsNamingTheFile) {
     try {
       (void)EnvironmentMap::load(file);
       FAIL() << "no error for " << file;
-    } catch (const ImageFileError& e) {
+    } catch (const FileError& e) {
       EXPECT_EQ(e.file(), file);
       EXPECT_NE(e.problem().find(needle), std::string::npos) << e.problem();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
@@ -226,12 +226,12 @@ void writeConstantImage(const std::string& file, const OIIO::ImageSpec& spec, fl
   ASSERT_TRUE(out->close());
 }
 
-// readImage(file) must throw an ImageFileError naming file, whose one-line problem contains needle.
+// readImage(file) must throw an FileError naming file, whose one-line problem contains needle.
 void expectReadError(const std::string& file, const std::string& needle) {
   try {
     (void)readImage(file);
     ADD_FAILURE() << "no error for " << file;
-  } catch (const ImageFileError& e) {
+  } catch (const FileError& e) {
     EXPECT_EQ(e.file(), file);
     EXPECT_NE(e.problem().find(needle), std::string::npos) << e.problem();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
@@ -312,7 +312,7 @@ TEST_F(ReadImage, WriteExrRoundTripsAndLeavesNoTemporary) {
   EXPECT_EQ(files, 1u);
 
   Image image = back;
-  EXPECT_THROW(writeExr(path("no/such/dir/out.exr"), image), ImageFileError);
+  EXPECT_THROW(writeExr(path("no/such/dir/out.exr"), image), FileError);
   EXPECT_FALSE(fs::exists(path("no")));
 }
 

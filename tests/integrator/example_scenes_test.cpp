@@ -36,7 +36,7 @@ TEST(ExampleScenes, EveryExampleLoadsAndRenders) {
       for (uint32_t y = 0; y < film.height(); ++y)
         for (uint32_t x = 0; x < film.width(); ++x) EXPECT_TRUE(finiteNonNegative(film.mean(x, y))) << x << ", " << y;
       ++rendered;
-    } catch (const SceneError& e) {
+    } catch (const FileError& e) {
       const bool demoMaterialMissing = entry.path().filename() == "demo.json" &&
                                        e.file().find("build/demo/") != std::string::npos &&
                                        e.problem().find("no such file") != std::string::npos;

@@ -41,22 +41,10 @@
 
 #include "acdf/brdf/brdf_model.h"
 #include "acdf/brdf/coordinates.h"
+#include "acdf/sampling/file_error.h"
 #include "acdf/sampling/rgb.h"
 
 namespace acdf {
-
-// A problem with a BRDF file (missing, malformed, unwritable). what() is "<file>: <problem>", a
-// single line, the form the acdf command-line tool prints.
-class BrdfFileError : public std::runtime_error {
- public:
-  BrdfFileError(const std::string& file, const std::string& problem);
-  const std::string& file() const { return file_; }
-  const std::string& problem() const { return problem_; }
-
- private:
-  std::string file_;
-  std::string problem_;
-};
 
 class MerlBrdf final : public BrdfModel {
  public:
@@ -79,7 +67,7 @@ class MerlBrdf final : public BrdfModel {
   MerlBrdf(std::span<const double> red, std::span<const double> green, std::span<const double> blue,
            Interpolation interpolation = Interpolation::Nearest);
 
-  // Reads a .binary file with a single read of the whole file. Throws BrdfFileError naming the
+  // Reads a .binary file with a single read of the whole file. Throws FileError naming the
   // file and the problem: missing file, directory, truncated header, wrong dimensions, truncated
   // data, extra trailing bytes, NaN or Inf (with channel and index).
   static MerlBrdf load(const std::filesystem::path& path, Interpolation interpolation = Interpolation::Nearest);
@@ -90,13 +78,13 @@ class MerlBrdf final : public BrdfModel {
 
   // Writes the .binary format (dimensions 90, 90, 180). The data go to a temporary file in the
   // same directory which is then renamed over `path`, so a failure never leaves a partial file
-  // under `path` (an existing file there stays as it was). Throws BrdfFileError.
+  // under `path` (an existing file there stays as it was). Throws FileError.
   void save(const std::filesystem::path& path) const;
 
   // Writes raw table values (file units, 3 · kCells in file order: red, green, blue blocks) as a
   // .binary file exactly, in double, −1 "no data" marks included — for generated tables, which
   // a MerlBrdf (float, negatives cleared) cannot carry. Same temporary + rename as save().
-  // Throws std::invalid_argument for a wrong size or a NaN / Inf value, BrdfFileError for the file.
+  // Throws std::invalid_argument for a wrong size or a NaN / Inf value, FileError for the file.
   static void saveRaw(const std::filesystem::path& path, std::span<const double> values);
 
   // The BRDF value for unit directions ωo, ωi in the local frame (z = normal). 0 unless both are

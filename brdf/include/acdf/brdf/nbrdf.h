@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "acdf/brdf/coordinates.h"
-#include "acdf/brdf/merl.h"  // BrdfFileError, MerlBrdf's table layout
+#include "acdf/brdf/merl.h"  // MerlBrdf's table layout
 
 namespace acdf {
 
@@ -33,12 +33,12 @@ class NeuralBrdf {
   static constexpr int kHidden = 21;
   static constexpr int kOutputs = 3;
 
-  // The material's network from a weights file. Throws BrdfFileError ("<file>: <problem>") for
+  // The material's network from a weights file. Throws FileError ("<file>: <problem>") for
   // a missing or unreadable file, invalid JSON, an unknown material (naming a few that exist),
   // or layers of the wrong number, shape or type.
   static NeuralBrdf load(const std::filesystem::path& weightsFile, const std::string& material);
 
-  // The material names in a weights file, sorted. Throws BrdfFileError as load() does.
+  // The material names in a weights file, sorted. Throws FileError as load() does.
   static std::vector<std::string> materials(const std::filesystem::path& weightsFile);
 
   const std::string& name() const { return name_; }

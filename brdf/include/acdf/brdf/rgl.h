@@ -38,7 +38,7 @@
 // Validation at load: every field above present with its dtype and consistent extents (2 or more
 // vertices per grid axis), theta_i strictly increasing in [0, π/2], values finite, ndf, vndf and
 // luminance >= 0, sigma > 0 (it divides), no all-zero vndf or luminance slice (it could not be
-// sampled). Problems throw BrdfFileError naming the file and the field.
+// sampled). Problems throw FileError naming the file and the field.
 
 #include <array>
 #include <cstddef>
@@ -65,7 +65,7 @@ struct VertexGrid {
 
 class RglBrdf final : public BrdfModel {
  public:
-  // From the fields of a tensor file read from `file` (named in errors). Throws BrdfFileError.
+  // From the fields of a tensor file read from `file` (named in errors). Throws FileError.
   RglBrdf(const TensorFile& tensors, const std::string& file);
   static RglBrdf load(const std::filesystem::path& path);
   // True when the file starts with the tensor file magic (how the tools recognise `.bsdf` files).

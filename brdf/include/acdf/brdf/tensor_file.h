@@ -15,7 +15,7 @@
 //
 // parse() checks the container only — magic, version, the header inside the file, known dtypes,
 // at most kMaxDims extents whose product fits, every field's data inside the file, no name twice —
-// and throws BrdfFileError naming the file, the field and the problem. What the fields mean is the
+// and throws FileError naming the file, the field and the problem. What the fields mean is the
 // reader's business (rgl.h).
 
 #include <cstddef>
@@ -24,6 +24,8 @@
 #include <span>
 #include <string>
 #include <vector>
+
+#include "acdf/sampling/file_error.h"
 
 namespace acdf {
 
@@ -49,7 +51,7 @@ class TensorFile {
   // True when `head` starts with "tensor_file\0" (what a reader recognises the format by).
   static bool hasMagic(std::span<const unsigned char> head);
 
-  // Throws BrdfFileError("<file>: <problem>") for anything parse() checks (see above).
+  // Throws FileError("<file>: <problem>") for anything parse() checks (see above).
   static TensorFile parse(std::span<const unsigned char> bytes, const std::string& file);
   // Also refuses a missing, unreadable or empty file.
   static TensorFile load(const std::filesystem::path& path);
@@ -62,7 +64,7 @@ class TensorFile {
   const std::vector<std::pair<std::string, TensorField>>& fields() const { return fields_; }
 
   std::vector<unsigned char> serialize() const;
-  // Temporary file + rename: a failure leaves no partial file. Throws BrdfFileError.
+  // Temporary file + rename: a failure leaves no partial file. Throws FileError.
   void save(const std::filesystem::path& path) const;
 
  private:

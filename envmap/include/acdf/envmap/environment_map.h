@@ -27,9 +27,9 @@ class EnvironmentMap {
   // std::invalid_argument for a zero size, a size mismatch or a NaN / Inf value (naming the pixel).
   EnvironmentMap(uint32_t width, uint32_t height, std::vector<float> rgb);
 
-  // A gray image becomes R = G = B. Throws ImageFileError (naming image's path) for NaN / Inf.
+  // A gray image becomes R = G = B. Throws FileError (naming image's path) for NaN / Inf.
   static EnvironmentMap fromImage(const Image& image, const std::string& path);
-  // readImage() + fromImage(). Throws ImageFileError.
+  // readImage() + fromImage(). Throws FileError.
   static EnvironmentMap load(const std::string& path, const ImageReadOptions& options = {});
 
   uint32_t width() const { return mapping_.width(); }

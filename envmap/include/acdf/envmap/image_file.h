@@ -15,19 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "acdf/sampling/file_error.h"
+
 namespace acdf {
-
-// A problem with an image file. what() is "<file>: <problem>".
-class ImageFileError : public std::runtime_error {
- public:
-  ImageFileError(const std::string& file, const std::string& problem);
-  const std::string& file() const { return file_; }
-  const std::string& problem() const { return problem_; }
-
- private:
-  std::string file_;
-  std::string problem_;
-};
 
 struct Image {
   uint32_t width = 0, height = 0;
@@ -43,18 +33,18 @@ struct ImageReadOptions {
   bool replaceNonFinite = false;
 };
 
-// Throws ImageFileError: missing file, not a regular file, not an image OpenImageIO reads, no
+// Throws FileError: missing file, not a regular file, not an image OpenImageIO reads, no
 // pixels, a volume image, a read error (e.g. a truncated file), NaN / Inf (see above), or an
 // image too large for memory.
 Image readImage(const std::string& path, const ImageReadOptions& options = {});
 
 // Writes a float OpenEXR file (ZIP compression) of `image` (1 or 3 channels, named Y or R, G, B).
 // The pixels go to a temporary file next to `path`, renamed over it once complete: a failure
-// leaves no partial file (an existing file stays as it was). Throws ImageFileError.
+// leaves no partial file (an existing file stays as it was). Throws FileError.
 void writeExr(const std::string& path, const Image& image);
 
 // Writes an 8-bit PNG of `image`'s linear values, sRGB-encoded after clamping to [0, 1] (a
-// preview: no tone mapping), with the same temporary file and rename. Throws ImageFileError.
+// preview: no tone mapping), with the same temporary file and rename. Throws FileError.
 void writeSrgbPng(const std::string& path, const Image& image);
 
 }  // namespace acdf

@@ -39,7 +39,7 @@ class Film {
   // Linear RGB means, row-major from the top.
   Image image() const;
   // Writes the linear float EXR and, unless pngPath is empty, the sRGB PNG preview, each to a
-  // temporary file renamed into place. Throws ImageFileError.
+  // temporary file renamed into place. Throws FileError.
   void write(const std::string& exrPath, const std::string& pngPath) const;
 
  private:

@@ -22,6 +22,7 @@
 #include "acdf/integrator/geometry.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/table_provider.h"
+#include "acdf/sampling/file_error.h"
 
 namespace acdf {
 
@@ -59,17 +60,6 @@ struct SceneOverrides {
   std::optional<CropWindow> crop;
 };
 
-// A problem with a scene or a file it refers to: what() is "<file>: <problem>", one line.
-class SceneError : public std::runtime_error {
- public:
-  SceneError(const std::string& file, const std::string& problem);
-  const std::string& file() const { return file_; }
-  const std::string& problem() const { return problem_; }
-
- private:
-  std::string file_, problem_;
-};
-
 struct Scene {
   std::unique_ptr<Camera> camera;
   std::unique_ptr<Geometry> geometry;
@@ -80,7 +70,9 @@ struct Scene {
   RenderSettings settings;
 };
 
-// Throws SceneError for any problem with the scene or a file it names.
+// Throws FileError for any problem with the scene or a file it names; a problem in the scene
+// carries its JSON path ("$.shapes[2].radius: ..."), one in a file it names says where the scene
+// refers to it ("(referenced by $.materials.x.file)").
 Scene loadScene(const std::filesystem::path& file, const SceneOverrides& overrides, TableProvider& tables);
 // The same from the text of a scene file; `file` names it in messages and its directory resolves
 // relative paths.

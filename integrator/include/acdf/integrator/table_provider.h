@@ -34,7 +34,7 @@ class TableProvider {
   explicit TableProvider(TableCache cache) : cache_(std::move(cache)) {}
 
   // Loaded once per path, whatever the interpolation (the models share the values). Throw
-  // BrdfFileError / ImageFileError.
+  // FileError.
   std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path, MerlBrdf::Interpolation interpolation);
   std::shared_ptr<const EnvironmentMap> environmentMap(const std::filesystem::path& path);
   // AnalyticBrdf::preset(name) tabulated in the MERL layout (no file needed), once per name.
