@@ -13,7 +13,6 @@
 #include <set>
 #include <span>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <sys/wait.h>
@@ -24,10 +23,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "acdf/brdf/merl.h"
 #include "acdf/envmap/image_file.h"
+#include "acdf/integrator/render_error.h"
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/integrator/strategy_plan.h"
 #include "acdf/sampling/table_cache.h"
 #include "errors.h"
 #include "files.h"
@@ -47,11 +47,6 @@ using Json = nlohmann::ordered_json;
 
 // Exit status when every row is in results.csv / results.json but the plots could not be drawn.
 constexpr int kExitPlotFailed = 3;
-// The offset of relMSE's denominator: keeps black reference pixels from dominating the mean.
-constexpr double kRelMseOffset = 0.01;
-// A pixel whose relative difference (√ of its relMSE term) reaches this is drawn full red.
-constexpr double kFullRedDifference = 0.5;
-
 struct BenchErrorArgs {
   std::string scene, reference, out = "bench-error";
   std::vector<double> budgets;  // seconds
@@ -62,76 +57,6 @@ struct BenchErrorArgs {
   bool noCache = false, noPlot = false;
   std::string plotScript = ACDF_BENCH_ERROR_SCRIPT, python = "/usr/bin/python3";
 };
-
-// One strategy combination.
-struct Strategy {
-  BrdfSampling bsdf;
-  EnvironmentSampling env;
-  MisMode mis;
-
-  std::string label() const { return fmt::format("{} × {} × {}", toString(bsdf), toString(env), toString(mis)); }
-  // File-name form, e.g. "adaptive_hierarchical_power".
-  std::string id() const { return fmt::format("{}_{}_{}", toString(bsdf), toString(env), toString(mis)); }
-};
-
-struct Skipped {
-  Strategy strategy;
-  std::string reason;
-};
-
-struct ErrorFigures {
-  double relMse = 0, rmse = 0;
-};
-
-// relMSE = mean over pixels and channels of (I − R)² / (R² + 0.01); RMSE = √(mean of (I − R)²).
-ErrorFigures compare(const Image& image, const Image& reference) {
-  double relSum = 0, sqSum = 0;
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const double r = reference.pixels[i], d = double(image.pixels[i]) - r;
-    relSum += d * d / (r * r + kRelMseOffset);
-    sqSum += d * d;
-  }
-  const double n = static_cast<double>(image.pixels.size());
-  return {relSum / n, std::sqrt(sqSum / n)};
-}
-
-// Red where `a` differs from `b` relative to the reference (the √ of the pixel's relMSE term,
-// full red at kFullRedDifference), over a dim grey copy of the reference for orientation.
-Image differenceImage(const Image& a, const Image& b, const Image& reference) {
-  Image out;
-  out.width = reference.width;
-  out.height = reference.height;
-  out.channels = 3;
-  out.pixels.resize(reference.pixels.size());
-  for (std::size_t p = 0; p < reference.pixels.size(); p += 3) {
-    double term = 0, luminance = 0;
-    constexpr double kWeights[3] = {0.2126, 0.7152, 0.0722};
-    for (int c = 0; c < 3; ++c) {
-      const double r = reference.pixels[p + c], d = double(a.pixels[p + c]) - b.pixels[p + c];
-      term += d * d / (r * r + kRelMseOffset) / 3;
-      luminance += kWeights[c] * r;
-    }
-    const float t = static_cast<float>(std::min(1.0, std::sqrt(term) / kFullRedDifference));
-    const float grey = static_cast<float>(0.2 * std::clamp(luminance, 0.0, 1.0));
-    out.pixels[p] = grey + t * (1 - grey);
-    out.pixels[p + 1] = out.pixels[p + 2] = grey * (1 - t);
-  }
-  return out;
-}
-
-struct TableMemory {
-  std::size_t brdf = 0, environment = 0;
-};
-
-// The sampling tables a scene renders with (a sampler two materials share counts once).
-TableMemory tableMemory(const Scene& scene) {
-  TableMemory memory;
-  std::set<const BrdfSampler*> samplers;
-  for (const auto& material : scene.materials)
-    if (samplers.insert(material.get()).second) memory.brdf += material->bytes();
-  memory.environment = scene.environment->tableBytes();
-  return memory;
-}
 
 std::string hexHash(const ContentHash& hash) { return hash.digest().hex(); }
 
@@ -163,29 +88,6 @@ std::vector<T> parseList(const std::vector<std::string>& names, const std::strin
     if (std::find(out.begin(), out.end(), value) == out.end()) out.push_back(value);
   }
   return out;
-}
-
-// The combinations to render, and those left out because another one renders the same image.
-std::pair<std::vector<Strategy>, std::vector<Skipped>> planStrategies(const std::vector<BrdfSampling>& bsdfs,
-                                                                      const std::vector<EnvironmentSampling>& envs,
-                                                                      const std::vector<MisMode>& mises,
-                                                                      bool sceneHasMeasured) {
-  std::vector<Strategy> plan;
-  std::vector<Skipped> skipped;
-  for (MisMode mis : mises)
-    for (BrdfSampling bsdf : bsdfs)
-      for (EnvironmentSampling env : envs) {
-        const Strategy s{bsdf, env, mis};
-        if (!sceneHasMeasured && bsdf != bsdfs.front())
-          skipped.push_back(
-              {s, fmt::format("no measured material: the same image as {} BRDF sampling", toString(bsdfs.front()))});
-        else if (mis == MisMode::BsdfOnly && env != envs.front())
-          skipped.push_back({s, fmt::format("bsdf-only never samples the environment: the same image as {}",
-                                            toString(envs.front()))});
-        else
-          plan.push_back(s);
-      }
-  return {plan, skipped};
 }
 
 // Row key for resuming: the strategy and the budget.
@@ -260,10 +162,9 @@ class BenchError {
     const Film film = makeFilm(scene);
     width_ = film.width();
     height_ = film.height();
-    const bool hasMeasured = std::any_of(scene.materials.begin(), scene.materials.end(), [](const auto& m) {
-      return dynamic_cast<const MerlBrdf*>(&m->model()) != nullptr;
-    });
-    std::tie(plan_, skipped_) = planStrategies(bsdfs_, envs_, mises_, hasMeasured);
+    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, scene.hasMeasuredMaterial());
+    plan_ = std::move(plan.render);
+    skipped_ = std::move(plan.skipped);
     if (!args_.reference.empty()) loadGivenReference();
     prepareOutputDirectory();
     if (args_.reference.empty()) renderOrReuseReference(scene);
@@ -275,7 +176,8 @@ class BenchError {
     std::string summary;
     summary += fmt::format("bench-error {}: {} strategy combinations x {} budgets ({}), {} left out as identical\n",
                            args_.scene, plan_.size(), budgets_.size(), budgetKind(), skipped_.size());
-    for (const Skipped& s : skipped_) summary += fmt::format("  left out  {}: {}\n", s.strategy.label(), s.reason);
+    for (const SkippedStrategy& s : skipped_)
+      summary += fmt::format("  left out  {}: {}\n", s.strategy.label(), s.reason);
     summary += fmt::format("reference   {} ({})\n", referenceDescription_, referenceOrigin_);
     summary += fmt::format("rows        {} rendered, {} kept from an earlier run\n", rendered_, kept_);
     summary += fmt::format("wrote       {}, {}, {} difference images in {}\n", (dir_ / "results.csv").string(),
@@ -466,7 +368,7 @@ class BenchError {
       const auto setupStart = Clock::now();
       Scene scene = loadScene(args_.scene, overrides, *tables_);
       const double tableMs = millisecondsSince(setupStart);
-      const TableMemory memory = tableMemory(scene);
+      const Scene::TableBytes memory = scene.tableBytes();
       for (double budget : budgets_) {
         ++index;
         if (!pending(budget)) continue;
@@ -477,7 +379,7 @@ class BenchError {
         else
           scene.settings.spp = static_cast<uint32_t>(budget);
         const RenderStats stats = renderImage(scene, seconds);
-        const ErrorFigures error = compare(lastImage_, reference_);
+        const RenderError error = renderError(lastImage_, reference_);
         // The image of the largest budget feeds the difference images; written before its row,
         // so a row on disk always has its image.
         if (budget == budgets_.back()) writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
@@ -510,7 +412,7 @@ class BenchError {
 
   void writeResults() const {
     Json skipped = Json::array();
-    for (const Skipped& s : skipped_)
+    for (const SkippedStrategy& s : skipped_)
       skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)},
                          {"env_sampling", toString(s.strategy.env)},
                          {"mis", toString(s.strategy.mis)},
@@ -568,7 +470,7 @@ class BenchError {
   std::vector<MisMode> mises_;
   std::vector<double> budgets_;
   std::vector<Strategy> plan_;
-  std::vector<Skipped> skipped_;
+  std::vector<SkippedStrategy> skipped_;
   std::string sceneHash_, referenceHash_, referenceDescription_, referenceOrigin_;
   Json referenceInfo_;
   uint32_t width_ = 0, height_ = 0;

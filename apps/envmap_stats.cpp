@@ -1,15 +1,7 @@
 #include "envmap_stats.h"
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <functional>
 #include <memory>
-#include <numbers>
-#include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,10 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/environment_light.h"
-#include "acdf/sampling/frame.h"
+#include "acdf/envmap/irradiance_estimator.h"
 #include "acdf/sampling/quality.h"
-#include "acdf/sampling/rng.h"
-#include "acdf/sampling/sphere.h"
 #include "errors.h"
 #include "image.h"
 #include "options.h"
@@ -30,15 +20,8 @@ namespace acdf::app {
 
 namespace {
 
-// The fixed estimator: irradiance E(n) = ∫ Y(L(ω)) max(0, n·ω) dω at kNormals normals spread
-// evenly over the sphere (a Fibonacci lattice), kSamplesPerNormal one-sample estimates each,
-// variates from Pcg32(kSeed). The stratified variant spends the same samples per normal on
-// kStratifiedTrials estimates, each the mean over a jittered kStrata × kStrata set of variates.
-constexpr uint32_t kNormals = 64;
-constexpr uint32_t kSamplesPerNormal = 4096;
-constexpr uint64_t kSeed = 1;
-constexpr uint32_t kStrata = 16;
-constexpr uint32_t kStratifiedTrials = kSamplesPerNormal / (kStrata * kStrata);
+// The fixed estimator of the strategies (acdf/envmap/irradiance_estimator.h), at its defaults.
+const IrradianceEstimatorOptions kEstimator;
 
 struct EnvmapStatsArgs {
   std::string input;
@@ -46,92 +29,6 @@ struct EnvmapStatsArgs {
   bool sanitize = false;
   bool json = false;
 };
-
-std::vector<Vec3d> fibonacciNormals() {
-  std::vector<Vec3d> normals;
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (uint32_t k = 0; k < kNormals; ++k) {
-    const double y = 1.0 - (2.0 * k + 1.0) / kNormals;
-    const double r = std::sqrt(1.0 - y * y);
-    normals.push_back({r * std::cos(golden * k), y, r * std::sin(golden * k)});
-  }
-  return normals;
-}
-
-// E(n) of the map as it is sampled (radiance constant per pixel), by the pixel-centre rule.
-std::vector<double> exactIrradiance(const EnvironmentMap& map, const std::vector<Vec3d>& normals) {
-  std::vector<double> irradiance(normals.size(), 0.0);
-  for (uint32_t r = 0; r < map.height(); ++r) {
-    const double solidAngle = map.mapping().pixelSolidAngle(r);
-    for (uint32_t c = 0; c < map.width(); ++c) {
-      const double L = map.radiance(PixelIndex{r, c}).luminance();
-      if (L == 0) continue;
-      const Vec3d w = map.mapping().directionInPixel({r, c}, 0.5, 0.5);
-      for (std::size_t k = 0; k < normals.size(); ++k)
-        irradiance[k] += L * solidAngle * std::max(0.0, dot(normals[k], w));
-    }
-  }
-  return irradiance;
-}
-
-// One estimate of E(n): a direction and its pdf, weighted.
-using Estimate = std::function<double(const Vec3d& normal, float u0, float u1)>;
-
-struct StrategyCost {
-  double variance = 0;  // mean over the normals of E[(X − E)²] / E², normals with E > 0
-  // The same for n · (mean of n = kStrata² jittered samples − E)²: equals `variance` when
-  // stratification gains nothing, and is lower by the factor it gains. Measured for the map's
-  // own samplers only: uniform_sphere's and cosine's weights are heavy-tailed (a sun hit is rare
-  // and huge), which kStratifiedTrials estimates per normal cannot average.
-  std::optional<double> stratifiedVariance;
-  double nsPerSample = 0;
-  double efficiency = 0;  // 1 / (variance × seconds per sample)
-};
-
-StrategyCost measure(const Estimate& estimate, const std::vector<Vec3d>& normals, const std::vector<double>& exact,
-                     bool stratified) {
-  StrategyCost cost;
-  Pcg32 rng(kSeed);
-  double relativeVariance = 0;
-  uint32_t lit = 0;
-  const auto start = Clock::now();
-  for (std::size_t k = 0; k < normals.size(); ++k) {
-    double squaredError = 0;
-    for (uint32_t i = 0; i < kSamplesPerNormal; ++i) {
-      const double x = estimate(normals[k], rng.nextFloat(), rng.nextFloat());
-      squaredError += (x - exact[k]) * (x - exact[k]);
-    }
-    if (exact[k] > 0) {
-      relativeVariance += squaredError / kSamplesPerNormal / (exact[k] * exact[k]);
-      ++lit;
-    }
-  }
-  cost.nsPerSample = std::chrono::duration<double, std::nano>(Clock::now() - start).count() /
-                     (static_cast<double>(normals.size()) * kSamplesPerNormal);
-  cost.variance = lit > 0 ? relativeVariance / lit : 0.0;
-  cost.efficiency = cost.variance > 0 ? 1.0 / (cost.variance * cost.nsPerSample * 1e-9) : 0.0;
-  if (!stratified) return cost;
-
-  constexpr double kPerTrial = kStrata * kStrata;
-  relativeVariance = 0;
-  for (std::size_t k = 0; k < normals.size(); ++k) {
-    if (!(exact[k] > 0)) continue;
-    double squaredError = 0;
-    for (uint32_t t = 0; t < kStratifiedTrials; ++t) {
-      double sum = 0;
-      for (uint32_t i = 0; i < kStrata; ++i)
-        for (uint32_t j = 0; j < kStrata; ++j) {
-          const float u0 = (static_cast<float>(i) + rng.nextFloat()) / kStrata;
-          const float u1 = (static_cast<float>(j) + rng.nextFloat()) / kStrata;
-          sum += estimate(normals[k], u0, u1);
-        }
-      squaredError += (sum / kPerTrial - exact[k]) * (sum / kPerTrial - exact[k]);
-    }
-    relativeVariance += kPerTrial * squaredError / kStratifiedTrials / (exact[k] * exact[k]);
-  }
-  cost.stratifiedVariance = lit > 0 ? relativeVariance / lit : 0.0;
-  return cost;
-}
 
 struct Table {
   std::unique_ptr<EnvironmentLight> light;
@@ -172,43 +69,23 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
       compareCellProbabilities(exact, uniform.light->table({}).pixelProbabilities());
   exact = {};
 
-  const std::vector<Vec3d> normals = fibonacciNormals();
-  const std::vector<double> irradiance = exactIrradiance(*map, normals);
+  const IrradianceEstimator estimator(*map, kEstimator);
   const EnvironmentLight& anyLight = *uniform.light;  // eval() does not depend on the strategy
-  auto lightSampling = [](const EnvironmentLight& light) -> Estimate {
-    return [&light](const Vec3d& n, float u0, float u1) {
-      const LightSample s = light.sample({}, u0, u1);
-      return s.radiance.luminance() * std::max(0.0, dot(n, s.direction)) / s.pdf;
-    };
-  };
   struct Named {
     const char* name;
-    Estimate estimate;
+    IrradianceSampler sampler;
     bool mapSampler;
-    StrategyCost cost;
+    IrradianceCost cost;
   };
   std::vector<Named> strategies = {
-      {"uniform_sphere",
-       [&](const Vec3d& n, float u0, float u1) {
-         const Vec3d w = sampleUniformSphere(u0, u1);
-         return anyLight.eval(w).luminance() * std::max(0.0, dot(n, w)) / kUniformSpherePdf;
-       },
-       false,
-       {}},
-      {"cosine",
-       [&](const Vec3d& n, float u0, float u1) {
-         const Vec3d w = Frame(n).toWorld(sampleCosineHemisphere(u0, u1));
-         // Y(L) cos θ / (cos θ / π)
-         return anyLight.eval(w).luminance() * std::numbers::pi;
-       },
-       false,
-       {}},
-      {"uniform", lightSampling(*uniform.light), true, {}},
-      {"alias", lightSampling(*alias.light), true, {}},
-      {"adaptive", lightSampling(*adaptive.light), true, {}},
-      {"hierarchical", lightSampling(*hierarchical.light), true, {}},
+      {"uniform_sphere", uniformSphereEstimator(anyLight), false, {}},
+      {"cosine", cosineEstimator(anyLight), false, {}},
+      {"uniform", lightSamplingEstimator(*uniform.light), true, {}},
+      {"alias", lightSamplingEstimator(*alias.light), true, {}},
+      {"adaptive", lightSamplingEstimator(*adaptive.light), true, {}},
+      {"hierarchical", lightSamplingEstimator(*hierarchical.light), true, {}},
   };
-  for (Named& s : strategies) s.cost = measure(s.estimate, normals, irradiance, s.mapSampler);
+  for (Named& s : strategies) s.cost = estimator.measure(s.sampler, s.mapSampler);
 
   const double compression = static_cast<double>(uniform.light->tableBytes()) / adaptive.light->tableBytes();
   if (args.json) {
@@ -261,7 +138,7 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
     out += fmt::format(
         "\nirradiance at {} normals, {} samples each (relative variance per sample; stratified: {} x {} "
         "jittered variates per estimate):\n",
-        kNormals, kSamplesPerNormal, kStrata, kStrata);
+        kEstimator.normals, kEstimator.samplesPerNormal, kEstimator.strata, kEstimator.strata);
     out += fmt::format("{:<18} {:>14} {:>14} {:>14} {:>14}\n", "strategy", "variance", "ns/sample", "efficiency",
                        "stratified");
     for (const Named& s : strategies)
@@ -300,7 +177,8 @@ Command addEnvmapStats(CLI::App& parent) {
       "factor stratification gains.\n"
       "\n"
       "Exit status: 0 success, 2 bad input file (also a black map) or command line, 1 internal error.",
-      kNormals, kSamplesPerNormal, kSeed, kStratifiedTrials, kStrata, kStrata));
+      kEstimator.normals, kEstimator.samplesPerNormal, kEstimator.seed, kEstimator.stratifiedTrials(),
+      kEstimator.strata, kEstimator.strata));
   app->add_option("FILE", args->input, "Environment map (any image OpenImageIO reads)")->required();
   app->add_option("--epsilon", args->epsilon, "Largest CDF error the adaptive simplifier leaves (>= 0)")
       ->capture_default_str();

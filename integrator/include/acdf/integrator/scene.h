@@ -7,6 +7,7 @@
 // only what the shapes use — a material no shape refers to is never read — and asks the
 // TableProvider for just the tables the chosen strategies need.
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -68,6 +69,15 @@ struct Scene {
   std::vector<std::shared_ptr<const BrdfSampler>> materials;
   std::unique_ptr<EnvironmentLight> environment;
   RenderSettings settings;
+
+  struct TableBytes {
+    std::size_t brdf = 0, environment = 0;
+  };
+  // Bytes of the sampling tables it renders with (a sampler two materials share counts once).
+  TableBytes tableBytes() const;
+  // Whether a material is measured (a MERL table): only then does the BRDF sampling strategy
+  // change the image.
+  bool hasMeasuredMaterial() const;
 };
 
 // Throws FileError for any problem with the scene or a file it names; a problem in the scene

@@ -1,0 +1,42 @@
+#pragma once
+// The sampling-strategy combinations (BRDF sampling × environment sampling × MIS mode) a
+// comparison renders, with the rules for which of them render the same image by construction, so
+// a comparison renders each image once and says why it left the others out.
+
+#include <string>
+#include <vector>
+
+#include "acdf/envmap/environment_table.h"
+#include "acdf/integrator/scene.h"
+#include "acdf/integrator/table_provider.h"
+
+namespace acdf {
+
+struct Strategy {
+  BrdfSampling bsdf;
+  EnvironmentSampling env;
+  MisMode mis;
+
+  // "adaptive × hierarchical × power".
+  std::string label() const;
+  // File-name form, "adaptive_hierarchical_power".
+  std::string id() const;
+};
+
+struct SkippedStrategy {
+  Strategy strategy;
+  std::string reason;  // which image it would repeat
+};
+
+struct StrategyPlan {
+  std::vector<Strategy> render;  // in the order MIS mode, BRDF sampling, environment sampling
+  std::vector<SkippedStrategy> skipped;
+};
+
+// Every combination of the lists (each non-empty), less those identical to one rendered: without
+// a measured material every BRDF strategy samples as the first one does; bsdf-only never samples
+// the environment, so only the first environment strategy is rendered with it.
+StrategyPlan planStrategies(const std::vector<BrdfSampling>& bsdfs, const std::vector<EnvironmentSampling>& envs,
+                            const std::vector<MisMode>& mises, bool sceneHasMeasured);
+
+}  // namespace acdf

@@ -1,0 +1,23 @@
+#include <set>
+
+#include "acdf/brdf/merl.h"
+#include "acdf/integrator/scene.h"
+
+namespace acdf {
+
+Scene::TableBytes Scene::tableBytes() const {
+  TableBytes bytes;
+  std::set<const BrdfSampler*> samplers;
+  for (const auto& material : materials)
+    if (samplers.insert(material.get()).second) bytes.brdf += material->bytes();
+  bytes.environment = environment->tableBytes();
+  return bytes;
+}
+
+bool Scene::hasMeasuredMaterial() const {
+  for (const auto& material : materials)
+    if (dynamic_cast<const MerlBrdf*>(&material->model()) != nullptr) return true;
+  return false;
+}
+
+}  // namespace acdf
