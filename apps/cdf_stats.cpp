@@ -41,7 +41,7 @@ struct CdfStatsArgs {
   double epsilon = SimplifyOptions{}.epsilon;
   uint32_t maxPoints = 0;
   double weightBound = SimplifyOptions{}.weightBound;
-  std::string simplifier;  // "" (not given), "dp" or "greedy"
+  std::string simplifier;  // "" (not given), "douglas-peucker" or "greedy"
   std::string metric = "vertical";
   uint64_t samples = 1'000'000;
   uint64_t seed = 1;
@@ -54,15 +54,17 @@ struct CdfStatsArgs {
 SimplifyOptions simplifyOptions(const CdfStatsArgs& args) {
   SimplifyOptions o;
   const bool budget = args.maxPointsOption->count() > 0;
-  if (budget && args.simplifier == "dp")
-    throw UsageError("--max-points needs the greedy simplifier; it cannot be combined with --simplifier dp");
+  if (budget && !args.simplifier.empty() && parseSimplifier(args.simplifier) == Simplifier::DouglasPeucker)
+    throw UsageError(
+        "--max-points needs the greedy simplifier; it cannot be combined with --simplifier douglas-peucker");
   if (budget && args.maxPoints < 2) throw UsageError("--max-points must be at least 2");
   if (!(args.epsilon >= 0)) throw UsageError("--epsilon must be >= 0");
   if (!(args.weightBound == 0 || args.weightBound >= 1))
     throw UsageError("--weight-bound must be 0 (no bound) or >= 1");
-  o.method = (budget || args.simplifier == "greedy") ? Simplifier::GreedyRefinement : Simplifier::DouglasPeucker;
-  for (ErrorMetric m : {ErrorMetric::Vertical, ErrorMetric::Perpendicular, ErrorMetric::ChiSquare})
-    if (args.metric == toString(m)) o.metric = m;
+  o.method = budget || (!args.simplifier.empty() && parseSimplifier(args.simplifier) == Simplifier::GreedyRefinement)
+                 ? Simplifier::GreedyRefinement
+                 : Simplifier::DouglasPeucker;
+  o.metric = parseErrorMetric(args.metric);
   o.epsilon = args.epsilon;
   o.maxPoints = budget ? args.maxPoints : 0;
   o.weightBound = args.weightBound;
@@ -174,7 +176,7 @@ nlohmann::ordered_json toJson(const Report& r) {
   j["options"] = json{{"epsilon", r.options.epsilon},
                       {"max_points", r.options.maxPoints},
                       {"weight_bound", r.options.weightBound},
-                      {"simplifier", r.options.method == Simplifier::GreedyRefinement ? "greedy" : "dp"},
+                      {"simplifier", std::string(toString(r.options.method))},
                       {"metric", std::string(toString(r.options.metric))},
                       {"samples", r.args->samples},
                       {"seed", r.args->seed}};
@@ -197,8 +199,7 @@ void printTable(const Report& r) {
                      g.negativeClamped, g.negativeChannelPixels));
   if (r.uniformFallback) line("uniform fallback   yes: the input is all zero, every distribution is uniform");
   line(fmt::format("options            epsilon {:g}, simplifier {}, metric {}, weight bound {:g}, max points {}",
-                   r.options.epsilon, r.options.method == Simplifier::GreedyRefinement ? "greedy" : "dp",
-                   toString(r.options.metric), r.options.weightBound,
+                   r.options.epsilon, toString(r.options.method), toString(r.options.metric), r.options.weightBound,
                    r.options.maxPoints == 0 ? std::string("none") : std::to_string(r.options.maxPoints)));
   line("");
   line(fmt::format("{:<18} {:>14} {:>14} {:>14}", "", "uniform", "alias", "adaptive"));
@@ -348,12 +349,15 @@ Command addCdfStats(CLI::App& parent) {
                   "weights stay within rho of the uniform table's (0 = off, else >= 1)")
       ->capture_default_str();
   app->add_option("--simplifier", args->simplifier,
-                  "Curve simplifier: dp (Douglas-Peucker, default) or greedy (global refinement)")
-      ->check(CLI::IsMember({"dp", "greedy"}));
+                  "Curve simplifier: douglas-peucker (default) or greedy (global refinement)")
+      ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(Simplifier::DouglasPeucker)),
+                                                     std::string(toString(Simplifier::GreedyRefinement))}));
   app->add_option("--metric", args->metric,
                   "Simplification error metric: vertical, perpendicular or chi-square (each interval's\n"
                   "contribution to the chi2 divergence; its epsilon is in divergence, e.g. 1e-4)")
-      ->check(CLI::IsMember({"vertical", "perpendicular", "chi-square"}))
+      ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(ErrorMetric::Vertical)),
+                                                     std::string(toString(ErrorMetric::Perpendicular)),
+                                                     std::string(toString(ErrorMetric::ChiSquare))}))
       ->capture_default_str();
   app->add_option("--samples", args->samples,
                   "Samples for the chi-square test of the adaptive sampler (0 skips the test)")

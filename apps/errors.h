@@ -10,7 +10,7 @@
 
 namespace acdf::app {
 
-// A command line that parses but makes no sense (e.g. `--simplifier dp --max-points 64`).
+// A command line that parses but makes no sense (e.g. `--simplifier douglas-peucker --max-points 64`).
 class UsageError : public std::runtime_error {
  public:
   explicit UsageError(const std::string& message);

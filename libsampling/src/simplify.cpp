@@ -189,4 +189,17 @@ std::string_view toString(ErrorMetric m) {
   return "unknown";
 }
 
+Simplifier parseSimplifier(std::string_view name) {
+  for (Simplifier s : {Simplifier::DouglasPeucker, Simplifier::GreedyRefinement})
+    if (toString(s) == name) return s;
+  throw std::invalid_argument("unknown simplifier '" + std::string(name) + "' (douglas-peucker or greedy)");
+}
+
+ErrorMetric parseErrorMetric(std::string_view name) {
+  for (ErrorMetric m : {ErrorMetric::Vertical, ErrorMetric::Perpendicular, ErrorMetric::ChiSquare})
+    if (toString(m) == name) return m;
+  throw std::invalid_argument("unknown error metric '" + std::string(name) +
+                              "' (vertical, perpendicular or chi-square)");
+}
+
 }  // namespace acdf

@@ -158,7 +158,7 @@ TEST_F(Cli, PeakedInputCompressesAndPassesItsOwnChiSquareTest) {
   // The sampler against its own pdf: a correct engine fails this only by chance (p < 1e-4).
   EXPECT_GT(j["chi2_test_pvalue"].get<double>(), 1e-4) << j.dump(2);
   // Defaults of the engine's SimplifyOptions.
-  EXPECT_EQ(j["options"]["simplifier"], "dp");
+  EXPECT_EQ(j["options"]["simplifier"], "douglas-peucker");
   EXPECT_EQ(j["options"]["metric"], "vertical");
   EXPECT_EQ(j["options"]["max_points"], 0);
   EXPECT_DOUBLE_EQ(j["options"]["epsilon"].get<double>(), acdf::SimplifyOptions{}.epsilon);
@@ -416,7 +416,9 @@ TEST_F(Cli, UsageErrors) {
   expectUsageError({"cdf-stats", file, "--simplifier", "best"});
   expectUsageError({"cdf-stats", file, "--metric", "diagonal"});
   expectUsageError({"cdf-stats", file, "--max-points", "1"}, "--max-points");
-  expectUsageError({"cdf-stats", file, "--simplifier", "dp", "--max-points", "16"}, "--simplifier dp");
+  expectUsageError({"cdf-stats", file, "--simplifier", "douglas-peucker", "--max-points", "16"},
+                   "--simplifier douglas-peucker");
+  expectUsageError({"cdf-stats", file, "--simplifier", "dp"});
   expectUsageError({"cdf-stats", file, "--samples", "-5"});
   expectUsageError({"cdf-stats", file, path("second.npy")});
 }

@@ -414,4 +414,15 @@ TEST(Simplify, Names) {
   EXPECT_EQ(toString(ErrorMetric::ChiSquare), "chi-square");
 }
 
+// One spelling per value: parse is the inverse of toString and accepts nothing else.
+TEST(Simplify, ParseIsTheInverseOfToString) {
+  for (Simplifier s : {Simplifier::DouglasPeucker, Simplifier::GreedyRefinement})
+    EXPECT_EQ(parseSimplifier(toString(s)), s);
+  for (ErrorMetric m : {ErrorMetric::Vertical, ErrorMetric::Perpendicular, ErrorMetric::ChiSquare})
+    EXPECT_EQ(parseErrorMetric(toString(m)), m);
+  EXPECT_EQ(toString(Simplifier::DouglasPeucker), "douglas-peucker");
+  EXPECT_THROW(parseSimplifier("dp"), std::invalid_argument);
+  EXPECT_THROW(parseErrorMetric("diagonal"), std::invalid_argument);
+}
+
 }  // namespace

@@ -61,7 +61,12 @@ std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOpti
 // breaks the weight bound.
 uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMetric metric);
 
+// The one spelling of each value, used by the command line, the JSON outputs and the table cache
+// keys: "douglas-peucker", "greedy"; "vertical", "perpendicular", "chi-square". parse throws
+// std::invalid_argument for any other name.
 std::string_view toString(Simplifier s);
 std::string_view toString(ErrorMetric m);
+Simplifier parseSimplifier(std::string_view name);
+ErrorMetric parseErrorMetric(std::string_view name);
 
 }  // namespace acdf
