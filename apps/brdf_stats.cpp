@@ -32,7 +32,7 @@ constexpr uint64_t kMaxTableCells = uint64_t{1} << 26;
 
 // "32x16x256x32" → {32, 16, 256, 32}; every part a positive integer.
 std::vector<uint32_t> parseResolution(const std::string& text, std::size_t parts, const std::string& layout) {
-  const std::string usage = fmt::format("--res for a {} table is {} cell counts joined by 'x' (e.g. {}), got '{}'",
+  const std::string usage = fmt::format("--res for the {} layout is {} cell counts joined by 'x' (e.g. {}), got '{}'",
                                         layout, parts, parts == 4 ? "32x16x256x32" : "32x256x32", text);
   std::vector<uint32_t> cells;
   std::size_t begin = 0;
@@ -67,9 +67,7 @@ std::string humanBytes(double bytes) {
   return fmt::format("{:.2f} MiB", bytes / (1024.0 * 1024));
 }
 
-MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args) {
-  return args.interpolation == "trilinear" ? MerlBrdf::Interpolation::Trilinear : MerlBrdf::Interpolation::Nearest;
-}
+MerlBrdf::Interpolation brdfInterpolation(const BrdfTableArgs& args) { return parseInterpolation(args.interpolation); }
 
 struct BrdfStatsArgs {
   std::string input;
@@ -131,7 +129,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
   if (args.json) {
     nlohmann::ordered_json j;
     j["file"] = args.input;
-    j["table"] = args.table.table;
+    j["table"] = std::string(toString(uniform->options().layout));
     j["format"] = rgl ? "rgl" : "merl";
     j["interpolation"] = rgl ? "rgl" : args.table.interpolation;
     j["epsilon"] = args.table.epsilon;
@@ -149,7 +147,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     for (const SamplerRow& row : rows) j[row.name] = samplerJson(row);
     std::puts(j.dump(2).c_str());
   } else {
-    const bool iso = args.table.table == "iso";
+    const bool iso = uniform->options().layout == Layout::Isotropic;
     std::printf("%s: %s table (%s), %s interpolation, epsilon %g\n", args.input.c_str(), iso ? "isotropic" : "4D",
                 iso ? (uniform->options().mirror ? "theta_o x theta_h x |phi_h - phi_o| in [0, pi)"
                                                  : "theta_o x theta_h x (phi_h - phi_o)")
@@ -189,17 +187,20 @@ int runBrdfStats(const BrdfStatsArgs& args) {
 
 std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args) {
   return {
-      app.add_option("--table", args.table, "Table layout: 4d (theta_o, phi_o, theta_h, phi_h) or iso (isotropic)")
-          ->check(CLI::IsMember({"4d", "iso"}))
+      app.add_option("--table", args.table,
+                     "Table layout: 4d (theta_o, phi_o, theta_h, phi_h) or isotropic (theta_o, theta_h, phi)")
+          ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(Layout::Full4D)),
+                                                         std::string(toString(Layout::Isotropic))}))
           ->capture_default_str(),
       app.add_option("--res", args.resolution,
-                     "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, iso theta_o x theta_h x "
-                     "phi (default: the library's)"),
+                     "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, isotropic theta_o x "
+                     "theta_h x phi (default: the library's)"),
       app.add_option("--epsilon", args.epsilon,
                      "Adaptive simplification tolerance (>= 0): the largest chi2-divergence an interval may add")
           ->capture_default_str(),
       app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
-          ->check(CLI::IsMember({"nearest", "trilinear"}))
+          ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(MerlBrdf::Interpolation::Nearest)),
+                                                         std::string(toString(MerlBrdf::Interpolation::Trilinear))}))
           ->capture_default_str(),
   };
 }
@@ -207,17 +208,22 @@ std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args
 TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method) {
   TabulatedBrdfOptions o;
   o.method = method;
-  o.layout = args.table == "iso" ? Layout::Isotropic : Layout::Full4D;
-  if (!(args.epsilon >= 0)) throw UsageError("--epsilon must be >= 0");
+  o.layout = parseTableLayout(args.table);
   o.simplify.epsilon = args.epsilon;
   if (!args.resolution.empty()) {
     if (o.layout == Layout::Full4D) {
-      const auto r = parseResolution(args.resolution, 4, "4d");
+      const auto r = parseResolution(args.resolution, 4, std::string(toString(o.layout)));
       o.thetaOutCells = r[0], o.phiOutCells = r[1], o.thetaHalfCells = r[2], o.phiHalfCells = r[3];
     } else {
-      const auto r = parseResolution(args.resolution, 3, "iso");
+      const auto r = parseResolution(args.resolution, 3, std::string(toString(o.layout)));
       o.thetaOutCells = r[0], o.thetaHalfCells = r[1], o.phiHalfCells = r[2];
     }
+  }
+  try {
+    validate(o);
+  } catch (const OptionError& e) {
+    // The cell counts come from --res.
+    throw UsageError(e.option() == "epsilon" ? flagError(e) : "--res: " + std::string(e.what()));
   }
   return o;
 }
@@ -225,7 +231,7 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
 std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const BrdfModel> model,
                                                            const BrdfTableArgs& args, DimensionMethod method) {
   const TabulatedBrdfOptions options = brdfTableOptions(args, method);
-  // The constructor documents std::invalid_argument for inconsistent options only.
+  // Options are validated above; the constructor still refuses a layout the model does not suit.
   try {
     return std::make_unique<TabulatedBrdfSampler>(std::move(model), options);
   } catch (const std::invalid_argument& e) {

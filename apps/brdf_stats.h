@@ -1,5 +1,5 @@
 #pragma once
-// `acdf brdf-stats FILE [--table 4d|iso] [--res R] [--epsilon E] [--interpolation M]
+// `acdf brdf-stats FILE [--table 4d|isotropic] [--res R] [--epsilon E] [--interpolation M]
 // [--samples N] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary or RGL .bsdf,
 // told apart by content) — the uniform and adaptive tables' resolution, bytes and compression,
 // and each sampler's variance, speed and efficiency, with the file's own warps for an RGL file.
@@ -27,8 +27,8 @@ Command addBrdfStats(CLI::App& parent);
 // The flags that choose a tabulated BRDF sampler's table; empty strings mean "the defaults of
 // TabulatedBrdfOptions".
 struct BrdfTableArgs {
-  std::string table = "4d";  // 4d | iso
-  std::string resolution;    // e.g. 32x16x256x32 (4d) or 32x256x32 (iso)
+  std::string table = "4d";  // 4d | isotropic (parseTableLayout)
+  std::string resolution;    // e.g. 32x16x256x32 (4d) or 32x256x32 (isotropic)
   double epsilon = TabulatedBrdfOptions{}.simplify.epsilon;
   std::string interpolation = "nearest";  // nearest | trilinear
 };

@@ -57,10 +57,6 @@ SimplifyOptions simplifyOptions(const CdfStatsArgs& args) {
   if (budget && !args.simplifier.empty() && parseSimplifier(args.simplifier) == Simplifier::DouglasPeucker)
     throw UsageError(
         "--max-points needs the greedy simplifier; it cannot be combined with --simplifier douglas-peucker");
-  if (budget && args.maxPoints < 2) throw UsageError("--max-points must be at least 2");
-  if (!(args.epsilon >= 0)) throw UsageError("--epsilon must be >= 0");
-  if (!(args.weightBound == 0 || args.weightBound >= 1))
-    throw UsageError("--weight-bound must be 0 (no bound) or >= 1");
   o.method = budget || (!args.simplifier.empty() && parseSimplifier(args.simplifier) == Simplifier::GreedyRefinement)
                  ? Simplifier::GreedyRefinement
                  : Simplifier::DouglasPeucker;
@@ -68,11 +64,7 @@ SimplifyOptions simplifyOptions(const CdfStatsArgs& args) {
   o.epsilon = args.epsilon;
   o.maxPoints = budget ? args.maxPoints : 0;
   o.weightBound = args.weightBound;
-  try {
-    validate(o);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
+  validateFlags(o);
   return o;
 }
 

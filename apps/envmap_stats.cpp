@@ -47,7 +47,9 @@ Table build(const std::shared_ptr<const EnvironmentMap>& map, EnvironmentSamplin
 }
 
 int runEnvmapStats(const EnvmapStatsArgs& args) {
-  if (!(args.epsilon >= 0)) throw UsageError("envmap-stats: --epsilon must be >= 0");
+  EnvironmentLightOptions options;
+  options.simplify.epsilon = args.epsilon;
+  validateFlags(options, "envmap-stats: ");
   const std::shared_ptr<const EnvironmentMap> map = readEnvironmentMap(args.input, args.sanitize);
   if (map->isBlack())
     throw FileError(args.input, "the map is black everywhere: a light that emits nothing has no table to report on");

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "acdf/sampling/file_error.h"
+#include "acdf/sampling/option_error.h"
 
 namespace acdf::app {
 
@@ -15,5 +16,20 @@ class UsageError : public std::runtime_error {
  public:
   explicit UsageError(const std::string& message);
 };
+
+// "--max-points must be at least 2 (the end points)" for option max_points.
+std::string flagError(const OptionError& e);
+
+// `validate(options)` for options built from flags named as the options are, in kebab case
+// (max_points is --max-points): a rejected option becomes a UsageError naming its flag, prefixed
+// with `command` ("envmap-stats: ") when not empty.
+template <class Options>
+void validateFlags(const Options& options, const std::string& command = "") {
+  try {
+    validate(options);
+  } catch (const OptionError& e) {
+    throw UsageError(command + flagError(e));
+  }
+}
 
 }  // namespace acdf::app

@@ -94,7 +94,7 @@ def brdf_tables(args):
                          "%.1f / %.1f" % (u["max_weight"], a["max_weight"]),
                          "%.0f / %.0f" % (u["ns_per_sample"], a["ns_per_sample"])))
 
-        ri = fastest_of(command + ["--table", "iso"], args.repeats, estimators)
+        ri = fastest_of(command + ["--table", "isotropic"], args.repeats, estimators)
         ui, ai = ri["uniform"], ri["adaptive"]
         iso.append((name, resolution(ri["adaptive_avg_res"]), "%.1f : 1" % ri["compression"],
                     "%s (%.0f : 1)" % (thousands(ai["bytes"]), u["bytes"] / ai["bytes"]),

@@ -308,7 +308,17 @@ std::string MerlBrdf::addToKey(ContentHash& content) const {
       for (std::size_t i = 0; i < n; ++i) chunk[i] = values_[3 * (first + i) + c];
       content.values(std::span<const float>(chunk.data(), n));
     }
-  return interpolation_ == Interpolation::Nearest ? "interpolation=nearest" : "interpolation=trilinear";
+  return "interpolation=" + std::string(toString(interpolation_));
+}
+
+std::string_view toString(MerlBrdf::Interpolation interpolation) {
+  return interpolation == MerlBrdf::Interpolation::Nearest ? "nearest" : "trilinear";
+}
+
+MerlBrdf::Interpolation parseInterpolation(std::string_view name) {
+  for (auto i : {MerlBrdf::Interpolation::Nearest, MerlBrdf::Interpolation::Trilinear})
+    if (toString(i) == name) return i;
+  throw std::invalid_argument("unknown interpolation '" + std::string(name) + "' (nearest or trilinear)");
 }
 
 Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const {

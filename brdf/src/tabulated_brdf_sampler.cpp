@@ -32,15 +32,7 @@ uint32_t phiCells(const TabulatedBrdfOptions& o) { return mirrored(o) ? o.phiHal
 double phiRange(const TabulatedBrdfOptions& o) { return mirrored(o) ? kPi : kTwoPi; }
 
 const TabulatedBrdfOptions& validated(const BrdfModel& model, const TabulatedBrdfOptions& o) {
-  if (o.thetaOutCells == 0 || o.thetaHalfCells == 0 || o.phiHalfCells == 0 ||
-      (o.layout == Layout::Full4D && o.phiOutCells == 0))
-    throw std::invalid_argument("BRDF table: every axis needs at least one cell");
-  if (mirrored(o) && o.phiHalfCells % 2 != 0)
-    throw std::invalid_argument("BRDF table: a mirrored isotropic table needs an even number of phi cells");
-  if (o.supersampling == 0) throw std::invalid_argument("BRDF table: supersampling must be >= 1");
-  if (!(o.cosineWeight >= 0.0 && o.cosineWeight <= 1.0))
-    throw std::invalid_argument("BRDF table: the cosine mixture weight must be in [0, 1]");
-  validate(o.simplify);
+  validate(o);
   if (o.layout == Layout::Isotropic && !model.isotropic())
     throw std::invalid_argument("BRDF table: the isotropic layout needs an isotropic BRDF model");
   return o;
@@ -280,6 +272,30 @@ std::vector<double> capAreasOf(const TabulatedBrdfOptions& o) {
 
 }  // namespace
 
+void validate(const TabulatedBrdfOptions& o) {
+  const auto fail = [](const char* option, const std::string& problem) {
+    throw OptionError("BRDF table", option, problem);
+  };
+  if (o.thetaOutCells == 0) fail("theta_out", "must be at least 1");
+  if (o.layout == Layout::Full4D && o.phiOutCells == 0) fail("phi_out", "must be at least 1");
+  if (o.thetaHalfCells == 0) fail("theta_half", "must be at least 1");
+  if (o.phiHalfCells == 0) fail("phi_half", "must be at least 1");
+  if (mirrored(o) && o.phiHalfCells % 2 != 0)
+    fail("phi_half", "must be even for a mirrored isotropic table, got " + std::to_string(o.phiHalfCells));
+  if (o.supersampling == 0) fail("supersampling", "must be at least 1");
+  if (!(o.cosineWeight >= 0.0 && o.cosineWeight <= 1.0))
+    fail("cosine_weight", "must be in [0, 1], got " + OptionError::number(o.cosineWeight));
+  validate(o.simplify);
+}
+
+std::string_view toString(TabulatedBrdfOptions::Layout layout) { return layout == Layout::Full4D ? "4d" : "isotropic"; }
+
+TabulatedBrdfOptions::Layout parseTableLayout(std::string_view name) {
+  for (Layout layout : {Layout::Full4D, Layout::Isotropic})
+    if (toString(layout) == name) return layout;
+  throw std::invalid_argument("unknown BRDF table layout '" + std::string(name) + "' (4d or isotropic)");
+}
+
 std::string TabulatedBrdfOptions::name() const {
   return std::string(method == DimensionMethod::Adaptive ? "adaptive" : "uniform") +
          (layout == Layout::Full4D ? "-4d" : "-iso");
@@ -308,7 +324,7 @@ CacheKey TabulatedBrdfSampler::tableKey(const BrdfModel& model, const TabulatedB
   const std::string modelParameters = model.addToKey(content);
   const std::string parameters =
       "brdf-half-vector-table tabulation=" + std::to_string(kTabulationVersion) + " " + modelParameters +
-      (model.isotropic() ? "" : " every-point") + " layout=" + (o.layout == Layout::Full4D ? "full-4d" : "isotropic") +
+      (model.isotropic() ? "" : " every-point") + " layout=" + std::string(toString(o.layout)) +
       " cells=" + std::to_string(o.thetaOutCells) + "x" + std::to_string(o.phiOutCells) + "x" +
       std::to_string(o.thetaHalfCells) + "x" + std::to_string(o.phiHalfCells) + " mirror=" + std::to_string(o.mirror) +
       " supersampling=" + std::to_string(o.supersampling) + " " + describe(cascadeOptions(o));

@@ -6,6 +6,12 @@
 
 namespace acdf {
 
+void validate(const EnvironmentLightOptions& o) {
+  if (!(o.scale > 0.0f) || !std::isfinite(o.scale))
+    throw OptionError("environment light", "scale", "must be finite and > 0, got " + OptionError::number(o.scale));
+  validate(o.simplify);
+}
+
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
     : EnvironmentLight(map, std::move(options), LightPdfs::Either,
                        [&map](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
@@ -16,9 +22,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
                                    LightPdfs pdfs, const EnvironmentTableSource& tables)
     : map_(std::move(map)), options_(std::move(options)) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
-  if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
-    throw std::invalid_argument("EnvironmentLight: the scale must be finite and > 0");
-  validate(options_.simplify);
+  validate(options_);
   auto get = [&](EnvironmentSampling strategy) {
     std::shared_ptr<const EnvironmentTable> table = tables(strategy, options_.simplify);
     if (!table || table->strategy() != strategy || table->map().width() != map_->width() ||

@@ -36,6 +36,17 @@ class Node {
       : value_(value), path_(std::move(path)), file_(file) {}
 
   [[noreturn]] void fail(const std::string& problem) const { throw FileError(file_, path_ + ": " + problem); }
+  // `validate(options)` for options read from this object: a rejected option is reported at its
+  // key when the scene gives it, else at the object.
+  template <class Options>
+  void validated(const Options& options) const {
+    try {
+      validate(options);
+    } catch (const OptionError& e) {
+      if (has(e.option())) (*this)[e.option()].fail(e.problem());
+      fail(e.what());
+    }
+  }
 
   // An object whose keys are all among `allowed`.
   const Node& object(std::initializer_list<std::string_view> allowed) const {
@@ -214,30 +225,15 @@ TabulatedBrdfOptions readTableOptions(const Node& node) {
   node.object(
       {"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
   TabulatedBrdfOptions o;
-  if (node.has("layout")) {
-    const std::string layout = node["layout"].string();
-    if (layout == "4d")
-      o.layout = TabulatedBrdfOptions::Layout::Full4D;
-    else if (layout == "isotropic")
-      o.layout = TabulatedBrdfOptions::Layout::Isotropic;
-    else
-      node["layout"].fail("expected \"4d\" or \"isotropic\"");
-  }
+  if (node.has("layout")) o.layout = node["layout"].parsed(parseTableLayout);
   if (node.has("theta_out")) o.thetaOutCells = node["theta_out"].count(1);
   if (node.has("phi_out")) o.phiOutCells = node["phi_out"].count(1);
   if (node.has("theta_half")) o.thetaHalfCells = node["theta_half"].count(1);
   if (node.has("phi_half")) o.phiHalfCells = node["phi_half"].count(2);
   if (node.has("supersampling")) o.supersampling = node["supersampling"].count(1);
-  if (node.has("epsilon")) {
-    o.simplify.epsilon = node["epsilon"].number();
-    if (!(o.simplify.epsilon >= 0)) node["epsilon"].fail("must be >= 0");
-  }
-  if (node.has("cosine_weight")) {
-    o.cosineWeight = node["cosine_weight"].number();
-    if (!(o.cosineWeight >= 0 && o.cosineWeight <= 1)) node["cosine_weight"].fail("must be in [0, 1]");
-  }
-  if (o.mirror && o.layout == TabulatedBrdfOptions::Layout::Isotropic && o.phiHalfCells % 2 != 0)
-    node["phi_half"].fail("must be even for an isotropic table");
+  if (node.has("epsilon")) o.simplify.epsilon = node["epsilon"].number();
+  if (node.has("cosine_weight")) o.cosineWeight = node["cosine_weight"].number();
+  node.validated(o);
   return o;
 }
 
@@ -279,13 +275,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     if (node.has("sampling")) sampling = node["sampling"].parsed(parseBrdfSampling);
     if (overrides.bsdfSampling) sampling = *overrides.bsdfSampling;
     MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
-    if (node.has("interpolation")) {
-      const std::string name = node["interpolation"].string();
-      if (name == "trilinear")
-        interpolation = MerlBrdf::Interpolation::Trilinear;
-      else if (name != "nearest")
-        node["interpolation"].fail("expected \"nearest\" or \"trilinear\"");
-    }
+    if (node.has("interpolation")) interpolation = node["interpolation"].parsed(parseInterpolation);
     const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
     const std::string where = node.path();
     spec.build = [=](TableProvider& tables) {
@@ -330,9 +320,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
 struct EnvironmentSpec {
   std::optional<fs::path> file;
   std::array<double, 3> constant{1.0, 1.0, 1.0};
-  double scale = 1, rotationDegrees = 0;
-  EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
-  double epsilon = SimplifyOptions{}.epsilon;
+  EnvironmentLightOptions options;
 };
 
 EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
@@ -347,17 +335,17 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   } else {
     node["type"].fail("unknown environment type \"" + type + "\" (map or constant)");
   }
+  EnvironmentLightOptions& o = spec.options;
   if (node.has("scale")) {
-    spec.scale = node["scale"].positive();
+    const double scale = node["scale"].positive();
     // The light scales float radiance.
-    if (!std::isfinite(static_cast<float>(spec.scale))) node["scale"].fail("must be at most 3.4e38");
+    if (!std::isfinite(static_cast<float>(scale))) node["scale"].fail("must be at most 3.4e38");
+    o.scale = static_cast<float>(scale);
   }
-  if (node.has("rotation")) spec.rotationDegrees = node["rotation"].number();
-  if (node.has("sampling")) spec.strategy = node["sampling"].parsed(parseEnvironmentSampling);
-  if (node.has("epsilon")) {
-    spec.epsilon = node["epsilon"].number();
-    if (!(spec.epsilon >= 0)) node["epsilon"].fail("must be >= 0");
-  }
+  if (node.has("rotation")) o.worldFromMap = Rotation::aboutY(node["rotation"].number() * std::numbers::pi / 180.0);
+  if (node.has("sampling")) o.strategy = node["sampling"].parsed(parseEnvironmentSampling);
+  if (node.has("epsilon")) o.simplify.epsilon = node["epsilon"].number();
+  node.validated(o);
   return spec;
 }
 
@@ -383,12 +371,7 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
     map = std::make_shared<const EnvironmentMap>(kWidth, kHeight, std::move(rgb));
     key = fmt::format("constant ({}, {}, {})", spec.constant[0], spec.constant[1], spec.constant[2]);
   }
-  EnvironmentLightOptions options;
-  options.strategy = spec.strategy;
-  options.worldFromMap = Rotation::aboutY(spec.rotationDegrees * std::numbers::pi / 180.0);
-  options.scale = static_cast<float>(spec.scale);
-  options.simplify.epsilon = spec.epsilon;
-  return std::make_unique<EnvironmentLight>(map, options, pdfs,
+  return std::make_unique<EnvironmentLight>(map, spec.options, pdfs,
                                             [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
                                               return tables.environmentTable(map, key, strategy, simplify);
                                             });
@@ -474,7 +457,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
 
   const EnvironmentSpec envSpec = [&] {
     EnvironmentSpec s = readEnvironment(root["environment"], baseDir);
-    if (overrides.envSampling) s.strategy = *overrides.envSampling;
+    if (overrides.envSampling) s.options.strategy = *overrides.envSampling;
     return s;
   }();
 

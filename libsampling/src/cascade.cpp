@@ -323,21 +323,28 @@ class Builder {
 
 }  // namespace
 
+void validate(const CascadeOptions& o, std::size_t axes) {
+  if (o.conditioningDims >= axes) {
+    throw OptionError("cascade", "conditioning_dims",
+                      std::to_string(o.conditioningDims) + " leaves no axis to sample out of " + std::to_string(axes));
+  }
+  const std::size_t sampled = axes - o.conditioningDims;
+  if (!o.methods.empty() && o.methods.size() != sampled) {
+    throw OptionError(
+        "cascade", "methods",
+        "has " + std::to_string(o.methods.size()) + " entries for " + std::to_string(sampled) + " sampled axes");
+  }
+  validate(o.simplify);
+  if (!(o.sliceGroupingTolerance >= 0.0) || !std::isfinite(o.sliceGroupingTolerance)) {
+    throw OptionError("cascade", "slice_grouping_tolerance",
+                      "must be finite and >= 0, got " + OptionError::number(o.sliceGroupingTolerance));
+  }
+}
+
 Cascade::Cascade(std::span<const float> values, std::vector<GridAxis> axes, CascadeOptions options)
     : axes_(std::move(axes)), conditioningDims_(options.conditioningDims), options_(std::move(options)) {
   checkGridShape(values.size(), axes_);
-  if (conditioningDims_ >= axes_.size()) {
-    throw std::invalid_argument("cascade: " + std::to_string(conditioningDims_) +
-                                " conditioning axes leave none to sample out of " + std::to_string(axes_.size()));
-  }
-  if (!options_.methods.empty() && options_.methods.size() != sampledDims()) {
-    throw std::invalid_argument("cascade: " + std::to_string(options_.methods.size()) + " dimension methods for " +
-                                std::to_string(sampledDims()) + " sampled axes");
-  }
-  validate(options_.simplify);
-  if (!(options_.sliceGroupingTolerance >= 0.0) || !std::isfinite(options_.sliceGroupingTolerance)) {
-    throw std::invalid_argument("cascade: slice grouping tolerance must be finite and >= 0");
-  }
+  validate(options_, axes_.size());
   checkNonNegativeFinite(values, axes_);
 
   std::vector<uint32_t> sizes;

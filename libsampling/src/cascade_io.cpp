@@ -66,7 +66,7 @@ CascadeOptions readOptions(ByteReader& in, uint32_t conditioningDims, std::size_
   CascadeOptions o;
   o.conditioningDims = conditioningDims;
   const uint8_t methods = in.get<uint8_t>();
-  if (methods != 0 && methods != sampledDims) {
+  if (methods != 0 && methods != sampledDims) {  // before reading that many
     in.fail(std::to_string(methods) + " dimension methods for " + std::to_string(sampledDims) + " sampled axes");
   }
   for (uint8_t d = 0; d < methods; ++d) o.methods.push_back(getEnum(in, DimensionMethod::Adaptive, "dimension method"));
@@ -79,12 +79,9 @@ CascadeOptions readOptions(ByteReader& in, uint32_t conditioningDims, std::size_
   o.tolerance = getEnum(in, ConditionalTolerance::MassScaled, "tolerance rule");
   o.sliceGroupingTolerance = in.get<double>();
   try {
-    validate(o.simplify);
-  } catch (const std::invalid_argument& e) {
-    in.fail(e.what());
-  }
-  if (!(o.sliceGroupingTolerance >= 0.0) || !std::isfinite(o.sliceGroupingTolerance)) {
-    in.fail("slice grouping tolerance " + std::to_string(o.sliceGroupingTolerance) + " is not finite and >= 0");
+    validate(o, conditioningDims + sampledDims);
+  } catch (const OptionError& e) {
+    in.fail(e.option() + " " + e.problem());  // `in` names the cascade already
   }
   return o;
 }

@@ -143,22 +143,18 @@ std::vector<uint32_t> enforceWeightBound(const Chords& chords, std::span<const f
 }  // namespace
 
 void validate(const SimplifyOptions& o) {
-  if (!(o.epsilon >= 0.0) || !std::isfinite(o.epsilon)) {
-    throw std::invalid_argument("simplify: epsilon must be finite and >= 0, got " + std::to_string(o.epsilon));
-  }
-  if (!(o.weightBound == 0.0 || o.weightBound >= 1.0)) {
-    throw std::invalid_argument("simplify: weight bound must be 0 (off) or >= 1, got " + std::to_string(o.weightBound));
-  }
-  if (o.metric != ErrorMetric::Vertical && o.metric != ErrorMetric::Perpendicular &&
-      o.metric != ErrorMetric::ChiSquare) {
-    throw std::invalid_argument("simplify: unknown error metric " + std::to_string(static_cast<int>(o.metric)));
-  }
-  if (o.maxPoints != 0 && o.maxPoints < 2) {
-    throw std::invalid_argument("simplify: a point budget must keep at least the 2 end points");
-  }
-  if (o.maxPoints != 0 && o.method == Simplifier::DouglasPeucker) {
-    throw std::invalid_argument("simplify: a point budget needs the greedy refinement simplifier");
-  }
+  const auto fail = [](const char* option, const std::string& problem) {
+    throw OptionError("simplify", option, problem);
+  };
+  if (!(o.epsilon >= 0.0) || !std::isfinite(o.epsilon))
+    fail("epsilon", "must be finite and >= 0, got " + OptionError::number(o.epsilon));
+  if (!(o.weightBound == 0.0 || o.weightBound >= 1.0))
+    fail("weight_bound", "must be 0 (no bound) or >= 1, got " + OptionError::number(o.weightBound));
+  if (o.metric != ErrorMetric::Vertical && o.metric != ErrorMetric::Perpendicular && o.metric != ErrorMetric::ChiSquare)
+    fail("metric", "is unknown (" + std::to_string(static_cast<int>(o.metric)) + ")");
+  if (o.maxPoints != 0 && o.maxPoints < 2) fail("max_points", "must be at least 2 (the end points)");
+  if (o.maxPoints != 0 && o.method == Simplifier::DouglasPeucker)
+    fail("max_points", "needs the greedy simplifier, not douglas-peucker");
 }
 
 std::vector<uint32_t> simplifyCdf(std::span<const float> cdf, const SimplifyOptions& options) {

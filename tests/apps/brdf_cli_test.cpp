@@ -22,7 +22,7 @@ using nlohmann::json;
 
 // A small isotropic table (16 θo × 64 θh × 16 Δφ cells, 8 of them stored when mirrored): quick to
 // tabulate, still enough cells for the simplifier to compress.
-const std::vector<std::string> kSmallIso = {"--table", "iso", "--res", "16x64x16", "--samples", "256"};
+const std::vector<std::string> kSmallIso = {"--table", "isotropic", "--res", "16x64x16", "--samples", "256"};
 
 class BrdfCli : public TempDirTest {
  protected:
@@ -125,10 +125,10 @@ TEST_F(BrdfCli, StatsJsonKeysAreConsistent) {
 TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
   // No --res: TabulatedBrdfOptions' resolution, whatever the library's defaults are today. The
   // isotropic table, because the 4D one takes seconds to tabulate (minutes under ASan).
-  const json j = runJson({"brdf-stats", gold(), "--table", "iso", "--samples", "1", "--json"});
+  const json j = runJson({"brdf-stats", gold(), "--table", "isotropic", "--samples", "1", "--json"});
   const TabulatedBrdfOptions defaults;
   ASSERT_TRUE(defaults.mirror);
-  EXPECT_EQ(j["table"], "iso");
+  EXPECT_EQ(j["table"], "isotropic");
   EXPECT_EQ(j["uniform_res"], json({defaults.thetaOutCells, defaults.thetaHalfCells, defaults.phiHalfCells / 2}));
   EXPECT_EQ(j["epsilon"], defaults.simplify.epsilon);
   EXPECT_EQ(j["interpolation"], "nearest");
@@ -155,12 +155,14 @@ TEST_F(BrdfCli, StatsBadInput) {
   for (const char* res :
        {"32x16x256", "32x16x256x32x2", "0x16x256x32", "32x16xx32", "axbxcxd", "32x-16x256x32", "32x16x256x32x"})
     expectFailure({"brdf-stats", gold(), "--res", res}, "", "--res");
-  expectFailure({"brdf-stats", gold(), "--table", "iso", "--res", "32x16x256x32"}, "", "--res for a iso table");
+  expectFailure({"brdf-stats", gold(), "--table", "isotropic", "--res", "32x16x256x32"}, "",
+                "--res for the isotropic layout");
   expectFailure({"brdf-stats", gold(), "--res", "4096x4096x4096x4096"}, "", "at most");
   // A mirrored isotropic table needs an even Δφ count: the library's check, reported as usage.
-  expectFailure({"brdf-stats", gold(), "--table", "iso", "--res", "8x16x7"}, "", "even");
+  expectFailure({"brdf-stats", gold(), "--table", "isotropic", "--res", "8x16x7"}, "", "even");
   expectFailure({"brdf-stats", gold(), "--epsilon", "-1"}, "", "--epsilon");
   expectFailure({"brdf-stats", gold(), "--table", "6d"}, "", "--table");
+  expectFailure({"brdf-stats", gold(), "--table", "iso"}, "", "--table");  // one spelling: isotropic
   expectFailure({"brdf-stats", gold(), "--interpolation", "cubic"}, "", "--interpolation");
   expectFailure({"brdf-stats", gold(), "--samples", "0"}, "", "--samples");
   expectFailure({"brdf-stats"}, "", "input");
@@ -172,8 +174,8 @@ TEST_F(BrdfCli, Chi2PassesForEverySampler) {
       // Cosine sampling ignores ωo: one angle tests it.
       if (std::string(sampler) == "cosine" && std::string(theta) != "60") continue;
       SCOPED_TRACE(std::string(sampler) + " at theta_o " + theta);
-      const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", theta, "--sampler", sampler, "--table", "iso",
-                               "--res", "16x64x16", "--samples", "20000", "--json"});
+      const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", theta, "--sampler", sampler, "--table",
+                               "isotropic", "--res", "16x64x16", "--samples", "20000", "--json"});
       ASSERT_EQ(r.exitCode, 0) << describe(r);
       const json j = json::parse(r.out);
       EXPECT_TRUE(j["passed"].get<bool>()) << j;
@@ -182,7 +184,7 @@ TEST_F(BrdfCli, Chi2PassesForEverySampler) {
       EXPECT_GT(j["dof"].get<int>(), 100) << j;
     }
   // The table form of the same verdict.
-  const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "adaptive", "--table", "iso",
+  const RunResult r = run({"chi2", "--brdf", gold(), "--theta-o", "30", "--sampler", "adaptive", "--table", "isotropic",
                            "--res", "16x64x16", "--samples", "20000"});
   ASSERT_EQ(r.exitCode, 0) << describe(r);
   EXPECT_EQ(r.out.rfind("passed: p = ", 0), 0u) << r.out;
@@ -208,7 +210,7 @@ TEST_F(BrdfCli, Chi2BadInput) {
                 "truncated");
   expectFailure(args({"--theta-o", "30", "--res", "8x8"}), "", "--res");
   expectFailure(args({"--theta-o", "30", "--envmap", gold()}), "", "--envmap");
-  expectFailure({"chi2", "--envmap", gold(), "--sampler", "uniform", "--table", "iso"}, "", "--brdf");
+  expectFailure({"chi2", "--envmap", gold(), "--sampler", "uniform", "--table", "isotropic"}, "", "--brdf");
   expectFailure({"chi2", "--sampler", "uniform", "--theta-o", "30"}, "", "--brdf");
 }
 

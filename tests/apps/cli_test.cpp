@@ -411,11 +411,13 @@ TEST_F(Cli, UsageErrors) {
   expectUsageError({"cdf-stats"});
   expectUsageError({"cdf-stats", file, "--bogus"});
   expectUsageError({"cdf-stats", file, "--epsilon", "abc"});
-  expectUsageError({"cdf-stats", file, "--epsilon", "-1"}, "--epsilon");
-  expectUsageError({"cdf-stats", file, "--weight-bound", "0.5"}, "--weight-bound");
+  // The library's validator judges; the CLI names the flag.
+  expectUsageError({"cdf-stats", file, "--epsilon", "-1"}, "--epsilon must be finite and >= 0, got -1");
+  expectUsageError({"cdf-stats", file, "--weight-bound", "0.5"},
+                   "--weight-bound must be 0 (no bound) or >= 1, got 0.5");
   expectUsageError({"cdf-stats", file, "--simplifier", "best"});
   expectUsageError({"cdf-stats", file, "--metric", "diagonal"});
-  expectUsageError({"cdf-stats", file, "--max-points", "1"}, "--max-points");
+  expectUsageError({"cdf-stats", file, "--max-points", "1"}, "--max-points must be at least 2 (the end points)");
   expectUsageError({"cdf-stats", file, "--simplifier", "douglas-peucker", "--max-points", "16"},
                    "--simplifier douglas-peucker");
   expectUsageError({"cdf-stats", file, "--simplifier", "dp"});

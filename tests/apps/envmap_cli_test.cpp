@@ -155,6 +155,8 @@ TEST_F(EnvmapCli, DirtyAndBrokenMapsExitTwoWithOneLine) {
   rgb[7] = std::numeric_limits<float>::quiet_NaN();
   const std::string nan = writeMap("nan.exr", 4, 2, rgb);
   expectOneLineFailure(run({"envmap-stats", nan}), "acdf: " + nan + ":", "NaN");
+  expectOneLineFailure(run({"envmap-stats", nan, "--epsilon", "-1"}), "acdf: envmap-stats: --epsilon",
+                       "must be finite and >= 0, got -1");
   const RunResult sanitized = run({"envmap-stats", nan, "--sanitize", "--json"});
   ASSERT_EQ(sanitized.exitCode, 0) << describe(sanitized);
   EXPECT_EQ(nlohmann::json::parse(sanitized.out)["nonfinite_pixels_replaced"], 1);

@@ -31,7 +31,7 @@ class RglCli : public TempDirTest {
 
 TEST_F(RglCli, BrdfStatsReportsTheFileWarpsBesideOurTables) {
   const RunResult r =
-      run({"brdf-stats", smallFile(), "--table", "iso", "--res", "8x32x8", "--samples", "64", "--json"});
+      run({"brdf-stats", smallFile(), "--table", "isotropic", "--res", "8x32x8", "--samples", "64", "--json"});
   ASSERT_EQ(r.exitCode, 0) << describe(r);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["format"], "rgl");

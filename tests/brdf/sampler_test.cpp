@@ -245,6 +245,30 @@ TEST(BrdfSamplers, InvalidOptionsAreRejected) {
   EXPECT_THROW(build([](auto& o) { o.supersampling = 0; }), std::invalid_argument);
   EXPECT_THROW(build([](auto& o) { o.cosineWeight = 1.5; }), std::invalid_argument);
   EXPECT_THROW(build([](auto& o) { o.simplify.epsilon = -1; }), std::invalid_argument);
+  // validate() names the option as the scene format spells it (the loader reports it there).
+  const auto rejected = [](auto change) {
+    TabulatedBrdfOptions o;
+    change(o);
+    try {
+      validate(o);
+    } catch (const OptionError& e) {
+      return e.option();
+    }
+    return std::string("none");
+  };
+  EXPECT_EQ(rejected([](auto&) {}), "none");
+  EXPECT_EQ(rejected([](auto& o) { o.phiOutCells = 0; }), "phi_out");
+  EXPECT_EQ(rejected([](auto& o) { o.layout = Layout::Isotropic, o.phiOutCells = 0; }), "none");
+  EXPECT_EQ(rejected([](auto& o) { o.layout = Layout::Isotropic, o.phiHalfCells = 5; }), "phi_half");
+  EXPECT_EQ(rejected([](auto& o) { o.supersampling = 0; }), "supersampling");
+  EXPECT_EQ(rejected([](auto& o) { o.cosineWeight = -0.1; }), "cosine_weight");
+  EXPECT_EQ(rejected([](auto& o) { o.simplify.epsilon = -1; }), "epsilon");
+  for (Layout layout : {Layout::Full4D, Layout::Isotropic}) EXPECT_EQ(parseTableLayout(toString(layout)), layout);
+  EXPECT_EQ(toString(Layout::Isotropic), "isotropic");
+  EXPECT_THROW(parseTableLayout("iso"), std::invalid_argument);
+  for (auto i : {MerlBrdf::Interpolation::Nearest, MerlBrdf::Interpolation::Trilinear})
+    EXPECT_EQ(parseInterpolation(toString(i)), i);
+  EXPECT_THROW(parseInterpolation("cubic"), std::invalid_argument);
   // The isotropic layout needs an isotropic model; every sampler needs a model.
   TabulatedBrdfOptions iso;
   iso.layout = Layout::Isotropic;

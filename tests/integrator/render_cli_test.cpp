@@ -188,6 +188,26 @@ TEST_F(RenderCli, EnvironmentScaleBeyondFloatNamesItsPath) {
   expectNoOutputs();
 }
 
+// The options structs' validators judge the scene's values; the loader names the key.
+TEST_F(RenderCli, RejectedOptionNamesItsKey) {
+  const auto failure = [&](const nlohmann::json& scene, const std::string& message) {
+    expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_),
+                         "acdf: " + path("scene.json"), message);
+  };
+  nlohmann::json scene = tinyScene();
+  scene["materials"]["unused"] = {{"type", "measured"}, {"preset", "gold"}, {"table", {{"phi_half", 7}}}};
+  scene["materials"]["unused"]["table"]["layout"] = "isotropic";
+  failure(scene, "$.materials.unused.table.phi_half: must be even for a mirrored isotropic table, got 7");
+  scene["materials"]["unused"]["table"] = {{"layout", "iso"}};
+  failure(scene, "$.materials.unused.table.layout: unknown BRDF table layout 'iso' (4d or isotropic)");
+  scene["materials"]["unused"]["table"] = {{"cosine_weight", 1.5}};
+  failure(scene, "$.materials.unused.table.cosine_weight: must be in [0, 1], got 1.5");
+  scene = tinyScene();
+  scene["environment"]["epsilon"] = -1;
+  failure(scene, "$.environment.epsilon: must be finite and >= 0, got -1");
+  expectNoOutputs();
+}
+
 TEST_F(RenderCli, InvalidJson) {
   apptest::writeFile(path("scene.json"), "{\"camera\": ");
   expectOneLineFailure(runAcdf({"render", path("scene.json"), "-o", path("x.exr")}, dir_),

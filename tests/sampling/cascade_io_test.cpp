@@ -219,6 +219,17 @@ void putFloat(std::vector<std::byte>& bytes, std::size_t offset, float v) {
   for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<std::byte>(bits >> (8 * i));
 }
 
+void putDouble(std::vector<std::byte>& bytes, std::size_t offset, double v) {
+  const auto bits = std::bit_cast<uint64_t>(v);
+  for (int i = 0; i < 8; ++i) bytes[offset + i] = static_cast<std::byte>(bits >> (8 * i));
+}
+
+double getDouble(const std::vector<std::byte>& bytes, std::size_t offset) {
+  uint64_t bits = 0;
+  for (int i = 0; i < 8; ++i) bits |= static_cast<uint64_t>(bytes[offset + i]) << (8 * i);
+  return std::bit_cast<double>(bits);
+}
+
 TEST(CascadeSerialization, RejectsInconsistentDataWithAClearMessage) {
   std::vector<std::byte> bytes = smallUniform();
   ASSERT_EQ(bytes.size(), kFirstCdfValue + 3 * 4);
@@ -263,6 +274,16 @@ TEST(CascadeSerialization, RejectsInconsistentDataWithAClearMessage) {
   b = bytes;
   b[10] = std::byte{0};  // the axis' cell count: 0
   expectProblem(b, "axis 0");
+  // Options the writer never writes: the validator the constructor uses judges them too.
+  constexpr std::size_t kEpsilon = 26, kSliceGroupingTolerance = 48;
+  ASSERT_EQ(getDouble(bytes, kEpsilon), CascadeOptions{}.simplify.epsilon);
+  ASSERT_EQ(getDouble(bytes, kSliceGroupingTolerance), 0.0);
+  b = bytes;
+  putDouble(b, kEpsilon, -1.0);
+  expectProblem(b, "cascade: epsilon must be finite and >= 0, got -1");
+  b = bytes;
+  putDouble(b, kSliceGroupingTolerance, -1.0);
+  expectProblem(b, "cascade: slice_grouping_tolerance must be finite and >= 0, got -1");
 }
 
 // Whatever a corrupt buffer turns into, it is an error or a table that samples like one.

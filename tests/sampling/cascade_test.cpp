@@ -604,6 +604,31 @@ TEST(CascadeSliceGrouping, RejectsBadTolerances) {
     EXPECT_THROW((Cascade{v, unitAxes(k4D), grouped(bad)}), std::invalid_argument) << bad;
 }
 
+// One validator, for the constructor and the cache reader: it names the option it rejects.
+TEST(CascadeOptions, ValidateNamesTheOption) {
+  const auto rejected = [](const CascadeOptions& o, std::size_t axes) {
+    try {
+      validate(o, axes);
+    } catch (const OptionError& e) {
+      return e.option();
+    }
+    return std::string("none");
+  };
+  CascadeOptions o;
+  EXPECT_EQ(rejected(o, 1), "none");
+  o.conditioningDims = 2;
+  EXPECT_EQ(rejected(o, 3), "none");
+  EXPECT_EQ(rejected(o, 2), "conditioning_dims");
+  o.methods = {DM::Uniform, DM::Adaptive};
+  EXPECT_EQ(rejected(o, 3), "methods");
+  EXPECT_EQ(rejected(o, 4), "none");
+  o.simplify.weightBound = 0.5;
+  EXPECT_EQ(rejected(o, 4), "weight_bound");
+  o.simplify.weightBound = 0;
+  o.sliceGroupingTolerance = -1;
+  EXPECT_EQ(rejected(o, 4), "slice_grouping_tolerance");
+}
+
 // Fails when grouping counts the compression's own divergence against the tolerance: identical
 // slices then stay apart.
 TEST(CascadeSliceGrouping, IdenticalSlicesShareOneDistribution) {

@@ -400,6 +400,21 @@ TEST(Simplify, OptionsValidation) {
   EXPECT_NO_THROW(validate(opts(Simplifier::DouglasPeucker, ErrorMetric::ChiSquare, 1e-5, 4.0)));
   EXPECT_THROW(validate(opts(Simplifier::DouglasPeucker, static_cast<ErrorMetric>(7), 1e-3, 4.0)),
                std::invalid_argument);
+  // The error names the option, as the scene format and (in kebab case) the CLI spell it.
+  const auto rejected = [](const SimplifyOptions& o) {
+    try {
+      validate(o);
+    } catch (const OptionError& e) {
+      return e.option() + " " + e.problem();
+    }
+    return std::string("none");
+  };
+  EXPECT_EQ(rejected(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1, 4.0)),
+            "epsilon must be finite and >= 0, got -1");
+  EXPECT_EQ(rejected(opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, 1e-3, 0.5)),
+            "weight_bound must be 0 (no bound) or >= 1, got 0.5");
+  EXPECT_EQ(rejected(opts(Simplifier::GreedyRefinement, ErrorMetric::Vertical, 1e-3, 4.0, 1)),
+            "max_points must be at least 2 (the end points)");
   // simplifyCdf validates too.
   const auto cdf = cdfOf({1, 2, 3});
   EXPECT_THROW(simplifyCdf(cdf, opts(Simplifier::DouglasPeucker, ErrorMetric::Vertical, -1.0, 4.0)),

@@ -37,6 +37,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "acdf/brdf/brdf_model.h"
@@ -141,5 +142,11 @@ class MerlBrdf final : public BrdfModel {
   std::size_t negativeEntries_ = 0;
   Interpolation interpolation_ = Interpolation::Nearest;
 };
+
+// The one spelling of each interpolation, used by the command line, the scene format, the JSON
+// outputs and the table cache keys: "nearest", "trilinear". parse throws std::invalid_argument
+// for any other name.
+std::string_view toString(MerlBrdf::Interpolation interpolation);
+MerlBrdf::Interpolation parseInterpolation(std::string_view name);
 
 }  // namespace acdf

@@ -43,6 +43,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "acdf/brdf/brdf_sampler.h"
@@ -79,11 +80,23 @@ struct TabulatedBrdfOptions {
   std::string name() const;
 };
 
+// The one spelling of each layout, used by the command line, the scene format, the JSON outputs
+// and the table cache keys: "4d", "isotropic". parse throws std::invalid_argument for any other
+// name.
+std::string_view toString(TabulatedBrdfOptions::Layout layout);
+TabulatedBrdfOptions::Layout parseTableLayout(std::string_view name);
+
+// The one check of these options, for the sampler, the command line and the scene loader. Throws
+// OptionError (option names as in the scene format's "table": "theta_out", "phi_half", ...): an
+// axis without cells, an odd phiHalfCells for a mirrored isotropic table, supersampling 0, a
+// cosine weight outside [0, 1], bad simplify options. Whether the model suits the layout is the
+// sampler's check.
+void validate(const TabulatedBrdfOptions& options);
+
 class TabulatedBrdfSampler final : public BrdfSampler {
  public:
-  // Throws std::invalid_argument for a null model and on inconsistent options (zero cells, an odd
-  // phiHalfCells with mirror, supersampling 0, a weight outside [0, 1], bad simplify options, the
-  // isotropic layout for a model that is not isotropic).
+  // Throws std::invalid_argument for a null model, the isotropic layout for a model that is not
+  // isotropic, and OptionError for options validate() rejects.
   explicit TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options = {});
 
   // Table caching (docs/table-cache.md): the constructor above is buildCascade() plus the one

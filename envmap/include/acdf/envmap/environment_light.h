@@ -17,8 +17,8 @@
 
 #include "acdf/envmap/environment_map.h"
 #include "acdf/envmap/environment_table.h"
-#include "acdf/sampling/transform.h"
 #include "acdf/sampling/rgb.h"
+#include "acdf/sampling/transform.h"
 
 namespace acdf {
 
@@ -28,6 +28,10 @@ struct EnvironmentLightOptions {
   Rotation worldFromMap{};     // the map frame's directions in the world (default: the same)
   float scale = 1.0f;          // radiance multiplier; finite and > 0
 };
+
+// The one check of these options, for the light and the scene loader. Throws OptionError
+// ("scale", or the simplify options' own).
+void validate(const EnvironmentLightOptions& options);
 
 // What a light sample or pdf depends on besides its variates or direction.
 struct LightSampleContext {

@@ -63,6 +63,12 @@ struct CascadeOptions {
   bool operator==(const CascadeOptions&) const = default;
 };
 
+// The one check of these options for a grid of `axes` axes, for the constructor and the table
+// cache reader alike. Throws OptionError: conditioningDims >= axes, a methods count other than 0
+// or the sampled axes', bad simplify options (validate above), a slice grouping tolerance that is
+// negative or not finite.
+void validate(const CascadeOptions& options, std::size_t axes);
+
 class ByteReader;
 class ByteWriter;
 

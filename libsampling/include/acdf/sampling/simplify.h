@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "acdf/sampling/option_error.h"
+
 namespace acdf {
 
 enum class Simplifier : uint8_t {
@@ -49,8 +51,10 @@ struct SimplifyOptions {
   bool operator==(const SimplifyOptions&) const = default;
 };
 
-// Throws std::invalid_argument on inconsistent options (negative ε, ρ in (0,1), a budget below 2,
-// a budget with Douglas–Peucker).
+// The one check of these options, for every caller (constructors, the command line, the scene
+// loader, the table cache reader). Throws OptionError (option_error.h) on inconsistent options:
+// ε negative or not finite, ρ in (0, 1), an unknown metric, a budget below 2, a budget with
+// Douglas–Peucker.
 void validate(const SimplifyOptions& options);
 
 // cdf: n+1 values as described above (n >= 1). Returns the kept vertices, sorted, with 0 and n.
