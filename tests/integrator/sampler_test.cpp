@@ -21,6 +21,7 @@
 
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/sampling/file_error.h"
 
 namespace acdf {
 namespace {
@@ -177,7 +178,7 @@ TEST(SobolSampler, AVertexReadsItsOwnDimensionsWhateverThePathAskedBefore) {
 }
 
 // The scene's render.sampler, independent by default (renders stay as they were), replaced by
-// SceneOverrides::sampler (--sampler); a bad name is a SceneError with its JSON path.
+// SceneOverrides::sampler (--sampler); a bad name is a FileError with its JSON path.
 TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
   nlohmann::json scene = {
       {"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}, {"fov", 30}, {"width", 4}, {"height", 4}}},
@@ -197,7 +198,7 @@ TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
   try {
     (void)load();
     ADD_FAILURE() << "a bad sampler name loaded";
-  } catch (const SceneError& e) {
+  } catch (const FileError& e) {
     EXPECT_EQ(e.problem(), "$.render.sampler: unknown sampler 'halton' (independent or sobol)");
   }
 }
