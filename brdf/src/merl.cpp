@@ -298,6 +298,12 @@ Rgb MerlBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
 }
 
+std::vector<float> MerlBrdf::channel(int c) const {
+  std::vector<float> values(kCells);
+  for (std::size_t i = 0; i < kCells; ++i) values[i] = value(c, i);
+  return values;
+}
+
 std::string MerlBrdf::addToKey(ContentHash& content) const {
   // Channel after channel, as the file (and the keys of tables cached before the interleaved
   // layout) has them; ContentHash streams, so chunks hash as the whole channel would.

@@ -90,9 +90,9 @@ void setDouble(std::vector<unsigned char>& bytes, int channel, std::size_t index
 
 // The value nearest lookup must return for cell `index`: raw × channel scale, in float.
 Rgb expectedCell(const MerlBrdf& b, std::size_t index) {
-  return {static_cast<float>(b.channel(0)[index] * MerlBrdf::kChannelScale[0]),
-          static_cast<float>(b.channel(1)[index] * MerlBrdf::kChannelScale[1]),
-          static_cast<float>(b.channel(2)[index] * MerlBrdf::kChannelScale[2])};
+  return {static_cast<float>(b.value(0, index) * MerlBrdf::kChannelScale[0]),
+          static_cast<float>(b.value(1, index) * MerlBrdf::kChannelScale[1]),
+          static_cast<float>(b.value(2, index) * MerlBrdf::kChannelScale[2])};
 }
 
 void expectRgbNear(const Rgb& a, const Rgb& b, double relative, const std::string& where) {
@@ -154,7 +154,7 @@ TEST_F(MerlFiles, SaveLoadRoundTrip) {
   EXPECT_EQ(b.negativeEntries(), 0u);
   for (int c = 0; c < 3; ++c) {
     ASSERT_TRUE(std::ranges::equal(a.channel(c), b.channel(c))) << "channel " << c;
-    for (std::size_t i : {std::size_t{0}, std::size_t{12345}, kN - 1}) EXPECT_EQ(b.channel(c)[i], t.c[c][i]);
+    for (std::size_t i : {std::size_t{0}, std::size_t{12345}, kN - 1}) EXPECT_EQ(b.value(c, i), t.c[c][i]);
   }
   EXPECT_EQ(entries(), 1u) << "a temporary file was left behind";
 }
@@ -163,7 +163,7 @@ TEST_F(MerlFiles, LoadRoundsDoublesToNearestFloat) {
   Table t = randomTable(2);
   t.c[1][7] = 0.1;  // not a float
   writeFile(file("x.binary"), fileBytes(t));
-  EXPECT_EQ(MerlBrdf::load(file("x.binary")).channel(1)[7], 0.1f);
+  EXPECT_EQ(MerlBrdf::load(file("x.binary")).value(1, 7), 0.1f);
 }
 
 TEST_F(MerlFiles, SaveReplacesAnExistingFile) {
@@ -299,9 +299,9 @@ TEST_F(MerlFiles, NegativeEntriesReadAsZeroAndAreCounted) {
   const MerlBrdf b = MerlBrdf::load(file("neg.binary"));
   EXPECT_EQ(b.negativeEntries(), 3 * std::size(marked) + 1);
   for (int c = 0; c < 3; ++c)
-    for (std::size_t i : marked) EXPECT_EQ(b.channel(c)[i], 0.0f);
-  EXPECT_EQ(b.channel(1)[77], 0.0f);
-  EXPECT_EQ(b.channel(0)[77], static_cast<float>(t.c[0][77]));
+    for (std::size_t i : marked) EXPECT_EQ(b.value(c, i), 0.0f);
+  EXPECT_EQ(b.value(1, 77), 0.0f);
+  EXPECT_EQ(b.value(0, 77), static_cast<float>(t.c[0][77]));
   // The below-horizon cell evaluates to 0.
   const Rgb v =
       b.evalHalfDiff(MerlBrdf::thetaHalfCentre(89), MerlBrdf::thetaDiffCentre(89), MerlBrdf::phiDiffCentre(179));

@@ -33,7 +33,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <ranges>
+#include <vector>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -116,12 +116,11 @@ class MerlBrdf final : public BrdfModel {
   static double thetaDiffCentre(int thetaDiffIdx);
   static double phiDiffCentre(int phiDiffIdx);
 
-  // Raw stored values of channel c (0 = red, 1 = green, 2 = blue), kCells each in file order,
-  // negatives as 0: a random-access view of the interleaved table.
-  auto channel(int c) const {
-    return std::views::iota(uint32_t{0}, static_cast<uint32_t>(kCells)) |
-           std::views::transform([v = values_.get() + c](uint32_t i) { return v[std::size_t{3} * i]; });
-  }
+  // Raw stored value of channel c (0 = red, 1 = green, 2 = blue) in cell `index` (file order),
+  // negatives as 0.
+  float value(int c, std::size_t index) const { return values_[3 * index + c]; }
+  // All kCells raw values of channel c in file order: a copy out of the interleaved table.
+  std::vector<float> channel(int c) const;
   // Every stored value, interleaved (3 · kCells: red, green, blue of cell 0, then of cell 1, ...).
   std::span<const float> interleavedValues() const { return {values_.get(), 3 * kCells}; }
   // How many stored values were negative (and are now 0), over all three channels. Negative as
