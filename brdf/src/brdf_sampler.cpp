@@ -11,19 +11,18 @@ BrdfSampler::BrdfSampler(std::shared_ptr<const BrdfModel> model) : model_(std::m
 }
 
 BrdfSample BrdfSampler::sample(const Vec3d& wo, float u0, float u1) const {
+  const SampledDirection d = sampleDirection(wo, clampUnit(u0), clampUnit(u1));
   BrdfSample s;
-  s.wi = sampleDirection(wo, clampUnit(u0), clampUnit(u1));
-  // The pdf of the final direction, not of the path that produced it: mixtures and half-vector
-  // reflections reach ωi in more than one way, and pdf() sums them all.
-  s.pdf = pdf(wo, s.wi);
+  s.wi = d.wi;
+  s.pdf = d.pdf;
   if (s.wi.z > 0.0 && wo.z > 0.0) s.weight = model_->eval(wo, s.wi) * static_cast<float>(s.wi.z / s.pdf);
   return s;
 }
 
 double CosineBrdfSampler::pdf(const Vec3d&, const Vec3d& wi) const { return cosineHemispherePdf(wi.z); }
 
-Vec3d CosineBrdfSampler::sampleDirection(const Vec3d&, float u0, float u1) const {
-  return sampleCosineHemisphere(u0, u1);
+SampledDirection CosineBrdfSampler::sampleDirection(const Vec3d&, float u0, float u1) const {
+  return sampleCosineDirection(u0, u1);
 }
 
 }  // namespace acdf

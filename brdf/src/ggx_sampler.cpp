@@ -19,13 +19,13 @@ double GgxBrdfSampler::halfVectorPdf(const Vec3d& wh) const {
   return d * wh.z;
 }
 
-Vec3d GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
-  if (!(wo.z > 0.0)) return sampleCosineHemisphere(u0, u1);
+SampledDirection GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
+  if (!(wo.z > 0.0)) return sampleCosineDirection(u0, u1);
   const double u = std::fmin(u0, 1.0 - 0x1p-40);  // u → 1 is the horizon, where D cosθh = 0
   const double tan2 = alpha_ * alpha_ * u / (1.0 - u);
   const double cosTheta = 1.0 / std::sqrt(1.0 + tan2);
   const Vec3d wh = sphericalDirection(std::acos(cosTheta), 2.0 * std::numbers::pi * u1);
-  return normalize(reflect(wo, wh));
+  return {normalize(reflect(wo, wh)), sampledHalfVector(wo, wh).incidentPdf(halfVectorPdf(wh))};
 }
 
 double GgxBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

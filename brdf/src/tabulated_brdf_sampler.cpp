@@ -338,10 +338,14 @@ std::array<float, 2> TabulatedBrdfSampler::condition(const Vec3d& wo) const {
   return c;
 }
 
-Vec3d TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
+SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
   const double w = options_.cosineWeight;
-  if (!(wo.z > 0.0)) return sampleCosineHemisphere(u0, u1);
-  if (u0 < w) return sampleCosineHemisphere(u0 / w, u1);
+  if (!(wo.z > 0.0)) return sampleCosineDirection(u0, u1);
+  if (u0 < w) {
+    // The table's term at this ωi is not known along this path: pdf() finds it.
+    const Vec3d wi = sampleCosineHemisphere(u0 / w, u1);
+    return {wi, pdf(wo, wi)};
+  }
   // The rest of u0's range, stretched back to [0, 1), drives the table; for a mirrored table
   // u1's halves choose the sign of Δφ (exact in float: 2·u1 and 2·u1 − 1).
   const bool negative = mirrored(options_) && u1 >= 0.5f;
@@ -360,7 +364,18 @@ Vec3d TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1)
   double phi = x.x[1];
   if (options_.layout == Layout::Isotropic) phi = azimuth(wo) + (negative ? -phi : phi);
   const Vec3d wh{sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0 - cap};
-  return reflect(wo, wh);
+  const Vec3d wi = reflect(wo, wh);
+  // The table's density at the sampled cell, and the cosine term at ωi: the two ways to reach ωi.
+  const double table = sampledHalfVector(wo, wh).incidentPdf(perSteradian(x.pdf, cell));
+  return {wi, w * cosineHemispherePdf(wi.z) + (1.0 - w) * table};
+}
+
+// P(cell) / Ω(cell) per unit φ: density · Δs / Δ(1 − cosθh); half of it for each sign of a
+// mirrored table's Δφ.
+double TabulatedBrdfSampler::perSteradian(double density, uint32_t cell) const {
+  const double perSteradian =
+      density * table_.axes()[table_.conditioningDims()].cellWidth() / (capAreas_[cell + 1] - capAreas_[cell]);
+  return mirrored(options_) ? 0.5 * perSteradian : perSteradian;
 }
 
 double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const {
@@ -379,10 +394,7 @@ double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) con
   // rounds across a cell boundary in float still reads the cell the solid-angle mapping used.
   const std::array<float, 2> x{sAxis.place(cell, cell + 1, 0.5), onAxis(table_.axes()[k + 1], phi)};
   const std::array<float, 2> c = condition(wo);
-  const double density = table_.pdf(std::span<const float>(c.data(), k), x);
-  // P(cell) / Ω(cell) per unit φ: density · Δs / Δ(1 − cosθh).
-  const double perSteradian = density * sAxis.cellWidth() / (capAreas_[cell + 1] - capAreas_[cell]);
-  return mirrored(options_) ? 0.5 * perSteradian : perSteradian;
+  return perSteradian(table_.pdf(std::span<const float>(c.data(), k), x), cell);
 }
 
 double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

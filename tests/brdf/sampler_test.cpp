@@ -33,6 +33,7 @@
 #include "acdf/sampling/sample.h"
 #include "acdf/sampling/sphere_chi_square.h"
 #include "acdf/test_support/chi_square_registry.h"
+#include "pdf_consistency.h"
 
 namespace {
 
@@ -49,7 +50,9 @@ constexpr double kLambertAlbedo = 0.6;
 #ifdef ACDF_SANITIZED_BUILD
 constexpr uint64_t kSamples = 100'000;
 constexpr uint32_t kSubCells = 24;
+constexpr uint64_t kConsistencySamples = 4'000;
 #else
+constexpr uint64_t kConsistencySamples = 40'000;
 constexpr uint64_t kSamples = 1'000'000;
 constexpr uint32_t kSubCells = 32;
 #endif
@@ -124,7 +127,7 @@ SphereChiSquareOptions chiSquareOptions() {
   o.subPoints = kSubCells;
   o.thetaBins = 32;  // equal-area bins of 6 msr, as `acdf chi2 --brdf` uses
   o.phiBins = 64;
-  o.pdfTolerance = 1e-6;
+  o.pdfTolerance = BrdfSampler::kPdfRoundTrip;
   return o;
 }
 
@@ -195,6 +198,19 @@ TEST(BrdfSamplers, PdfIsPositiveWhereverTheIntegrandIs) {
   }
 }
 
+// sample()'s pdf, computed along the sampling path, against pdf() at the sample (brdf_sampler.h):
+// equal up to the round trip's rounding (measured ≤ 3e-10 for the tables, 5e-9 for GGX), but on
+// the rare samples on a cell boundary (measured ≤ 2.5 in 10⁶, brdf_sampler.h): at most 4 of each
+// sampler's 40 000 here.
+TEST(BrdfSamplers, SampledPdfMatchesPdfAtTheSample) {
+  for (const auto& [material, name] : everySampler()) {
+    const test::PdfConsistency c =
+        test::measurePdfConsistency(library().sampler(material, name), kConsistencySamples, BrdfSampler::kPdfRoundTrip);
+    EXPECT_LE(c.boundary, BrdfSampler::kBoundaryRate * c.samples) << material << " " << name;
+    EXPECT_LT(c.worst, 1e-8) << material << " " << name;
+  }
+}
+
 void expectValidAtExtremeVariates(const BrdfSampler& sampler) {
   for (double theta : {0.0, 45.0, 89.9, 90.0, 120.0, 180.0})
     for (float u0 : {0.0f, 0.05f, 0.5f, kOneMinusEpsilon})
@@ -203,7 +219,6 @@ void expectValidAtExtremeVariates(const BrdfSampler& sampler) {
         const BrdfSample s = sampler.sample(wo, u0, u1);
         ASSERT_NEAR(length(s.wi), 1.0, 1e-9) << theta << " " << u0 << " " << u1;
         ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf > 0) << theta << " " << u0 << " " << u1;
-        ASSERT_NEAR(s.pdf, sampler.pdf(wo, s.wi), 1e-6 * s.pdf) << theta << " " << u0 << " " << u1;
         for (float c : {s.weight.r, s.weight.g, s.weight.b}) ASSERT_TRUE(std::isfinite(c) && c >= 0);
         if (!(wo.z > 0)) {
           EXPECT_EQ(s.weight, Rgb{}) << "no reflection from below the horizon";

@@ -28,7 +28,7 @@ class GgxBrdfSampler final : public BrdfSampler {
   std::string name() const override { return "ggx"; }
 
  protected:
-  Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+  SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override;
 
  private:
   double alpha_;

@@ -6,8 +6,8 @@
 //
 //   p(ωi) = p(ωh) / (4 |ωo·ωh|),   ωh = ±normalize(ωi + ωo).
 //
-// The one place this is written: the tabulated and GGX samplers' pdf() and the chi-square test's
-// binning use it.
+// The one place this is written: the half-vector samplers' sample() and pdf() and the chi-square
+// test's binning use it.
 
 #include <cmath>
 #include <optional>
@@ -23,6 +23,10 @@ struct HalfVector {
   // The density of ωi of a half-vector density p(ωh) at this half vector, both per steradian.
   double incidentPdf(double halfVectorPdf) const { return halfVectorPdf / (4.0 * cosOut); }
 };
+
+// A half vector ωh (unit, z >= 0) a sampler drew to reflect ωo about: its density converts to
+// ωi's along the sampling path, without finding ωh again from ωi.
+inline HalfVector sampledHalfVector(const Vec3d& wo, const Vec3d& wh) { return {wh, std::fabs(dot(wo, wh))}; }
 
 // The half vector reflecting ωo into ωi, taken in the upper hemisphere: ωh and −ωh reflect ωo
 // alike, and half-vector samplers draw z >= 0 only, so exactly one of them can have been sampled.

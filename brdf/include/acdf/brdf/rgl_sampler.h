@@ -36,7 +36,7 @@ class RglBrdfSampler final : public BrdfSampler {
   std::string name() const override { return "rgl"; }
 
  protected:
-  Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+  SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override;
 
  private:
   const RglBrdf& rgl_;

@@ -129,11 +129,13 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   double buildMs() const { return buildMs_; }
 
  protected:
-  Vec3d sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+  SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override;
 
  private:
   // The conditioning coordinates of ωo (θo, and φo for Full4D).
   std::array<float, 2> condition(const Vec3d& wo) const;
+  // The table's density in (s, φ) on s-cell `cell`, per steradian of the half vector.
+  double perSteradian(double density, uint32_t cell) const;
 
   TabulatedBrdfOptions options_;
   double tabulationMs_ = 0, buildMs_ = 0;
