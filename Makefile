@@ -37,10 +37,9 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 # libFuzzer's random seed: fixed, so a CI run can be replayed; FUZZ_SEED=0 picks a new one each run.
 FUZZ_SEED ?= 1
-# fuzz_rgl is built and run with FUZZ_TARGETS=rgl, outside CI until its finding is fixed: a
-# malformed file the reader accepts (fuzz/findings/rgl-sampler-pdf.bsdf) whose format sampler
-# returns a pdf that is not finite and > 0.
-FUZZ_TARGETS := engine cascade merl image npy scene
+# One target by hand: make build-fuzz FUZZ_TARGETS=rgl, then run $(FUZZ_DIR)/bin/fuzz_rgl on a
+# corpus directory or an input file.
+FUZZ_TARGETS := engine cascade merl image npy scene rgl
 TSAN_DIR ?= build-tsan
 STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 
