@@ -8,6 +8,7 @@
 #include <string>
 
 #include "acdf/integrator/scene.h"
+#include "acdf/sampling/file_error.h"
 #include "acdf/sampling/table_cache.h"
 #include "fuzz_input.h"
 
@@ -19,10 +20,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const Scene scene = loadSceneText(std::string(reinterpret_cast<const char*>(data), size), file, {}, tables);
     fuzz::require(scene.camera && scene.geometry && scene.environment, "scene: loaded without a part");
   } catch (const FileError& e) {
-    // "<file>: <problem>", where the file is the scene or a file it refers to.
+    // "<file>: <problem>", where the file is the scene or a file it refers to; what() is made one
+    // line (a control character in the input quoted by the JSON parser becomes '?').
     const std::string message = e.what();
-    fuzz::require(!e.file().empty() && message == e.file() + ": " + e.problem(), "scene: message does not name a file",
-                  message);
+    fuzz::require(!e.file().empty() && message == oneLine(e.file()) + ": " + oneLine(e.problem()),
+                  "scene: message does not name a file", message);
     fuzz::require(message.find('\n') == std::string::npos, "scene: message spans lines", message);
   }
   return 0;
