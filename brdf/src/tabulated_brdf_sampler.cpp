@@ -297,8 +297,7 @@ TabulatedBrdfOptions::Layout parseTableLayout(std::string_view name) {
 }
 
 std::string TabulatedBrdfOptions::name() const {
-  return std::string(method == DimensionMethod::Adaptive ? "adaptive" : "uniform") +
-         (layout == Layout::Full4D ? "-4d" : "-iso");
+  return std::string(toString(method)) + (layout == Layout::Full4D ? "-4d" : "-iso");
 }
 
 TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options)

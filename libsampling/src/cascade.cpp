@@ -323,6 +323,37 @@ class Builder {
 
 }  // namespace
 
+std::string_view toString(DimensionMethod method) {
+  return method == DimensionMethod::Uniform ? "uniform" : "adaptive";
+}
+
+std::string_view toString(ConditionalRule rule) {
+  return rule == ConditionalRule::ExactMass ? "exact-mass" : "average-of-normalized";
+}
+
+std::string_view toString(ConditionalTolerance tolerance) {
+  return tolerance == ConditionalTolerance::Constant ? "constant" : "mass-scaled";
+}
+
+DimensionMethod parseDimensionMethod(std::string_view name) {
+  for (DimensionMethod m : {DimensionMethod::Uniform, DimensionMethod::Adaptive})
+    if (toString(m) == name) return m;
+  throw std::invalid_argument("unknown dimension method '" + std::string(name) + "' (uniform or adaptive)");
+}
+
+ConditionalRule parseConditionalRule(std::string_view name) {
+  for (ConditionalRule r : {ConditionalRule::ExactMass, ConditionalRule::AverageOfNormalized})
+    if (toString(r) == name) return r;
+  throw std::invalid_argument("unknown conditional rule '" + std::string(name) +
+                              "' (exact-mass or average-of-normalized)");
+}
+
+ConditionalTolerance parseConditionalTolerance(std::string_view name) {
+  for (ConditionalTolerance t : {ConditionalTolerance::Constant, ConditionalTolerance::MassScaled})
+    if (toString(t) == name) return t;
+  throw std::invalid_argument("unknown conditional tolerance '" + std::string(name) + "' (constant or mass-scaled)");
+}
+
 void validate(const CascadeOptions& o, std::size_t axes) {
   if (o.conditioningDims >= axes) {
     throw OptionError("cascade", "conditioning_dims",
@@ -530,6 +561,26 @@ std::vector<std::size_t> Cascade::pointsPerDimension() const {
   const std::vector<std::size_t> cdfs = cdfsPerLevel();
   for (std::size_t level = 0; level < levels_.size(); ++level)
     result.push_back(levels_[level].cdf.size() + 2 * cdfs[level]);
+  return result;
+}
+
+std::vector<std::vector<uint32_t>> Cascade::breakpoints(std::size_t axis) const {
+  if (axis < conditioningDims_ || axis >= dims())
+    throw std::invalid_argument("cascade: axis " + std::to_string(axis) + " is not a sampled axis");
+  const std::size_t level = axis - conditioningDims_;
+  const Level& l = levels_[level];
+  const uint32_t cells = axes_[axis].cells();
+  std::vector<std::vector<uint32_t>> result(cdfsPerLevel()[level]);
+  for (std::size_t c = 0; c < result.size(); ++c) {
+    std::vector<uint32_t>& vertices = result[c];
+    vertices.push_back(0);
+    if (l.method == DimensionMethod::Uniform) {
+      for (uint32_t k = 1; k < cells; ++k) vertices.push_back(k);
+    } else {
+      for (uint32_t k = l.starts[c]; k < l.starts[c + 1]; ++k) vertices.push_back(l.vertices[k]);
+    }
+    vertices.push_back(cells);
+  }
   return result;
 }
 

@@ -133,8 +133,7 @@ std::string describe(const CascadeOptions& o) {
   for (DimensionMethod m : o.methods) methods += m == DimensionMethod::Uniform ? 'u' : 'a';
   return "conditioning=" + std::to_string(o.conditioningDims) +
          " methods=" + (methods.empty() ? "all-adaptive" : methods) + " " + describe(o.simplify) +
-         " conditional=" + (o.conditional == ConditionalRule::ExactMass ? "exact-mass" : "average-of-normalized") +
-         " tolerance=" + (o.tolerance == ConditionalTolerance::Constant ? "constant" : "mass-scaled") +
+         " conditional=" + std::string(toString(o.conditional)) + " tolerance=" + std::string(toString(o.tolerance)) +
          " slice-grouping=" + hexFloat(o.sliceGroupingTolerance) +
          " cascade-format=" + std::to_string(Cascade::kSerialVersion);
 }

@@ -338,6 +338,10 @@ TEST(CascadeOptions, ExactMassConditionalKeepsBlockMasses) {
   const auto kept = simplifyCdf(cdf, exact.simplify);
   ASSERT_EQ(a.pointsPerDimension()[0], kept.size());
   ASSERT_LT(kept.size(), rows + 1u) << "level 0 must merge rows for the rules to differ";
+  EXPECT_EQ(a.breakpoints(0), std::vector<std::vector<uint32_t>>{kept});
+  std::vector<uint32_t> everyColumn(cols + 1);
+  std::iota(everyColumn.begin(), everyColumn.end(), 0u);
+  EXPECT_EQ(a.breakpoints(1), std::vector<std::vector<uint32_t>>(kept.size() - 1, everyColumn)) << "uniform level";
 
   const auto exactP = exactCellProbabilities(v);
   const auto qa = a.cellProbabilities(0), qb = b.cellProbabilities(0);
@@ -355,6 +359,49 @@ TEST(CascadeOptions, ExactMassConditionalKeepsBlockMasses) {
     }
   EXPECT_LT(worstA, 1e-4) << "ExactMass block masses";
   EXPECT_GT(worstB, 1e-3) << "AverageOfNormalized should differ on rows of different totals";
+}
+
+TEST(Cascade, BreakpointsBoundTheBoxesOfConstantDensity) {
+  // Both levels adaptive: CDF k of level 1 is the conditional below interval k of level 0, so
+  // every box (level-0 interval × one of its conditional's intervals) has one cell probability.
+  const auto v = makeFixture(Fixture::Smooth, k2D);
+  CascadeOptions options;
+  options.simplify.epsilon = 0.01;
+  const Cascade c(v, unitAxes(k2D), options);
+  const auto rowsKept = c.breakpoints(0), columnsKept = c.breakpoints(1);
+  ASSERT_EQ(rowsKept.size(), 1u);
+  ASSERT_EQ(columnsKept.size(), rowsKept[0].size() - 1);
+  std::size_t points = 0;
+  for (const auto& cdf : columnsKept) points += cdf.size();
+  EXPECT_EQ(points, c.pointsPerDimension()[1]);
+  const uint32_t cols = k2D[1];
+  const auto q = c.cellProbabilities(0);
+  std::size_t boxes = 0;
+  for (std::size_t k = 0; k + 1 < rowsKept[0].size(); ++k) {
+    const auto& col = columnsKept[k];
+    ASSERT_EQ(col.front(), 0u);
+    ASSERT_EQ(col.back(), cols);
+    for (std::size_t m = 0; m + 1 < col.size(); ++m, ++boxes) {
+      const double first = q[rowsKept[0][k] * cols + col[m]];
+      for (uint32_t i = rowsKept[0][k]; i < rowsKept[0][k + 1]; ++i)
+        for (uint32_t j = col[m]; j < col[m + 1]; ++j)
+          ASSERT_NEAR(q[i * cols + j], first, 1e-6 * first) << "box " << k << "," << m << " cell " << i << "," << j;
+    }
+  }
+  EXPECT_LT(boxes, std::size_t{k2D[0]} * cols / 4) << "the fixture should be simplified";
+  EXPECT_THROW(c.breakpoints(2), std::invalid_argument);
+}
+
+TEST(CascadeOptions, EnumSpellingsRoundTrip) {
+  for (DimensionMethod m : {DimensionMethod::Uniform, DimensionMethod::Adaptive})
+    EXPECT_EQ(parseDimensionMethod(toString(m)), m);
+  for (ConditionalRule r : {ConditionalRule::ExactMass, ConditionalRule::AverageOfNormalized})
+    EXPECT_EQ(parseConditionalRule(toString(r)), r);
+  for (ConditionalTolerance t : {ConditionalTolerance::Constant, ConditionalTolerance::MassScaled})
+    EXPECT_EQ(parseConditionalTolerance(toString(t)), t);
+  EXPECT_THROW(parseDimensionMethod("Adaptive"), std::invalid_argument);
+  EXPECT_THROW(parseConditionalRule("exact"), std::invalid_argument);
+  EXPECT_THROW(parseConditionalTolerance(""), std::invalid_argument);
 }
 
 TEST(CascadeOptions, MetricAndSimplifierChangeTheResult) {

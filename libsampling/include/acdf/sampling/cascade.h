@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "acdf/sampling/grid_axis.h"
@@ -44,6 +45,15 @@ enum class ConditionalRule : uint8_t { ExactMass, AverageOfNormalized };
 // ε/√P (at most 1/2); ErrorMetric::ChiSquare measures divergence itself and gets ε/P (at most
 // cells − 1, which keeps only the end points). The first level (P = 1) keeps ε.
 enum class ConditionalTolerance : uint8_t { Constant, MassScaled };
+
+// "uniform", "adaptive"; "exact-mass", "average-of-normalized"; "constant", "mass-scaled". The
+// parse functions throw std::invalid_argument naming the spellings.
+std::string_view toString(DimensionMethod method);
+std::string_view toString(ConditionalRule rule);
+std::string_view toString(ConditionalTolerance tolerance);
+DimensionMethod parseDimensionMethod(std::string_view name);
+ConditionalRule parseConditionalRule(std::string_view name);
+ConditionalTolerance parseConditionalTolerance(std::string_view name);
 
 struct CascadeOptions {
   uint32_t conditioningDims = 0;
@@ -112,6 +122,12 @@ class Cascade {
   // Kept points (interval ends, the implicit end points included) summed over all 1D CDFs of
   // each sampled axis.
   std::vector<std::size_t> pointsPerDimension() const;
+  // The grid vertices each 1D CDF of sampled axis `axis` keeps (0 and the cell count included),
+  // one list per CDF in storage order: the first level holds one CDF per distinct slice; CDF j of
+  // the next level is the conditional below interval j of this one, intervals counted across the
+  // level's CDFs in order. What a figure of the adaptive intervals draws. Throws
+  // std::invalid_argument for a conditioning or missing axis.
+  std::vector<std::vector<uint32_t>> breakpoints(std::size_t axis) const;
 
   // Probability the distribution of `slice` gives each cell of the sampled grid, row-major.
   // Exact (the pdf is constant on grid cells); used for quality metrics and chi-square tests.
