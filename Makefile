@@ -4,7 +4,8 @@
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
 #   make bench      run every build/bin/bench_* program, JSON into bench/results/, and their tables in
-#                   docs/performance.md; the paper's Table 1 rows in docs/paper-reproduction.md; then
+#                   docs/performance.md; bench/bench_python.py (the Python module against the C++
+#                   loop); the paper's Table 1 rows in docs/paper-reproduction.md; then
 #                   acdf bench-error on scenes/demo.json into bench/results/error/ (BENCH_ERROR_ARGS)
 #                   and its section of docs/performance.md with the plots in docs/bench-error/
 #   make fuzz       libFuzzer targets (clang, build-fuzz/), each for FUZZ_SECONDS
@@ -116,6 +117,10 @@ bench: deps
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
 	/usr/bin/python3 bench/report.py --update docs/performance.md --command "make bench" $(RESULTS_DIR)/bench_*.json
+	@if ls $(BUILD_DIR)/python/acdf*.so >/dev/null 2>&1; then \
+	  echo "== bench_python.py -> $(RESULTS_DIR)/python.json"; \
+	  /usr/bin/python3 bench/bench_python.py --build $(BUILD_DIR) --json $(RESULTS_DIR)/python.json; \
+	fi
 	$(MAKE) demo-materials
 	/usr/bin/python3 bench/paper_reproduction.py --acdf $(BUILD_DIR)/bin/acdf --materials $(DEMO_DIR) \
 	  --update docs/paper-reproduction.md

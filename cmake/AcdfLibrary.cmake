@@ -21,6 +21,12 @@ function(acdf_library component)
     SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
     # A shared acdf library finds the ones it links beside itself (RUNPATH is not inherited).
     INSTALL_RPATH "$ORIGIN")
+  if(ACDF_PYTHON)
+    # Linked into the Python extension module, a shared object. Without semantic interposition
+    # -fPIC still lets GCC inline the library's own functions into each other, as in a non-PIC build.
+    set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-semantic-interposition>)
+  endif()
   install(TARGETS ${target} EXPORT acdfTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

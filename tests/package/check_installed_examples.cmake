@@ -1,8 +1,10 @@
-# cmake -DBUILD_DIR=… -DEXAMPLES_DIR=… -DWORK_DIR=… -DGENERATOR=… -DACDF=… -DMAP=… -P this file
+# cmake -DBUILD_DIR=… -DEXAMPLES_DIR=… -DWORK_DIR=… -DGENERATOR=… -DACDF=… -DMAP=…
+#       [-DPYTHON=… -DPYTHON_SITE_DIR=…] -P this file
 #
 # Installs BUILD_DIR into WORK_DIR/prefix, builds EXAMPLES_DIR against it (find_package(acdf) must
 # resolve to the staging prefix), runs both examples and checks that each one's two estimators
-# (the adaptive table, cosine sampling) agree within 5 standard errors.
+# (the adaptive table, cosine sampling) agree within 5 standard errors. With PYTHON, the same for
+# examples/python/quickstart.py run on the module installed in the prefix's site-packages.
 
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -63,3 +65,18 @@ run(${ACDF} merl-gen --preset gold -o ${WORK_DIR}/gold.binary)
 run(${WORK_DIR}/build/sample_merl ${WORK_DIR}/gold.binary 45 200000)
 message(STATUS "${output}")
 expect_agreement("${output}" "adaptive table" "cosine hemisphere")
+
+if(PYTHON)
+  set(site ${prefix}/${PYTHON_SITE_DIR})
+  file(GLOB module ${site}/acdf*.so)
+  if(NOT module)
+    message(FATAL_ERROR "the Python module is not installed in ${site}")
+  endif()
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} ${PYTHON} -c "print(__import__('acdf').__file__)")
+  if(NOT output MATCHES "^${site}/")
+    message(FATAL_ERROR "Python imported acdf from ${output}, not from ${site}")
+  endif()
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} ${PYTHON} ${EXAMPLES_DIR}/python/quickstart.py ${MAP} 200000)
+  message(STATUS "${output}")
+  expect_agreement("${output}" "light table" "cosine hemisphere")
+endif()

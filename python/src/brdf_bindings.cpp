@@ -1,0 +1,220 @@
+// brdf in Python: measured and analytic BRDF models and every sampler of them.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "acdf/brdf/analytic.h"
+#include "acdf/brdf/brdf_model.h"
+#include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/ggx_sampler.h"
+#include "acdf/brdf/lambertian.h"
+#include "acdf/brdf/merl.h"
+#include "acdf/brdf/rgl.h"
+#include "acdf/brdf/rgl_sampler.h"
+#include "acdf/brdf/tabulated_brdf_sampler.h"
+#include "arrays.h"
+#include "bindings.h"
+#include "options.h"
+
+namespace acdf::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+void storeRgb(float* data, std::size_t i, const Rgb& c) {
+  data[3 * i] = c.r;
+  data[3 * i + 1] = c.g;
+  data[3 * i + 2] = c.b;
+}
+
+// f(wo, wi) for batches of directions in the local frame; either may be one row (broadcast).
+template <class Evaluator>
+py::array_t<float> evalBatch(const Evaluator& f, const Array<double>& wo, const Array<double>& wi) {
+  const Directions o = directions(wo, "wo"), i = directions(wi, "wi");
+  const std::size_t n = pairedRows(o.rows, i.rows, "wo and wi");
+  auto out = output<float>(n, 3);
+  float* data = out.mutable_data();
+  forEachRow(n, [&](std::size_t k) { storeRgb(data, k, f.eval(o[k], i[k])); });
+  return out;
+}
+
+const char* kFrameDoc =
+    "Directions are float64 unit vectors in the local shading frame (z = normal), shape (n, 3) or (3,)\n"
+    "for one direction used with every row of the other argument.";
+
+void bindModels(py::module_& m) {
+  py::class_<BrdfModel, std::shared_ptr<BrdfModel>> model(m, "BrdfModel", R"(A BRDF f(wo, wi) in 1/sr.
+
+f is 0 unless both directions are above the horizon (z > 0).)");
+  model.def(
+      "eval", [](const BrdfModel& f, const Array<double>& wo, const Array<double>& wi) { return evalBatch(f, wo, wi); },
+      "wo"_a, "wi"_a, (std::string("f(wo, wi) as RGB float32, shape (n, 3). ") + kFrameDoc).c_str());
+  model.def_property_readonly("isotropic", &BrdfModel::isotropic);
+
+  py::class_<MerlBrdf, BrdfModel, std::shared_ptr<MerlBrdf>>(
+      m, "MerlBrdf",
+      R"(A measured MERL BRDF (Matusik et al. 2003), .binary file.
+
+MerlBrdf.load(path, interpolation="nearest"): interpolation as acdf's scene files spell it.
+Raises acdf.FileError for a missing, truncated or malformed file.)")
+      .def_static(
+          "load",
+          [](const std::string& path, const std::string& interpolation) {
+            const MerlBrdf::Interpolation mode = parseInterpolation(interpolation);
+            py::gil_scoped_release release;
+            return std::make_shared<MerlBrdf>(MerlBrdf::load(path, mode));
+          },
+          "path"_a, "interpolation"_a = "nearest");
+
+  py::class_<RglBrdf, BrdfModel, std::shared_ptr<RglBrdf>>(m, "RglBrdf",
+                                                           R"(A measured RGL material (Dupuy & Jakob 2018), .bsdf file.
+
+RglBrdf.load(path). Raises acdf.FileError for a file that is not a valid RGL tensor file.)")
+      .def_static(
+          "load",
+          [](const std::string& path) {
+            py::gil_scoped_release release;
+            return std::make_shared<RglBrdf>(RglBrdf::load(path));
+          },
+          "path"_a);
+
+  py::class_<AnalyticBrdf, BrdfModel, std::shared_ptr<AnalyticBrdf>>(m, "AnalyticBrdf",
+                                                                     "An analytic isotropic GGX BRDF.")
+      .def_static(
+          "preset", [](const std::string& name) { return std::make_shared<AnalyticBrdf>(AnalyticBrdf::preset(name)); },
+          "name"_a, "A named preset (preset_names()).")
+      .def_static("preset_names", &AnalyticBrdf::presetNames)
+      .def_static(
+          "conductor",
+          [](double alpha, const std::array<double, 3>& f0) {
+            return std::make_shared<AnalyticBrdf>(AnalyticBrdf::conductor(alpha, f0));
+          },
+          "alpha"_a, "f0"_a)
+      .def_static(
+          "coated_diffuse",
+          [](double alpha, const std::array<double, 3>& albedo, double ior) {
+            return std::make_shared<AnalyticBrdf>(AnalyticBrdf::coatedDiffuse(alpha, albedo, ior));
+          },
+          "alpha"_a, "albedo"_a, "ior"_a);
+
+  py::class_<LambertianBrdf, BrdfModel, std::shared_ptr<LambertianBrdf>>(m, "LambertianBrdf",
+                                                                         "albedo / pi above the horizon.")
+      .def(py::init([](const std::array<float, 3>& albedo) {
+             return std::make_shared<LambertianBrdf>(Rgb{albedo[0], albedo[1], albedo[2]});
+           }),
+           "albedo"_a);
+}
+
+void bindSamplers(py::module_& m) {
+  py::class_<BrdfSampler, std::shared_ptr<BrdfSampler>> s(m, "BrdfSampler",
+                                                          R"(Importance sampling of a BRDF times the cosine.
+
+sample(wo, u) -> (wi, weight, pdf): wi (n, 3) float64, weight = f cos(theta_i) / pdf as RGB float32
+(n, 3) (0 below the horizon), pdf per steradian (n,) float64, finite and > 0. pdf(wo, wi) is
+the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell boundaries).)");
+  s.def(
+      "sample",
+      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<float>& u) {
+        const Directions o = directions(wo, "wo");
+        const std::size_t n = pairedRows(rows(u, 2, "u"), o.rows, "u and wo");
+        if (o.rows != 1 && o.rows != n) throw py::value_error("wo: one row or one per sample");
+        auto wi = output<double>(n, 3), pdf = output<double>(n);
+        auto weight = output<float>(n, 3);
+        const float* in = u.data();
+        double *ws = wi.mutable_data(), *ps = pdf.mutable_data();
+        float* fs = weight.mutable_data();
+        forEachRow(n, [&](std::size_t i) {
+          const BrdfSample b = sampler.sample(o[i], in[2 * i], in[2 * i + 1]);
+          storeVec3(ws, i, b.wi);
+          storeRgb(fs, i, b.weight);
+          ps[i] = b.pdf;
+        });
+        return py::make_tuple(wi, weight, pdf);
+      },
+      "wo"_a, "u"_a, "u: (n, 2) float32 variates; wo: (n, 3) or one (3,) direction.");
+  s.def(
+      "pdf",
+      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<double>& wi) {
+        const Directions o = directions(wo, "wo"), i = directions(wi, "wi");
+        const std::size_t n = pairedRows(o.rows, i.rows, "wo and wi");
+        auto pdf = output<double>(n);
+        double* ps = pdf.mutable_data();
+        forEachRow(n, [&](std::size_t k) { ps[k] = sampler.pdf(o[k], i[k]); });
+        return pdf;
+      },
+      "wo"_a, "wi"_a, kFrameDoc);
+  s.def(
+      "eval",
+      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<double>& wi) {
+        return evalBatch(sampler, wo, wi);
+      },
+      "wo"_a, "wi"_a, "The model's f(wo, wi), RGB float32 (n, 3).");
+  s.def_property_readonly("bytes", &BrdfSampler::bytes, "Bytes of the sampler's tables.");
+  s.def_property_readonly("name", &BrdfSampler::name);
+
+  py::class_<CosineBrdfSampler, BrdfSampler, std::shared_ptr<CosineBrdfSampler>>(
+      m, "CosineBrdfSampler", "Cosine-weighted hemisphere sampling of any model: no table.")
+      .def(py::init([](std::shared_ptr<BrdfModel> model) { return std::make_shared<CosineBrdfSampler>(model); }),
+           "model"_a);
+
+  const TabulatedBrdfOptions d;
+  py::class_<TabulatedBrdfSampler, BrdfSampler, std::shared_ptr<TabulatedBrdfSampler>>(
+      m, "TabulatedBrdfSampler",
+      R"(Half-vector tables of a model, uniform or adaptive.
+
+TabulatedBrdfSampler(model, layout="4d", method="adaptive", epsilon=None, simplify=None,
+                     tolerance="mass-scaled", theta_out_cells=32, phi_out_cells=16,
+                     theta_half_cells=256, phi_half_cells=32, cosine_weight=0.05)
+layout: "4d" (every model) or "isotropic" (isotropic models); method: "uniform" or "adaptive";
+the simplification defaults to the chi-square metric at epsilon 5e-5 without a weight bound.
+cosine_weight mixes cosine sampling in so every direction above the horizon has pdf > 0.)")
+      .def(py::init([](std::shared_ptr<BrdfModel> model, const std::string& layout, const std::string& method,
+                       std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify,
+                       const std::string& tolerance, uint32_t thetaOut, uint32_t phiOut, uint32_t thetaHalf,
+                       uint32_t phiHalf, double cosineWeight) {
+             TabulatedBrdfOptions o;
+             o.layout = parseTableLayout(layout);
+             o.method = parseDimensionMethod(method);
+             o.simplify = simplifyOptions(o.simplify, simplify, epsilon);
+             o.tolerance = parseConditionalTolerance(tolerance);
+             o.thetaOutCells = thetaOut;
+             o.phiOutCells = phiOut;
+             o.thetaHalfCells = thetaHalf;
+             o.phiHalfCells = phiHalf;
+             o.cosineWeight = cosineWeight;
+             validate(o);
+             py::gil_scoped_release release;
+             return std::make_shared<TabulatedBrdfSampler>(std::move(model), o);
+           }),
+           "model"_a, "layout"_a = std::string(toString(d.layout)), "method"_a = std::string(toString(d.method)),
+           "epsilon"_a = py::none(), "simplify"_a = py::none(), "tolerance"_a = std::string(toString(d.tolerance)),
+           "theta_out_cells"_a = d.thetaOutCells, "phi_out_cells"_a = d.phiOutCells,
+           "theta_half_cells"_a = d.thetaHalfCells, "phi_half_cells"_a = d.phiHalfCells,
+           "cosine_weight"_a = d.cosineWeight)
+      .def_property_readonly(
+          "table", [](const TabulatedBrdfSampler& t) -> const Cascade& { return t.table(); },
+          py::return_value_policy::reference_internal, "The half-vector acdf.Cascade.");
+
+  py::class_<GgxBrdfSampler, BrdfSampler, std::shared_ptr<GgxBrdfSampler>>(
+      m, "GgxBrdfSampler", "Sampling of an analytic model by its GGX distribution (D cos theta_h): no table.")
+      .def(py::init([](std::shared_ptr<AnalyticBrdf> model) { return std::make_shared<GgxBrdfSampler>(model); }),
+           "model"_a);
+
+  py::class_<RglBrdfSampler, BrdfSampler, std::shared_ptr<RglBrdfSampler>>(
+      m, "RglBrdfSampler", "The RGL file's own warps (Dupuy & Jakob 2018), as pbrt-v4 and Mitsuba 3 sample it.")
+      .def(py::init([](std::shared_ptr<RglBrdf> model) { return std::make_shared<RglBrdfSampler>(model); }), "model"_a);
+}
+
+}  // namespace
+
+void bindBrdf(py::module_& m) {
+  bindModels(m);
+  bindSamplers(m);
+}
+
+}  // namespace acdf::python

@@ -1,0 +1,187 @@
+// envmap in Python: lat-long environment maps and the environment light with its strategies.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/environment_map.h"
+#include "arrays.h"
+#include "bindings.h"
+#include "options.h"
+
+namespace acdf::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+// A (height, width) or (height, width, 3) array of per-pixel values.
+template <class T>
+py::array_t<T> image(const EnvironmentMap& map, const T* data, std::size_t channels) {
+  std::vector<py::ssize_t> shape{map.height(), map.width()};
+  if (channels > 1) shape.push_back(static_cast<py::ssize_t>(channels));
+  py::array_t<T> out(shape);
+  std::memcpy(out.mutable_data(), data, std::size_t{map.width()} * map.height() * channels * sizeof(T));
+  return out;
+}
+
+std::shared_ptr<EnvironmentMap> mapFromArray(const Array<float>& rgb) {
+  if (rgb.ndim() != 3 || rgb.shape(2) != 3)
+    throw py::value_error("rgb: expected shape (height, width, 3), got " + shapeText(rgb));
+  std::vector<float> values(rgb.data(), rgb.data() + rgb.size());
+  return std::make_shared<EnvironmentMap>(static_cast<uint32_t>(rgb.shape(1)), static_cast<uint32_t>(rgb.shape(0)),
+                                          std::move(values));
+}
+
+EnvironmentLight makeLight(std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale,
+                           double rotationDegrees, std::optional<double> epsilon,
+                           const std::optional<SimplifyOptions>& simplify) {
+  EnvironmentLightOptions options;
+  options.strategy = parseEnvironmentSampling(strategy);
+  options.simplify = simplifyOptions(options.simplify, simplify, epsilon);
+  options.scale = scale;
+  if (!std::isfinite(rotationDegrees)) throw py::value_error("rotation: must be finite");
+  if (rotationDegrees != 0.0) options.worldFromMap = Rotation::aboutY(rotationDegrees * std::numbers::pi / 180.0);
+  validate(options);
+  py::gil_scoped_release release;
+  return EnvironmentLight(std::move(map), options);
+}
+
+const char* kLightDoc = R"(An environment map placed in the world and sampled by one strategy.
+
+EnvironmentLight(map, strategy="adaptive", scale=1.0, rotation=0.0, epsilon=None, simplify=None)
+EnvironmentLight.load(path, ...the same keywords)
+
+map: an acdf.EnvironmentMap. strategy: "uniform-sphere", "uniform" (pbrt's and Mitsuba's table),
+"alias", "adaptive" (the paper's), "compensated" (pbrt-v4's MIS compensation: incomplete, see
+allow_incomplete_pdf), "hierarchical" (Mitsuba 3's Hierarchical2D). scale multiplies the radiance;
+rotation turns the map about +Y (degrees, counter-clockwise seen from above), as in scene files.
+
+Directions are world-frame float64 (n, 3) arrays (+Y up); pdfs are per steradian (float64),
+radiance is RGB float32 (n, 3). A sample's pdf is what pdf() returns for its direction.
+allow_incomplete_pdf=True: the caller also samples the BSDF and combines the two by MIS, so a
+compensated light may leave directions dimmer than the map's mean to it (pdf 0 there).)";
+
+void bindLight(py::module_& m) {
+  py::class_<EnvironmentLight> c(m, "EnvironmentLight", kLightDoc);
+  c.def(py::init(&makeLight), "map"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0,
+        "epsilon"_a = py::none(), "simplify"_a = py::none());
+  c.def_static(
+      "load",
+      [](const std::string& path, const std::string& strategy, float scale, double rotation,
+         std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify) {
+        std::shared_ptr<EnvironmentMap> map;
+        {
+          py::gil_scoped_release release;
+          map = std::make_shared<EnvironmentMap>(EnvironmentMap::load(path));
+        }
+        return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify);
+      },
+      "path"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0, "epsilon"_a = py::none(),
+      "simplify"_a = py::none(), "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
+  c.def(
+      "sample",
+      [](const EnvironmentLight& light, const Array<float>& u, bool allowIncomplete) {
+        const std::size_t n = rows(u, 2, "u");
+        auto dirs = output<double>(n, 3), pdf = output<double>(n);
+        auto radiance = output<float>(n, 3);
+        const float* in = u.data();
+        double *ds = dirs.mutable_data(), *ps = pdf.mutable_data();
+        float* rs = radiance.mutable_data();
+        const LightSampleContext context{.allowIncompletePdf = allowIncomplete};
+        forEachRow(n, [&](std::size_t i) {
+          const LightSample s = light.sample(context, in[2 * i], in[2 * i + 1]);
+          storeVec3(ds, i, s.direction);
+          rs[3 * i] = s.radiance.r;
+          rs[3 * i + 1] = s.radiance.g;
+          rs[3 * i + 2] = s.radiance.b;
+          ps[i] = s.pdf;
+        });
+        return py::make_tuple(dirs, radiance, pdf);
+      },
+      "u"_a, "allow_incomplete_pdf"_a = false,
+      "Samples for variates u of shape (n, 2): (dirs (n, 3), radiance (n, 3), pdf (n,)). pdf is 0 only\n"
+      "for a light that emits nothing (then there is no sample).");
+  c.def(
+      "pdf",
+      [](const EnvironmentLight& light, const Array<double>& dirs, bool allowIncomplete) {
+        const Directions w = directions(dirs, "dirs");
+        auto pdf = output<double>(w.rows);
+        double* ps = pdf.mutable_data();
+        const LightSampleContext context{.allowIncompletePdf = allowIncomplete};
+        forEachRow(w.rows, [&](std::size_t i) { ps[i] = light.pdf(context, w[i]); });
+        return pdf;
+      },
+      "dirs"_a, "allow_incomplete_pdf"_a = false, "Density per steradian of sample() at each direction, shape (n,).");
+  c.def(
+      "eval",
+      [](const EnvironmentLight& light, const Array<double>& dirs) {
+        const Directions w = directions(dirs, "dirs");
+        auto radiance = output<float>(w.rows, 3);
+        float* rs = radiance.mutable_data();
+        forEachRow(w.rows, [&](std::size_t i) {
+          const Rgb l = light.eval(w[i]);
+          rs[3 * i] = l.r;
+          rs[3 * i + 1] = l.g;
+          rs[3 * i + 2] = l.b;
+        });
+        return radiance;
+      },
+      "dirs"_a, "Radiance arriving from each direction (nearest pixel, times the scale), shape (n, 3).");
+  c.def(
+      "pixel_probabilities",
+      [](const EnvironmentLight& light, bool allowIncomplete) {
+        const EnvironmentTable& table = light.table({.allowIncompletePdf = allowIncomplete});
+        const std::vector<double> p = table.pixelProbabilities();
+        if (p.empty()) throw py::value_error("pixel_probabilities: this light has no table (uniform-sphere or black)");
+        return image(light.map(), p.data(), 1);
+      },
+      "allow_incomplete_pdf"_a = false, "The probability the light's table gives each pixel (exact), (height, width).");
+  c.def_property_readonly("strategy",
+                          [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
+  c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");
+  c.def_property_readonly("emits_nothing", &EnvironmentLight::emitsNothing);
+  c.def_property_readonly(
+      "map", [](const EnvironmentLight& l) -> const EnvironmentMap& { return l.map(); },
+      py::return_value_policy::reference_internal);
+}
+
+void bindMap(py::module_& m) {
+  py::class_<EnvironmentMap, std::shared_ptr<EnvironmentMap>> c(m, "EnvironmentMap", R"(A lat-long HDR environment map.
+
+EnvironmentMap(rgb): rgb of shape (height, width, 3), row 0 the top scanline (theta = 0, +Y),
+column j at phi = 2 pi (j + 0.5) / width, as OpenEXR's LatLong layout.
+EnvironmentMap.load(path): any image OpenImageIO reads (acdf.FileError if it cannot).)");
+  c.def(py::init(&mapFromArray), "rgb"_a);
+  c.def_static(
+      "load",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return std::make_shared<EnvironmentMap>(EnvironmentMap::load(path));
+      },
+      "path"_a);
+  c.def_property_readonly("width", &EnvironmentMap::width);
+  c.def_property_readonly("height", &EnvironmentMap::height);
+  c.def_property_readonly(
+      "rgb", [](const EnvironmentMap& map) { return image(map, map.rgb().data(), 3); },
+      "The pixels, (height, width, 3) float32 (a copy).");
+  c.def(
+      "pixel_power", [](const EnvironmentMap& map) { return image(map, map.pixelPower().data(), 1); },
+      "Luminance x solid angle per pixel, (height, width): what the tables are built from.");
+  c.def_property_readonly("is_black", &EnvironmentMap::isBlack);
+}
+
+}  // namespace
+
+void bindEnvmap(py::module_& m) {
+  bindMap(m);
+  bindLight(m);
+}
+
+}  // namespace acdf::python

@@ -1,0 +1,40 @@
+// The Python module acdf: numpy in, numpy out, batched (docs/python.md).
+#include <pybind11/pybind11.h>
+
+#include "acdf/sampling/file_error.h"
+#include "bindings.h"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(acdf, m) {
+  m.doc() = R"(acdf: adaptive cascaded numerical CDFs for importance sampling (Lawrence et al. 2005).
+
+Every call is batched: variates, points and directions are numpy arrays with one row per sample,
+and the loop over rows runs in C++ (without the GIL and on oneTBB's threads from 8192 rows on).
+
+Conventions
+  Variates u are float32 in [0, 1) (values outside are clamped into it). Table coordinates are
+  float32; directions are float64 unit vectors, shape (n, 3). Densities of tables are per unit of
+  the table's domain (the product measure of its axes); densities of directions are per steradian.
+  Environment maps are lat-long in OpenEXR's layout: +Y up, row 0 at the top (theta = 0), column
+  0 at phi = 0; see EnvironmentLight. BRDF directions are in the local shading frame, z = normal.
+
+Errors
+  Bad arguments and bad values raise ValueError naming the argument or option; an unreadable,
+  missing or malformed file raises acdf.FileError (an OSError) whose message is "file: problem".)";
+
+  // FileError carries the file and the problem in what(); OSError is what Python code catches for
+  // a file it could not use.
+  static py::exception<acdf::FileError> fileError(m, "FileError", PyExc_OSError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const acdf::FileError& e) {
+      fileError(e.what());
+    }
+  });
+
+  acdf::python::bindSampling(m);
+  acdf::python::bindEnvmap(m);
+  acdf::python::bindBrdf(m);
+}

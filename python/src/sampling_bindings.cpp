@@ -1,0 +1,399 @@
+// libsampling in Python: the 1D tables, the cascade, the quality metrics and the chi-square test.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "acdf/sampling/adaptive_cdf_1d.h"
+#include "acdf/sampling/alias_table_1d.h"
+#include "acdf/sampling/cascade.h"
+#include "acdf/sampling/chi_square.h"
+#include "acdf/sampling/piecewise_constant_1d.h"
+#include "acdf/sampling/quality.h"
+#include "arrays.h"
+#include "bindings.h"
+#include "options.h"
+
+namespace acdf::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+// sample(u) -> (x, pdf), pdf(x) and, where the table has it, invert(x) for a 1D table.
+template <class Table>
+void bindBatched1D(py::class_<Table>& c) {
+  c.def(
+      "sample",
+      [](const Table& t, const Array<float>& u) {
+        const std::size_t n = rows(u, 0, "u");
+        auto x = output<float>(n), pdf = output<float>(n);
+        const float* in = u.data();
+        float *xs = x.mutable_data(), *ps = pdf.mutable_data();
+        forEachRow(n, [&](std::size_t i) {
+          const Sample1D s = t.sample(in[i]);
+          xs[i] = s.x;
+          ps[i] = s.pdf;
+        });
+        return py::make_tuple(x, pdf);
+      },
+      "u"_a, "Samples for variates u, shape (n,): (x, pdf), both float32 of shape (n,); pdf > 0.");
+  c.def(
+      "pdf",
+      [](const Table& t, const Array<float>& x) {
+        const std::size_t n = rows(x, 0, "x");
+        auto pdf = output<float>(n);
+        const float* in = x.data();
+        float* ps = pdf.mutable_data();
+        forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(in[i]); });
+        return pdf;
+      },
+      "x"_a, "Density at each x, shape (n,), per unit length of the domain; 0 outside [lo, hi).");
+  if constexpr (requires(const Table& t) { t.invert(0.0f); }) {
+    c.def(
+        "invert",
+        [](const Table& t, const Array<float>& x) {
+          const std::size_t n = rows(x, 0, "x");
+          auto u = output<float>(n);
+          const float* in = x.data();
+          float* us = u.mutable_data();
+          forEachRow(n, [&](std::size_t i) { us[i] = t.invert(in[i]); });
+          return u;
+        },
+        "x"_a, "The variates sample() maps to each x (up to float rounding), shape (n,).");
+  }
+  c.def_property_readonly("bytes", &Table::bytes, "Bytes of the table.");
+  c.def_property_readonly("integral", &Table::integral, "Integral of the function over the domain (double sum).");
+  c.def_property_readonly("is_uniform_fallback", &Table::isUniformFallback,
+                          "True for an all-zero function, which is sampled uniformly.");
+  c.def_property_readonly(
+      "domain",
+      [](const Table& t) {
+        return std::pair{t.axis().lo(), t.axis().hi()};
+      },
+      "(lo, hi) of the domain.");
+}
+
+std::vector<float> asVector(const Array<float>& a) { return {a.data(), a.data() + a.size()}; }
+
+// Row i of an (n, k) float array, or its only row (broadcast).
+std::span<const float> rowOf(const float* data, std::size_t columns, std::size_t rowsInArray, std::size_t i) {
+  return {data + columns * (rowsInArray == 1 ? 0 : i), columns};
+}
+
+// The condition argument of a Cascade call: none (no conditioning axes), one row, or one per row.
+struct Condition {
+  const float* data = nullptr;
+  std::size_t rows = 1;
+};
+
+Condition conditionOf(const Cascade& c, const std::optional<Array<float>>& condition, std::size_t n) {
+  const std::size_t k = c.conditioningDims();
+  if (!condition) {
+    if (k != 0) throw py::value_error("condition: the cascade has " + std::to_string(k) + " conditioning axes");
+    return {};
+  }
+  const std::size_t r = rows(*condition, k, "condition", true);
+  pairedRows(n, r, "condition and the samples");
+  if (r != 1 && r != n) throw py::value_error("condition: one row or one per sample");
+  return {condition->data(), r};
+}
+
+// Rows of a (n, k) coordinate array, or (n,) for k = 1.
+std::size_t coordinateRows(const Array<float>& a, std::size_t k, const char* name) {
+  if (k == 1 && a.ndim() == 1) return static_cast<std::size_t>(a.shape(0));
+  return rows(a, k, name);
+}
+
+Cascade makeCascade(const Array<float>& values, const std::optional<std::vector<std::pair<float, float>>>& domains,
+                    uint32_t conditioningDims, const std::optional<std::vector<std::string>>& methods,
+                    std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify,
+                    const std::string& conditional, const std::string& tolerance, double sliceGrouping) {
+  if (values.ndim() < 1 || static_cast<std::size_t>(values.ndim()) > kMaxDims)
+    throw py::value_error("values: expected 1 to " + std::to_string(kMaxDims) + " dimensions, got " +
+                          std::to_string(values.ndim()));
+  const auto dims = static_cast<std::size_t>(values.ndim());
+  if (domains && domains->size() != dims)
+    throw py::value_error("axes: " + std::to_string(domains->size()) + " (lo, hi) pairs for " + std::to_string(dims) +
+                          " dimensions");
+  std::vector<GridAxis> axes;
+  for (std::size_t d = 0; d < dims; ++d) {
+    const auto [lo, hi] = domains ? (*domains)[d] : std::pair{0.0f, 1.0f};
+    axes.emplace_back(static_cast<uint32_t>(values.shape(d)), lo, hi);
+  }
+  CascadeOptions options;
+  options.conditioningDims = conditioningDims;
+  if (methods)
+    for (const std::string& m : *methods) options.methods.push_back(parseDimensionMethod(m));
+  options.simplify = simplifyOptions(options.simplify, simplify, epsilon);
+  options.conditional = parseConditionalRule(conditional);
+  options.tolerance = parseConditionalTolerance(tolerance);
+  options.sliceGroupingTolerance = sliceGrouping;
+  validate(options, dims);
+  const std::span<const float> data(values.data(), static_cast<std::size_t>(values.size()));
+  py::gil_scoped_release release;
+  return Cascade(data, std::move(axes), std::move(options));
+}
+
+void bindCascade(py::module_& m) {
+  py::class_<Cascade> c(m, "Cascade", R"(The cascaded N-dimensional CDF (Lawrence et al. 2005).
+
+Cascade(values, axes=None, conditioning_dims=0, methods=None, epsilon=None, simplify=None,
+        conditional="exact-mass", tolerance="constant", slice_grouping_tolerance=0.0)
+
+values: a non-negative array of 1 to 8 dimensions (float32; axis 0 varies slowest), one value per
+  grid cell; the distribution is proportional to it and piecewise constant on the cells.
+axes: one (lo, hi) domain per dimension (default [0, 1) each).
+conditioning_dims: the first axes are given at sample time (nearest cell: "slices"), the others
+  sampled, as p(x0) p(x1 | interval of x0) ...
+methods: per sampled axis, "uniform" (every cell kept) or "adaptive" (simplified; the default).
+epsilon / simplify: the simplification (acdf.SimplifyOptions; epsilon overrides its tolerance).
+conditional: "exact-mass" or "average-of-normalized" (the paper's eq. 10).
+tolerance: "constant" or "mass-scaled" (the conditionals' tolerance scaled by their mass).
+slice_grouping_tolerance: > 0 lets neighbouring slices share a distribution.
+
+Densities are per unit of the sampled axes' product measure. Raises ValueError for a negative,
+NaN or Inf value or bad options.)");
+  c.def(py::init(&makeCascade), "values"_a, "axes"_a = py::none(), "conditioning_dims"_a = 0u, "methods"_a = py::none(),
+        "epsilon"_a = py::none(), "simplify"_a = py::none(), "conditional"_a = "exact-mass", "tolerance"_a = "constant",
+        "slice_grouping_tolerance"_a = 0.0);
+  c.def(
+      "sample",
+      [](const Cascade& t, const Array<float>& u, const std::optional<Array<float>>& condition) {
+        const std::size_t k = t.sampledDims(), n = coordinateRows(u, k, "u");
+        const Condition cond = conditionOf(t, condition, n);
+        auto x = output<float>(n, k);
+        auto pdf = output<float>(n);
+        const float* in = u.data();
+        float *xs = x.mutable_data(), *ps = pdf.mutable_data();
+        const std::size_t kc = t.conditioningDims();
+        forEachRow(n, [&](std::size_t i) {
+          const SampleND s = t.sample(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k});
+          std::memcpy(xs + k * i, s.x.data(), k * sizeof(float));
+          ps[i] = s.pdf;
+        });
+        return py::make_tuple(x, pdf);
+      },
+      "u"_a, "condition"_a = py::none(),
+      "Samples for variates u of shape (n, sampled_dims) ((n,) for one sampled axis): (x, pdf), x of shape\n"
+      "(n, sampled_dims) and pdf of shape (n,), float32. condition: (conditioning_dims,) or\n"
+      "(n, conditioning_dims) coordinates of the conditioning axes.");
+  c.def(
+      "pdf",
+      [](const Cascade& t, const Array<float>& x, const std::optional<Array<float>>& condition) {
+        const std::size_t k = t.sampledDims(), n = coordinateRows(x, k, "x");
+        const Condition cond = conditionOf(t, condition, n);
+        auto pdf = output<float>(n);
+        const float* in = x.data();
+        float* ps = pdf.mutable_data();
+        const std::size_t kc = t.conditioningDims();
+        forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k}); });
+        return pdf;
+      },
+      "x"_a, "condition"_a = py::none(), "Density at each point x (rows as in sample()); 0 outside the domain.");
+  c.def(
+      "invert",
+      [](const Cascade& t, const Array<float>& x, const std::optional<Array<float>>& condition) {
+        const std::size_t k = t.sampledDims(), n = coordinateRows(x, k, "x");
+        const Condition cond = conditionOf(t, condition, n);
+        auto u = output<float>(n, k);
+        const float* in = x.data();
+        float* us = u.mutable_data();
+        const std::size_t kc = t.conditioningDims();
+        forEachRow(n, [&](std::size_t i) {
+          t.invert(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k}, {us + k * i, k});
+        });
+        return u;
+      },
+      "x"_a, "condition"_a = py::none(),
+      "The variates sample() maps to each x (up to float rounding), (n, sampled_dims).");
+  c.def_property_readonly("dims", &Cascade::dims);
+  c.def_property_readonly("sampled_dims", &Cascade::sampledDims);
+  c.def_property_readonly("conditioning_dims", &Cascade::conditioningDims);
+  c.def_property_readonly(
+      "shape",
+      [](const Cascade& t) {
+        py::tuple shape(t.dims());
+        for (std::size_t d = 0; d < t.dims(); ++d) shape[d] = t.axes()[d].cells();
+        return shape;
+      },
+      "Cells per axis, as the values array's shape.");
+  c.def_property_readonly("bytes", &Cascade::bytes, "Bytes of the stored tables.");
+  c.def_property_readonly("points", &Cascade::pointsPerDimension,
+                          "Per sampled axis: kept points (interval ends) summed over its 1D CDFs.");
+  c.def_property_readonly("average_intervals", &Cascade::averageIntervals,
+                          "Per axis: the average number of intervals of its 1D CDFs (the paper's average resolution).");
+  c.def_property_readonly("slices", &Cascade::slices);
+  c.def_property_readonly("distinct_slices", &Cascade::distinctSlices);
+  c.def("slice_of", [](const Cascade& t, const Array<float>& condition) {
+    if (static_cast<std::size_t>(condition.size()) != t.conditioningDims())
+      throw py::value_error("condition: expected " + std::to_string(t.conditioningDims()) + " coordinates");
+    return t.sliceOf({condition.data(), t.conditioningDims()});
+  });
+  c.def("integral", &Cascade::integral, "slice"_a = 0, "Integral of the values over the sampled axes of a slice.");
+  c.def(
+      "cell_probabilities",
+      [](const Cascade& t, std::size_t slice) {
+        if (slice >= t.slices()) throw py::value_error("slice: " + std::to_string(slice) + " out of range");
+        std::vector<double> p = t.cellProbabilities(slice);
+        std::vector<py::ssize_t> shape;
+        for (std::size_t d = t.conditioningDims(); d < t.dims(); ++d) shape.push_back(t.axes()[d].cells());
+        py::array_t<double> out(shape);
+        std::memcpy(out.mutable_data(), p.data(), p.size() * sizeof(double));
+        return out;
+      },
+      "slice"_a = 0, "The probability of each cell of the sampled grid (exact), shaped as that grid.");
+  c.def(
+      "breakpoints",
+      [](const Cascade& t, std::size_t axis) {
+        py::list out;
+        for (const auto& cdf : t.breakpoints(axis)) out.append(py::array_t<uint32_t>(cdf.size(), cdf.data()));
+        return out;
+      },
+      "axis"_a,
+      "The grid vertices each 1D CDF of a sampled axis keeps (ends included), one array per CDF. For a 2D\n"
+      "cascade, breakpoints(0)[0] bounds the row intervals and breakpoints(1)[j] the column intervals of\n"
+      "row interval j.");
+  c.def(
+      "serialize",
+      [](const Cascade& t) {
+        const std::vector<std::byte> b = t.serialize();
+        return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+      },
+      "The table as bytes, read back exactly by Cascade.deserialize.");
+  c.def_static(
+      "deserialize",
+      [](const py::bytes& data) {
+        const std::string_view s = data;
+        return Cascade::deserialize(std::as_bytes(std::span(s.data(), s.size())));
+      },
+      "data"_a);
+}
+
+void bindTables1D(py::module_& m) {
+  py::class_<PiecewiseConstant1D> pc(m, "PiecewiseConstant1D", R"(The classic tabulated 1D distribution (pbrt, Mitsuba).
+
+PiecewiseConstant1D(function, lo=0.0, hi=1.0): function gives n equal cells over [lo, hi).)");
+  pc.def(py::init([](const Array<float>& f, float lo, float hi) { return PiecewiseConstant1D(asVector(f), lo, hi); }),
+         "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f);
+  bindBatched1D(pc);
+  pc.def_property_readonly(
+      "cdf", [](const PiecewiseConstant1D& t) { return py::array_t<float>(t.cdf().size(), t.cdf().data()); });
+
+  py::class_<AdaptiveCdf1D> ad(m, "AdaptiveCdf1D",
+                               R"(An adaptive 1D CDF: the table's CDF simplified to the vertices that matter.
+
+AdaptiveCdf1D(function, lo=0.0, hi=1.0, epsilon=None, simplify=None))");
+  ad.def(py::init([](const Array<float>& f, float lo, float hi, std::optional<double> epsilon,
+                     const std::optional<SimplifyOptions>& simplify) {
+           return AdaptiveCdf1D(asVector(f), lo, hi, simplifyOptions({}, simplify, epsilon));
+         }),
+         "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f, "epsilon"_a = py::none(), "simplify"_a = py::none());
+  bindBatched1D(ad);
+  ad.def_property_readonly("points", &AdaptiveCdf1D::points, "Kept breakpoints, ends included.");
+  ad.def_property_readonly(
+      "breakpoints",
+      [](const AdaptiveCdf1D& t) {
+        py::array_t<uint32_t> vertices(t.points());
+        py::array_t<float> cdf(t.points());
+        for (std::size_t k = 0; k < t.points(); ++k) {
+          vertices.mutable_at(k) = t.vertex(k);
+          cdf.mutable_at(k) = t.cdfAt(k);
+        }
+        return py::make_tuple(vertices, cdf);
+      },
+      "(vertices, cdf): the grid vertex of each kept point and the CDF there.");
+
+  py::class_<AliasTable1D> al(m, "AliasTable1D", R"(A 1D distribution sampled in O(1) by Walker's alias method.
+
+AliasTable1D(function, lo=0.0, hi=1.0). Not invertible.)");
+  al.def(py::init([](const Array<float>& f, float lo, float hi) { return AliasTable1D(asVector(f), lo, hi); }),
+         "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f);
+  bindBatched1D(al);
+}
+
+void bindSimplifyOptions(py::module_& m) {
+  const SimplifyOptions d;
+  py::class_<SimplifyOptions> s(m, "SimplifyOptions", R"(How a 1D CDF is simplified.
+
+SimplifyOptions(method="douglas-peucker", metric="vertical", epsilon=0.002, max_points=0,
+                weight_bound=4.0)
+method: "douglas-peucker" or "greedy"; metric: "vertical", "perpendicular" or "chi-square";
+epsilon: the largest error left; max_points: greedy only, a point budget (0: none);
+weight_bound: the largest p_cell / p_adaptive left inside an interval (0: no bound).)");
+  s.def(py::init([](const std::string& method, const std::string& metric, double epsilon, uint32_t maxPoints,
+                    double weightBound) {
+          SimplifyOptions o{parseSimplifier(method), parseErrorMetric(metric), epsilon, maxPoints, weightBound};
+          validate(o);
+          return o;
+        }),
+        "method"_a = std::string(toString(d.method)), "metric"_a = std::string(toString(d.metric)),
+        "epsilon"_a = d.epsilon, "max_points"_a = d.maxPoints, "weight_bound"_a = d.weightBound);
+  s.def_property_readonly("method", [](const SimplifyOptions& o) { return std::string(toString(o.method)); });
+  s.def_property_readonly("metric", [](const SimplifyOptions& o) { return std::string(toString(o.metric)); });
+  s.def_readonly("epsilon", &SimplifyOptions::epsilon);
+  s.def_readonly("max_points", &SimplifyOptions::maxPoints);
+  s.def_readonly("weight_bound", &SimplifyOptions::weightBound);
+  s.def("__repr__", [](const SimplifyOptions& o) {
+    return "SimplifyOptions(method='" + std::string(toString(o.method)) + "', metric='" +
+           std::string(toString(o.metric)) + "', epsilon=" + py::repr(py::float_(o.epsilon)).cast<std::string>() +
+           ", max_points=" + std::to_string(o.maxPoints) +
+           ", weight_bound=" + py::repr(py::float_(o.weightBound)).cast<std::string>() + ")";
+  });
+}
+
+void bindStatistics(py::module_& m) {
+  py::class_<CompressionQuality>(m, "CompressionQuality",
+                                 "What sampling q instead of p costs (compare_cell_probabilities).")
+      .def_readonly("chi2_divergence", &CompressionQuality::chi2Divergence,
+                    "sum p^2/q - sum p over reachable cells: the relative variance q adds.")
+      .def_readonly("max_weight_ratio", &CompressionQuality::maxWeightRatio, "max p/q over reachable cells.")
+      .def_readonly("unreachable_mass", &CompressionQuality::unreachableMass, "sum p over cells where q == 0.");
+  m.def(
+      "compare_cell_probabilities",
+      [](const Array<double>& p, const Array<double>& q) {
+        if (p.size() != q.size())
+          throw py::value_error("p and q: " + std::to_string(p.size()) + " and " + std::to_string(q.size()) + " cells");
+        return compareCellProbabilities({p.data(), static_cast<std::size_t>(p.size())},
+                                        {q.data(), static_cast<std::size_t>(q.size())});
+      },
+      "p"_a, "q"_a,
+      "Quality of a compressed distribution from exact cell probabilities: p the reference's, q the\n"
+      "approximation's (any shape, the same size; each should sum to 1).");
+
+  py::class_<ChiSquareResult>(m, "ChiSquareResult")
+      .def_readonly("statistic", &ChiSquareResult::statistic)
+      .def_readonly("dof", &ChiSquareResult::dof)
+      .def_readonly("pvalue", &ChiSquareResult::pvalue)
+      .def_readonly("pooled_cells", &ChiSquareResult::pooledCells);
+  m.def(
+      "chi_square_test",
+      [](const Array<double>& observed, const Array<double>& expected, double minExpected) {
+        if (observed.size() != expected.size())
+          throw py::value_error("observed and expected: " + std::to_string(observed.size()) + " and " +
+                                std::to_string(expected.size()) + " cells");
+        return chiSquareTest({observed.data(), static_cast<std::size_t>(observed.size())},
+                             {expected.data(), static_cast<std::size_t>(expected.size())}, minExpected);
+      },
+      "observed"_a, "expected"_a, "min_expected"_a = 5.0,
+      "Pearson's chi-square goodness-of-fit test. observed: counts per cell; expected: N x probability per\n"
+      "cell. The smallest cells are pooled until each pool expects >= min_expected.");
+  m.def("sidak_alpha", &sidakAlpha, "alpha"_a, "tests"_a,
+        "Per-test level keeping the family-wise level alpha over `tests` tests.");
+}
+
+}  // namespace
+
+void bindSampling(py::module_& m) {
+  bindSimplifyOptions(m);
+  bindTables1D(m);
+  bindCascade(m);
+  bindStatistics(m);
+}
+
+}  // namespace acdf::python

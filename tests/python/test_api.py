@@ -1,0 +1,91 @@
+"""The batched calls: domains, edge variates, broadcasting, threads, and the documented help."""
+import numpy as np
+
+import acdf
+
+ONE_MINUS_EPSILON = np.nextafter(np.float32(1), np.float32(0))
+
+
+def test_cascade_samples_inside_the_domain_with_positive_pdf(rng):
+    values = rng.random((64, 32), dtype=np.float32) ** 8
+    values[10:20] = 0
+    c = acdf.Cascade(values, axes=[(-2.0, 2.0), (0.0, 0.5)])
+    edges = np.array([[0, 0], [0, ONE_MINUS_EPSILON], [ONE_MINUS_EPSILON, 0], [ONE_MINUS_EPSILON] * 2], np.float32)
+    x, pdf = c.sample(np.concatenate([edges, rng.random((10000, 2), dtype=np.float32)]))
+    assert np.all((x[:, 0] > -2) & (x[:, 0] < 2) & (x[:, 1] > 0) & (x[:, 1] < 0.5))
+    assert np.all(np.isfinite(pdf)) and np.all(pdf > 0)
+    np.testing.assert_array_equal(c.pdf(x), pdf)
+    assert abs(c.cell_probabilities().sum() - 1) < 1e-9
+    assert c.cell_probabilities().shape == (64, 32)
+    assert c.shape == (64, 32) and c.sampled_dims == 2 and c.bytes > 0
+
+
+def test_large_batches_run_in_parallel_and_agree_with_small_ones(rng):
+    c = acdf.Cascade(rng.random((128, 64), dtype=np.float32))
+    u = rng.random((50000, 2), dtype=np.float32)
+    x, pdf = c.sample(u)  # 50000 rows: oneTBB, without the GIL
+    small = [c.sample(u[i:i + 1000]) for i in range(0, len(u), 1000)]
+    np.testing.assert_array_equal(x, np.concatenate([s[0] for s in small]))
+    np.testing.assert_array_equal(pdf, np.concatenate([s[1] for s in small]))
+
+
+def test_one_dimensional_breakpoints_and_round_trip(rng):
+    f = np.exp(-((np.arange(512) - 200.0) / 20.0) ** 2).astype(np.float32) + 1e-3
+    table = acdf.AdaptiveCdf1D(f, epsilon=1e-3)
+    vertices, cdf = table.breakpoints
+    assert vertices[0] == 0 and vertices[-1] == 512 and cdf[0] == 0 and cdf[-1] == 1
+    assert 2 < table.points < 100 and table.points == len(vertices)
+    x, _ = table.sample(rng.random(1000, dtype=np.float32))
+    np.testing.assert_allclose(table.sample(table.invert(x))[0], x, atol=1e-5)
+
+
+def test_cascade_breakpoints_and_serialization(rng):
+    c = acdf.Cascade(rng.random((32, 16), dtype=np.float32), epsilon=0.02)
+    rows = c.breakpoints(0)
+    assert len(rows) == 1 and len(c.breakpoints(1)) == len(rows[0]) - 1
+    copy = acdf.Cascade.deserialize(c.serialize())
+    u = rng.random((100, 2), dtype=np.float32)
+    np.testing.assert_array_equal(copy.sample(u)[0], c.sample(u)[0])
+
+
+def test_brdf_broadcasts_one_outgoing_direction(rng):
+    sampler = acdf.GgxBrdfSampler(acdf.AnalyticBrdf.preset("gold"))
+    wo = np.array([0.3, 0.1, 0.9])
+    u = rng.random((1000, 2), dtype=np.float32)
+    wi, weight, pdf = sampler.sample(wo, u)
+    wi_each, _, pdf_each = sampler.sample(np.tile(wo, (1000, 1)), u)
+    np.testing.assert_array_equal(wi, wi_each)
+    np.testing.assert_array_equal(pdf, pdf_each)
+    assert np.all(pdf > 0) and weight.shape == (1000, 3)
+
+
+def test_environment_light_strategies_integrate_to_one():
+    rgb = np.ones((16, 32, 3), np.float32)
+    rgb[3, 5] = 500
+    for strategy in ["uniform", "alias", "adaptive", "hierarchical"]:
+        light = acdf.EnvironmentLight(acdf.EnvironmentMap(rgb), strategy=strategy)
+        p = light.pixel_probabilities()
+        assert p.shape == (16, 32) and abs(p.sum() - 1) < 1e-6, strategy
+        assert light.strategy == strategy and not light.emits_nothing
+    black = acdf.EnvironmentLight(acdf.EnvironmentMap(np.zeros((4, 8, 3), np.float32)))
+    _, _, pdf = black.sample(np.zeros((3, 2), np.float32))
+    assert black.emits_nothing and np.all(pdf == 0)
+
+
+def test_help_states_the_conventions():
+    assert "per steradian" in acdf.__doc__ and "lat-long" in acdf.__doc__
+    for name in ["Cascade", "EnvironmentLight", "BrdfSampler", "TabulatedBrdfSampler", "SimplifyOptions"]:
+        assert len(getattr(acdf, name).__doc__) > 200, name
+
+
+def test_simplify_options_reach_the_table(rng):
+    values = rng.random((32, 16), dtype=np.float32)
+    budget = acdf.SimplifyOptions(method="greedy", max_points=4, weight_bound=0.0)
+    assert budget.method == "greedy" and "max_points=4" in repr(budget)
+    c = acdf.Cascade(values, simplify=budget)
+    assert c.points == [4, 12]  # 4 points at level 0, 3 intervals x 4 points at level 1
+    assert acdf.Cascade(values, simplify=budget, epsilon=0.5).points[0] <= 4
+    # The module's enum spellings are the C++ ones.
+    uniform = acdf.Cascade(values, methods=["uniform", "adaptive"], conditional="average-of-normalized",
+                           tolerance="mass-scaled")
+    assert uniform.points[0] == 33
