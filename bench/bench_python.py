@@ -23,7 +23,7 @@ import time
 
 
 def cpp_sample_ns(bench):
-    out = subprocess.run([bench, "--benchmark_filter=^h2h/sunsky4096x2048$", "--benchmark_format=json"],
+    out = subprocess.run([bench, "--benchmark_filter=^h2h/sunsky4096x2048/", "--benchmark_format=json"],
                          check=True, capture_output=True, text=True).stdout
     (run,) = json.loads(out)["benchmarks"]
     return run["sample_ns_adaptive"]
