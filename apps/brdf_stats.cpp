@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/measured_file.h"
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/reflectance_estimator.h"
 #include "acdf/brdf/rgl_sampler.h"
@@ -240,8 +241,7 @@ std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const
 }
 
 std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args) {
-  if (RglBrdf::isRglFile(path)) return std::make_shared<const RglBrdf>(RglBrdf::load(path));
-  return std::make_shared<const MerlBrdf>(MerlBrdf::load(path, brdfInterpolation(args)));
+  return acdf::loadMeasuredBrdf(path, brdfInterpolation(args));
 }
 
 Command addBrdfStats(CLI::App& parent) {

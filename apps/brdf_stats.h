@@ -46,9 +46,8 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
 std::unique_ptr<TabulatedBrdfSampler> makeTabulatedSampler(std::shared_ptr<const BrdfModel> model,
                                                            const BrdfTableArgs& args, DimensionMethod method);
 
-// The measured BRDF in `path`: an RGL .bsdf when the file starts with the tensor file magic
-// (RglBrdf::load), else a MERL .binary (MerlBrdf::load with the flags' interpolation). Throws
-// FileError ("<file>: <problem>", exit 2).
+// The measured BRDF in `path` (acdf::loadMeasuredBrdf: RGL or MERL by content) with the flags'
+// interpolation. Throws FileError ("<file>: <problem>", exit 2).
 std::shared_ptr<const BrdfModel> loadMeasuredBrdf(const std::string& path, const BrdfTableArgs& args);
 
 }  // namespace acdf::app

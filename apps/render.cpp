@@ -117,7 +117,7 @@ Command addRender(CLI::App& parent) {
       parent.add_subcommand("render", "Render a scene with the MIS path tracer (measured BRDFs, environment light).");
   app->footer(
       "SCENE: a JSON scene file (docs/scene-format.md). The strategy options replace the scene's choices:\n"
-      "  --bsdf-sampling  cosine | uniform | adaptive          (every measured material)\n"
+      "  --bsdf-sampling  cosine | uniform | adaptive | rgl    (every measured material)\n"
       "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | ...\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
@@ -139,7 +139,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--seed", args->seed, "Random seed (replaces the scene's)");
   app->add_option("--mis", args->mis, "power | balance | bsdf-only | light-only");
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
-  app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive");
+  app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
   app->add_option("--env-sampling", args->envSampling,
                   "uniform-sphere | uniform | alias | adaptive | compensated | ...");
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")

@@ -274,25 +274,22 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     BrdfSampling sampling = BrdfSampling::Adaptive;
     if (node.has("sampling")) sampling = node["sampling"].parsed(parseBrdfSampling);
     if (overrides.bsdfSampling) sampling = *overrides.bsdfSampling;
+    if (sampling == BrdfSampling::Rgl && !file)
+      node.fail("rgl sampling needs an RGL .bsdf \"file\" (a preset is tabulated in the MERL layout)");
     MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
     if (node.has("interpolation")) interpolation = node["interpolation"].parsed(parseInterpolation);
     const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
     const std::string where = node.path();
     spec.build = [=](TableProvider& tables) {
-      std::shared_ptr<const MerlBrdf> brdf;
-      std::string key;
-      if (file) {
-        try {
-          brdf = tables.merlFile(*file, interpolation);
-        } catch (const FileError& e) {
-          throw FileError(e.file(), e.problem() + " (referenced by " + where + ")");
-        }
-        key = file->string();
-      } else {
-        brdf = tables.merlPreset(preset, interpolation);
-        key = "preset " + preset;
+      if (!file)
+        return tables.brdfSampler(tables.merlPreset(preset, interpolation), "preset " + preset, sampling, table);
+      try {
+        return tables.brdfSampler(tables.measuredFile(*file, interpolation), file->string(), sampling, table);
+      } catch (const FileError& e) {
+        throw FileError(e.file(), e.problem() + " (referenced by " + where + ")");
+      } catch (const std::invalid_argument& e) {  // rgl sampling of a MERL file
+        throw FileError(file->string(), e.what() + std::string(" (referenced by ") + where + ")");
       }
-      return tables.brdfSampler(brdf, key, sampling, table);
     };
   } else if (type == "ggx-conductor") {
     node.object({"type", "preset", "alpha", "f0"});

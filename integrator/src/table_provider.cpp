@@ -5,6 +5,9 @@
 #include <fmt/format.h>
 
 #include "acdf/brdf/analytic.h"
+#include "acdf/brdf/measured_file.h"
+#include "acdf/brdf/rgl.h"
+#include "acdf/brdf/rgl_sampler.h"
 
 namespace acdf {
 
@@ -13,28 +16,29 @@ std::string_view toString(BrdfSampling sampling) {
     case BrdfSampling::Cosine: return "cosine";
     case BrdfSampling::Uniform: return "uniform";
     case BrdfSampling::Adaptive: return "adaptive";
+    case BrdfSampling::Rgl: return "rgl";
   }
   return "?";
 }
 
 BrdfSampling parseBrdfSampling(std::string_view name) {
-  for (auto s : {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive})
+  for (auto s : {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive, BrdfSampling::Rgl})
     if (toString(s) == name) return s;
-  throw std::invalid_argument("unknown BRDF sampling '" + std::string(name) + "' (cosine, uniform or adaptive)");
+  throw std::invalid_argument("unknown BRDF sampling '" + std::string(name) + "' (cosine, uniform, adaptive or rgl)");
 }
 
-std::shared_ptr<const MerlBrdf> TableProvider::merlFile(const std::filesystem::path& path,
-                                                        MerlBrdf::Interpolation interpolation) {
-  auto& slot = merls_["file:" + path.string()];
-  if (!slot) {
-    slot = std::make_shared<const MerlBrdf>(MerlBrdf::load(path));
-  }
-  return std::make_shared<const MerlBrdf>(slot->withInterpolation(interpolation));
+std::shared_ptr<const BrdfModel> TableProvider::measuredFile(const std::filesystem::path& path,
+                                                             MerlBrdf::Interpolation interpolation) {
+  auto& slot = measuredFiles_[path.string()];
+  if (!slot) slot = loadMeasuredBrdf(path);
+  if (const auto merl = std::dynamic_pointer_cast<const MerlBrdf>(slot))
+    return std::make_shared<const MerlBrdf>(merl->withInterpolation(interpolation));
+  return slot;
 }
 
 std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& name,
                                                           MerlBrdf::Interpolation interpolation) {
-  auto& slot = merls_["preset:" + name];
+  auto& slot = merlPresets_[name];
   if (!slot) {
     const std::vector<double> raw = AnalyticBrdf::preset(name).merlTable();
     const std::span<const double> all(raw);
@@ -57,6 +61,13 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
                                                               const std::string& modelName, BrdfSampling sampling,
                                                               TabulatedBrdfOptions table) {
   if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(model);
+  if (sampling == BrdfSampling::Rgl) {
+    auto rgl = std::dynamic_pointer_cast<const RglBrdf>(model);
+    if (!rgl) throw std::invalid_argument("rgl sampling needs an RGL .bsdf file, and " + modelName + " is not one");
+    auto& slot = brdfSamplers_["rgl " + modelName];
+    if (!slot) slot = std::make_shared<const RglBrdfSampler>(std::move(rgl));
+    return slot;
+  }
   table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
   // The cache key covers the model's values and every option that shapes the table; the defensive
   // mixture weight is applied at sample time, so it only tells samplers apart.

@@ -87,6 +87,42 @@ TEST_F(RenderCli, RendersWithJsonSummary) {
   }
 }
 
+TEST_F(RenderCli, RglFilesRenderWithEverySampler) {
+  // A measured material's file is recognised by content (no .bsdf extension here); the RGL file's
+  // own warps are one more sampling, and the tables are built only for the table strategies.
+  const std::string file = path("gold.dat");
+  ASSERT_EQ(runAcdf({"rgl-gen", "--preset", "gold", "--theta-i", "4", "--vndf", "32", "--reflectance", "16", "--ndf",
+                     "64", "-o", file},
+                    dir_)
+                .exitCode,
+            0);
+  nlohmann::json scene = tinyScene();
+  scene["materials"]["grey"] = {{"type", "measured"}, {"file", "gold.dat"}, {"table", {{"layout", "isotropic"}}}};
+  for (const char* sampling : {"cosine", "uniform", "adaptive", "rgl"}) {
+    SCOPED_TRACE(sampling);
+    const auto r = runAcdf({"render", writeScene(scene), "-o", path("image.exr"), "--json", "--bsdf-sampling", sampling,
+                            "--env-sampling", "uniform-sphere", "--no-cache"},
+                           dir_);
+    ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
+    const auto j = nlohmann::json::parse(r.out);
+    const bool table = std::string(sampling) == "uniform" || std::string(sampling) == "adaptive";
+    EXPECT_EQ(j["tables_built"].size(), table ? 1u : 0u) << j["tables_built"].dump();
+  }
+}
+
+TEST_F(RenderCli, RglSamplingNeedsAnRglFile) {
+  nlohmann::json scene = tinyScene();
+  scene["materials"]["grey"] = {{"type", "measured"}, {"preset", "gold"}, {"sampling", "rgl"}};
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "$.materials.grey: rgl sampling needs an RGL .bsdf \"file\"");
+  ASSERT_EQ(runAcdf({"merl-gen", "--preset", "gold", "-o", path("gold.binary")}, dir_).exitCode, 0);
+  scene["materials"]["grey"] = {{"type", "measured"}, {"file", "gold.binary"}};
+  expectOneLineFailure(
+      runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--bsdf-sampling", "rgl", "--no-cache"}, dir_),
+      "acdf: " + path("gold.binary"), "rgl sampling needs an RGL .bsdf file");
+  expectNoOutputs();
+}
+
 TEST_F(RenderCli, BuildsOnlyTheChosenEnvironmentTable) {
   const auto r =
       runAcdf({"render", writeScene(tinyScene()), "-o", path("a.exr"), "--json", "--env-sampling", "alias"}, dir_);

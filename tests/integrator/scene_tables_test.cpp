@@ -5,12 +5,18 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/analytic.h"
+#include "acdf/brdf/rgl.h"
+#include "acdf/brdf/rgl_synthesis.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/integrator/table_provider.h"
 
 namespace acdf {
 namespace {
@@ -79,6 +85,37 @@ TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {
   // Another strategy of the same map is another table.
   (void)load(mapScene("alias", "power", 45), tables);
   EXPECT_EQ(tables.tablesBuilt().size(), 2u);
+}
+
+}  // namespace
+}  // namespace acdf
+
+namespace acdf {
+namespace {
+
+// A measured file is a MERL or an RGL model by content, loaded once; `rgl` sampling gets the
+// file's own warps and no table, the table strategies the half-vector tables of the model.
+TEST(SceneTables, MeasuredFilesOfEitherFormatAndTheirSamplers) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "acdf_scene_tables_gold.dat";
+  synthesizeRgl(AnalyticBrdf::preset("gold"), {.thetaIn = 4, .ndf = 64, .vndf = 32, .reflectance = 16}, "gold")
+      .save(file);
+  TableProvider tables(TableCache::disabled());
+  const auto model = tables.measuredFile(file, MerlBrdf::Interpolation::Trilinear);
+  ASSERT_NE(std::dynamic_pointer_cast<const RglBrdf>(model), nullptr);
+  EXPECT_EQ(tables.measuredFile(file, MerlBrdf::Interpolation::Nearest), model) << "loaded once";
+  EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Rgl, {})->name(), "rgl");
+  EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Cosine, {})->name(), "cosine");
+  TabulatedBrdfOptions small;
+  small.layout = TabulatedBrdfOptions::Layout::Isotropic;
+  small.thetaOutCells = 4;
+  small.thetaHalfCells = 16;
+  small.phiHalfCells = 8;
+  EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Adaptive, small)->name(), "adaptive-iso");
+  EXPECT_TRUE(tables.tablesFromCache().empty());
+  EXPECT_EQ(tables.tablesBuilt().size(), 1u);
+  const auto merl = tables.merlPreset("gold", MerlBrdf::Interpolation::Nearest);
+  EXPECT_THROW(tables.brdfSampler(merl, "preset gold", BrdfSampling::Rgl, {}), std::invalid_argument);
+  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -23,8 +23,9 @@
 
 namespace acdf {
 
-enum class BrdfSampling { Cosine, Uniform, Adaptive };
-// "cosine", "uniform", "adaptive"; parse throws std::invalid_argument.
+// Rgl: the RGL file's own warps (RglBrdfSampler), for RGL .bsdf materials only.
+enum class BrdfSampling { Cosine, Uniform, Adaptive, Rgl };
+// "cosine", "uniform", "adaptive", "rgl"; parse throws std::invalid_argument.
 std::string_view toString(BrdfSampling sampling);
 BrdfSampling parseBrdfSampling(std::string_view name);
 
@@ -33,9 +34,10 @@ class TableProvider {
   // TableCache::disabled() builds everything (--no-cache).
   explicit TableProvider(TableCache cache) : cache_(std::move(cache)) {}
 
-  // Loaded once per path, whatever the interpolation (the models share the values). Throw
-  // FileError.
-  std::shared_ptr<const MerlBrdf> merlFile(const std::filesystem::path& path, MerlBrdf::Interpolation interpolation);
+  // A measured file of either format (loadMeasuredBrdf: RGL or MERL by content), loaded once per
+  // path; MERL tables of any interpolation share the values. Throws FileError.
+  std::shared_ptr<const BrdfModel> measuredFile(const std::filesystem::path& path,
+                                                MerlBrdf::Interpolation interpolation);
   std::shared_ptr<const EnvironmentMap> environmentMap(const std::filesystem::path& path);
   // AnalyticBrdf::preset(name) tabulated in the MERL layout (no file needed), once per name.
   // Throws std::invalid_argument for an unknown preset.
@@ -43,7 +45,8 @@ class TableProvider {
 
   // A sampler of `model`, whose name in the tables' list is `modelName` (its file or preset).
   // Cosine sampling has no table; the table strategies use `table` with their method, shared by
-  // every request with the same table key (the model's content and the options).
+  // every request with the same table key (the model's content and the options); Rgl needs an
+  // RglBrdf (std::invalid_argument otherwise) and uses the file's own warps.
   std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const BrdfModel>& model,
                                                  const std::string& modelName, BrdfSampling sampling,
                                                  TabulatedBrdfOptions table);
@@ -62,7 +65,8 @@ class TableProvider {
   void record(const std::string& table, bool fromCache) { (fromCache ? fromCache_ : built_).push_back(table); }
 
   TableCache cache_;
-  std::map<std::string, std::shared_ptr<const MerlBrdf>> merls_;
+  std::map<std::string, std::shared_ptr<const BrdfModel>> measuredFiles_;
+  std::map<std::string, std::shared_ptr<const MerlBrdf>> merlPresets_;
   std::map<std::string, std::shared_ptr<const EnvironmentMap>> maps_;
   std::map<std::string, std::shared_ptr<const BrdfSampler>> brdfSamplers_;
   std::map<std::string, std::shared_ptr<const EnvironmentTable>> environmentTables_;
