@@ -327,7 +327,8 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   EnvironmentSpec spec;
   const std::string type = node["type"].string();
   if (type == "map") {
-    node.object({"type", "file", "scale", "rotation", "sampling", "epsilon"});
+    node.object(
+        {"type", "file", "scale", "rotation", "sampling", "epsilon", "normal_rows", "normal_columns", "block_size"});
     spec.file = node["file"].existingFile(baseDir);
   } else if (type == "constant") {
     node.object({"type", "radiance", "sampling"});
@@ -345,6 +346,9 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   if (node.has("rotation")) o.worldFromMap = Rotation::aboutY(node["rotation"].number() * std::numbers::pi / 180.0);
   if (node.has("sampling")) o.strategy = node["sampling"].parsed(parseEnvironmentSampling);
   if (node.has("epsilon")) o.simplify.epsilon = node["epsilon"].number();
+  if (node.has("normal_rows")) o.local.normalRows = node["normal_rows"].count(1);
+  if (node.has("normal_columns")) o.local.normalColumns = node["normal_columns"].count(1);
+  if (node.has("block_size")) o.local.blockSize = node["block_size"].count(1);
   node.validated(o);
   return spec;
 }
