@@ -129,6 +129,8 @@ std::size_t LocalEnvironmentTable::sliceOf(const Vec3d& normal) const {
 
 const Cascade& LocalEnvironmentTable::slice(std::size_t index) const {
   Slice& s = slices_[index];
+  // Built: one acquire load, not call_once's heavier path on every sample.
+  if (s.ready.load(std::memory_order_acquire)) return *s.blocks;
   std::call_once(s.once, [&] {
     const double pi = std::numbers::pi;
     const uint32_t r = static_cast<uint32_t>(index / options_.normalColumns);
