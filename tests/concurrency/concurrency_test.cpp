@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <latch>
 #include <memory>
 #include <span>
 #include <string>
@@ -119,9 +120,10 @@ TEST(SharedTables, EnvironmentLight) {
   }
 }
 
-// Lazy slice builds: kThreads threads sample one fresh local table at once, from normals of the
-// same few cells, so several threads race for each slice's first build; every result must equal
-// that of a table queried on one thread, and each slice is built once.
+// Lazy slice builds: kThreads threads, released at once, sample one fresh local table in the same
+// order, so they all ask for each slice's first build together (one-pixel blocks make each build
+// slow enough to overlap); every result must equal that of a table queried on one thread, and
+// each slice is built once.
 TEST(SharedTables, LocalEnvironmentTableLazyBuild) {
   SerialBuild serial;  // the slices are built by the std::threads, TBB inside each runs serially
   const uint32_t width = 64, height = 32;
@@ -129,7 +131,7 @@ TEST(SharedTables, LocalEnvironmentTableLazyBuild) {
   Pcg32 rng(9);
   for (float& v : rgb) v = rng.nextFloat() < 0.05f ? 50.0f : rng.nextFloat();
   const auto map = std::make_shared<const EnvironmentMap>(width, height, std::move(rgb));
-  const LocalEnvironmentOptions options{.normalRows = 4, .normalColumns = 4, .blockSize = 8};
+  const LocalEnvironmentOptions options{.normalRows = 4, .normalColumns = 4, .blockSize = 1};
   auto query = [](const LocalEnvironmentTable& table, uint32_t i) {
     const auto u = variates(i);
     const Vec3d n = sampleUniformSphere(static_cast<float>(i % 7) / 7.0f, static_cast<float>(i % 5) / 5.0f);
@@ -142,13 +144,13 @@ TEST(SharedTables, LocalEnvironmentTableLazyBuild) {
 
   const LocalEnvironmentTable shared(map, options);
   std::vector<uint32_t> mismatches(kThreads, 0);
+  std::latch start(kThreads);
   std::vector<std::thread> threads;
   for (int t = 0; t < kThreads; ++t) {
     threads.emplace_back([&, t] {
-      for (uint32_t k = 0; k < kQueries; ++k) {
-        const uint32_t i = (k + static_cast<uint32_t>(t) * (kQueries / kThreads)) % kQueries;
+      start.arrive_and_wait();
+      for (uint32_t i = 0; i < kQueries; ++i)
         if (query(shared, i) != expected[i]) ++mismatches[t];
-      }
       shared.bytes();  // reads the built slices while others may still be building
     });
   }
