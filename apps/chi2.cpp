@@ -1,11 +1,13 @@
 #include "chi2.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -34,6 +36,7 @@ struct Chi2Args {
   std::string brdf;
   std::string sampler;
   double thetaOutDegrees = 0;  // --brdf: the outgoing direction's θo (φo = 0)
+  std::vector<double> normal;  // --envmap --sampler local: the surface normal (map frame)
   BrdfTableArgs table;         // --brdf: the tabulated samplers' table
   uint64_t samples = 1'000'000;
   uint64_t seed = 1;
@@ -49,10 +52,22 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("chi2 --envmap: ") + e.what());
   }
+  LightChiSquareOptions test{.samples = args.samples, .seed = args.seed, .alpha = kAlpha};
+  const bool local = options.strategy == EnvironmentSampling::Local;
+  if (local != !args.normal.empty())
+    throw UsageError(local ? "chi2 --envmap --sampler local: give the surface normal with --normal X,Y,Z"
+                           : "chi2 --envmap: --normal applies to --sampler local only");
+  if (local) {
+    const Vec3d n{args.normal.size() == 3 ? args.normal[0] : 0, args.normal.size() == 3 ? args.normal[1] : 0,
+                  args.normal.size() == 3 ? args.normal[2] : 0};
+    if (!(dot(n, n) > 0) || !std::isfinite(dot(n, n)))
+      throw UsageError("chi2 --envmap: --normal takes three finite numbers X,Y,Z, not all 0");
+    test.context.normal = normalize(n);
+  }
   const auto map = readEnvironmentMap(args.envmap, args.sanitize);
   if (map->isBlack()) throw FileError(args.envmap, "the map is black everywhere: nothing to sample");
   const EnvironmentLight light(map, options);
-  return lightChiSquareTest(light, {.samples = args.samples, .seed = args.seed, .alpha = kAlpha});
+  return lightChiSquareTest(light, test);
 }
 
 // --brdf FILE --theta-o DEG: the BRDF sampler --sampler (cosine, or the table brdf-stats builds
@@ -120,9 +135,10 @@ Command addChi2(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "chi2", "Chi-square goodness-of-fit test of a sampler against its own pdf (exit 0 pass, 1 fail).");
   app->footer(fmt::format(
-      "--envmap FILE --sampler uniform-sphere|uniform|alias|adaptive|compensated|hierarchical: the environment\n"
-      "light of FILE (a lat-long map OpenImageIO reads) sampled with that strategy (compensated: its own\n"
-      "table, the one MIS uses). Directions are histogrammed on (theta, phi) bins aligned to blocks of pixels\n"
+      "--envmap FILE --sampler uniform-sphere|uniform|alias|adaptive|compensated|hierarchical|local: the\n"
+      "environment light of FILE (a lat-long map OpenImageIO reads) sampled with that strategy (compensated: its\n"
+      "own table, the one MIS uses; local: for the surface normal --normal X,Y,Z, in the map's frame, +Y up). "
+      "Directions are histogrammed on (theta, phi) bins aligned to blocks of pixels\n"
       "(at most 10000 bins); expected counts integrate the light's pdf\n"
       "over each bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
       "direction, finite positive pdf equal to pdf(direction)); passed needs both.\n"
@@ -143,6 +159,9 @@ Command addChi2(CLI::App& parent) {
   CLI::Option* thetaOut =
       app->add_option("--theta-o", args->thetaOutDegrees, "--brdf: outgoing theta in degrees, in [0, 90)")->needs(brdf);
   for (CLI::Option* option : addBrdfTableOptions(*app, args->table)) option->needs(brdf);
+  app->add_option("--normal", args->normal, "--envmap --sampler local: the surface normal X,Y,Z (map frame)")
+      ->delimiter(',')
+      ->needs(envmap);
   app->add_option("--sampler", args->sampler, "Sampling strategy (see below)")->required();
   app->add_option("--samples", args->samples, "Number of samples (>= 1)")
       ->transform(nonNegativeInteger())

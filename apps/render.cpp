@@ -118,7 +118,7 @@ Command addRender(CLI::App& parent) {
   app->footer(
       "SCENE: a JSON scene file (docs/scene-format.md). The strategy options replace the scene's choices:\n"
       "  --bsdf-sampling  cosine | uniform | adaptive | rgl    (every measured material)\n"
-      "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | ...\n"
+      "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | hierarchical | local\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"

@@ -10,6 +10,7 @@ void validate(const EnvironmentLightOptions& o) {
   if (!(o.scale > 0.0f) || !std::isfinite(o.scale))
     throw OptionError("environment light", "scale", "must be finite and > 0, got " + OptionError::number(o.scale));
   validate(o.simplify);
+  validate(o.local);
 }
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
@@ -30,6 +31,12 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
       throw std::invalid_argument("EnvironmentLight: the table source gave no table of this map and strategy");
     return table;
   };
+  if (options_.strategy == EnvironmentSampling::Local) {
+    // Calls without a normal get the Adaptive table, whatever `pdfs` (it is complete).
+    complete_ = get(EnvironmentSampling::Adaptive);
+    local_ = std::make_shared<const LocalEnvironmentTable>(map_, options_.local, options_.simplify);
+    return;
+  }
   if (options_.strategy != EnvironmentSampling::Compensated) {
     complete_ = get(options_.strategy);
     return;
@@ -53,7 +60,9 @@ const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& contex
 }
 
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
-  const EnvironmentTable::Sample s = table(context).sample(u0, u1);
+  const EnvironmentTable::Sample s = local_ && context.normal
+                                         ? local_->sample(options_.worldFromMap.applyInverse(*context.normal), u0, u1)
+                                         : table(context).sample(u0, u1);
   if (!(s.pdf > 0)) return {};
   const Rgb L = map_->radiance(s.pixel);
   const float k = options_.scale;
@@ -61,7 +70,9 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
-  return table(context).pdf(options_.worldFromMap.applyInverse(w));
+  const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
+  if (local_ && context.normal) return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), mapDirection);
+  return table(context).pdf(mapDirection);
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
@@ -75,7 +86,8 @@ bool EnvironmentLight::emitsNothing() const {
 }
 
 std::size_t EnvironmentLight::tableBytes() const {
-  return (complete_ ? complete_->bytes() : 0) + (incomplete_ ? incomplete_->bytes() : 0);
+  return (complete_ ? complete_->bytes() : 0) + (incomplete_ ? incomplete_->bytes() : 0) +
+         (local_ ? local_->bytes() : 0);
 }
 
 }  // namespace acdf

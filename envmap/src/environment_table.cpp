@@ -19,6 +19,7 @@ std::string_view toString(EnvironmentSampling strategy) {
     case EnvironmentSampling::Adaptive: return "adaptive";
     case EnvironmentSampling::Compensated: return "compensated";
     case EnvironmentSampling::Hierarchical: return "hierarchical";
+    case EnvironmentSampling::Local: return "local";
   }
   return "?";
 }
@@ -94,6 +95,8 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
                                    const SimplifyOptions& simplify, const std::span<const std::byte>* saved)
     : map_(std::move(map)), strategy_(strategy) {
   if (!map_) throw std::invalid_argument("EnvironmentTable: no map");
+  if (strategy_ == EnvironmentSampling::Local)
+    throw std::invalid_argument("EnvironmentTable: local sampling is a LocalEnvironmentTable");
   validate(simplify);
   if (map_->isBlack()) return;
   emitsNothing_ = false;
@@ -123,7 +126,8 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
   // The cascades' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
   const std::vector<GridAxis> axes{GridAxis(height), GridAxis(width)};
   switch (strategy_) {
-    case EnvironmentSampling::UniformSphere: break;
+    case EnvironmentSampling::UniformSphere:
+    case EnvironmentSampling::Local: break;
     case EnvironmentSampling::Uniform: {
       CascadeOptions uniform;
       uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};

@@ -99,7 +99,7 @@ IrradianceCost IrradianceEstimator::measure(const IrradianceSampler& sampler, bo
 
 IrradianceSampler lightSamplingEstimator(const EnvironmentLight& light) {
   return [&light](const Vec3d& n, float u0, float u1) {
-    const LightSample s = light.sample({}, u0, u1);
+    const LightSample s = light.sample({.normal = n}, u0, u1);
     return s.radiance.luminance() * std::max(0.0, dot(n, s.direction)) / s.pdf;
   };
 }

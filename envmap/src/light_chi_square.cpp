@@ -7,9 +7,8 @@
 
 namespace acdf {
 
-SphereChiSquareReport lightChiSquareTest(const EnvironmentLight& light, const LightChiSquareOptions& options) {
-  if (light.emitsNothing()) throw std::invalid_argument("chi-square test: the light emits nothing to sample");
-  const uint32_t width = light.map().width(), height = light.map().height();
+SphereChiSquareReport mapChiSquareTest(uint32_t width, uint32_t height, const DirectionSampler& mapSample,
+                                       const DirectionPdf& mapPdf, const LightChiSquareOptions& options) {
   const uint32_t common = std::gcd(width, height);
   uint32_t k = 1;  // the smallest common divisor within the bin limit, else the largest
   for (uint32_t d = 1; d <= common; ++d) {
@@ -25,15 +24,24 @@ SphereChiSquareReport lightChiSquareTest(const EnvironmentLight& light, const Li
   o.thetaBins = height / k;
   o.phiBins = width / k;
   o.subPoints = k;
-  const Rotation& worldFromMap = light.options().worldFromMap;
-  auto toTestFrame = [&](const Vec3d& world) { return LatLongMapping::toZUp(worldFromMap.applyInverse(world)); };
-  auto fromTestFrame = [&](const Vec3d& zUp) { return worldFromMap.apply(LatLongMapping::fromZUp(zUp)); };
   return sphereChiSquareTest(
       [&](float u0, float u1) {
-        const LightSample s = light.sample(options.context, u0, u1);
-        return DirectionSample{toTestFrame(s.direction), s.pdf};
+        const DirectionSample s = mapSample(u0, u1);
+        return DirectionSample{LatLongMapping::toZUp(s.direction), s.pdf};
       },
-      [&](const Vec3d& zUp) { return light.pdf(options.context, fromTestFrame(zUp)); }, o);
+      [&](const Vec3d& zUp) { return mapPdf(LatLongMapping::fromZUp(zUp)); }, o);
+}
+
+SphereChiSquareReport lightChiSquareTest(const EnvironmentLight& light, const LightChiSquareOptions& options) {
+  if (light.emitsNothing()) throw std::invalid_argument("chi-square test: the light emits nothing to sample");
+  const Rotation& worldFromMap = light.options().worldFromMap;
+  return mapChiSquareTest(
+      light.map().width(), light.map().height(),
+      [&](float u0, float u1) {
+        const LightSample s = light.sample(options.context, u0, u1);
+        return DirectionSample{worldFromMap.applyInverse(s.direction), s.pdf};
+      },
+      [&](const Vec3d& w) { return light.pdf(options.context, worldFromMap.apply(w)); }, options);
 }
 
 }  // namespace acdf

@@ -22,7 +22,9 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   const MisMode mis = scene_.settings.mis;
   const bool sampleLight = mis != MisMode::BsdfOnly;
   const bool bsdfSeesLight = mis != MisMode::LightOnly;
-  const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(mis)};
+  // The normal is the shading normal of the vertex being lit; after a BSDF sample it stays that of
+  // the vertex the sample left, for the pdf of the light the sample may reach.
+  LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(mis)};
 
   Rgb result, throughput{1, 1, 1};
   Ray ray = cameraRay;
@@ -45,6 +47,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     const BrdfSampler& material = *scene_.materials[hit->material];
     const Frame frame(hit->normal, hit->tangentHint);
     const Vec3d wo = frame.toLocal(-ray.direction);
+    lightContext.normal = hit->normal;
 
     if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();

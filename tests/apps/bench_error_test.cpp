@@ -37,7 +37,8 @@ constexpr const char* kReferenceSpp = "1024";
 #endif
 
 const std::vector<std::string> kBsdf = {"cosine", "uniform", "adaptive"};
-const std::vector<std::string> kEnv = {"uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"};
+const std::vector<std::string> kEnv = {"uniform-sphere", "uniform",      "alias", "adaptive",
+                                       "compensated",    "hierarchical", "local"};
 const std::vector<std::string> kMis = {"power", "balance", "bsdf-only", "light-only"};
 
 using Combination = std::tuple<std::string, std::string, std::string>;  // bsdf, env, mis
@@ -131,10 +132,10 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     for (const auto& b : kBsdf)
       for (const auto& e : kEnv)
         if (!(m == "bsdf-only" && e != "uniform-sphere")) expected.insert({b, e, m});
-  ASSERT_EQ(expected.size(), 57u);
+  ASSERT_EQ(expected.size(), 66u);
 
   const nlohmann::json j = results();
-  EXPECT_EQ(j["skipped"].size(), 72u - 57u);
+  EXPECT_EQ(j["skipped"].size(), 84u - 66u);
   const auto& rows = j["rows"];
   ASSERT_EQ(rows.size(), 3 * expected.size());
   std::map<Combination, std::map<double, nlohmann::json>> byCombination;
@@ -190,8 +191,8 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   // Nothing new to render: every row is kept, the reference reused.
   const RunResult second = benchError({"--spp-budgets", "1,8,64", "--no-plot"});
   ASSERT_EQ(second.exitCode, 0) << apptest::describe(second);
-  EXPECT_EQ(rowCounts(first), std::make_pair(171, 0));
-  EXPECT_EQ(rowCounts(second), std::make_pair(0, 171));
+  EXPECT_EQ(rowCounts(first), std::make_pair(198, 0));
+  EXPECT_EQ(rowCounts(second), std::make_pair(0, 198));
   EXPECT_NE(second.out.find("reused"), std::string::npos) << second.out;
   EXPECT_EQ(results()["rows"], rows);
 }

@@ -1,6 +1,7 @@
 // Many threads sampling one shared table of each kind (Cascade, EnvironmentLight,
-// TabulatedBrdfSampler): every thread's results must equal the single-threaded ones bit for bit,
-// which holds only if sample() / pdf() / eval() are truly const (no caches, no hidden state).
+// LocalEnvironmentTable, TabulatedBrdfSampler): every thread's results must equal the
+// single-threaded ones bit for bit, which holds only if sample() / pdf() / eval() are truly const
+// (no hidden state; the local table's lazily built slices are once-only and synchronised).
 // `make test-tsan` runs these under ThreadSanitizer (label "concurrency"), which also reports any
 // data race the equality check might miss. Plain std::threads, so TSan sees every synchronisation;
 // the tables are built with TBB limited to the calling thread (SerialBuild), because libtbb is not
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <latch>
 #include <memory>
 #include <span>
 #include <string>
@@ -25,6 +27,7 @@
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
+#include "acdf/envmap/local_environment_table.h"
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/rng.h"
 
@@ -115,6 +118,46 @@ TEST(SharedTables, EnvironmentLight) {
           s.direction.x, s.direction.y, s.direction.z, s.pdf, light.pdf(context, s.direction), l.r};
     });
   }
+}
+
+// Lazy slice builds: kThreads threads, released at once, sample one fresh local table in the same
+// order, so they all ask for each slice's first build together (one-pixel blocks make each build
+// slow enough to overlap); every result must equal that of a table queried on one thread, and
+// each slice is built once.
+TEST(SharedTables, LocalEnvironmentTableLazyBuild) {
+  SerialBuild serial;  // the slices are built by the std::threads, TBB inside each runs serially
+  const uint32_t width = 64, height = 32;
+  std::vector<float> rgb(3 * width * height);
+  Pcg32 rng(9);
+  for (float& v : rgb) v = rng.nextFloat() < 0.05f ? 50.0f : rng.nextFloat();
+  const auto map = std::make_shared<const EnvironmentMap>(width, height, std::move(rgb));
+  const LocalEnvironmentOptions options{.normalRows = 4, .normalColumns = 4, .blockSize = 1};
+  auto query = [](const LocalEnvironmentTable& table, uint32_t i) {
+    const auto u = variates(i);
+    const Vec3d n = sampleUniformSphere(static_cast<float>(i % 7) / 7.0f, static_cast<float>(i % 5) / 5.0f);
+    const LocalEnvironmentTable::Sample s = table.sample(n, u[0], u[1]);
+    return std::vector<double>{s.direction.x, s.direction.y, s.direction.z, s.pdf, table.pdf(n, s.direction)};
+  };
+  const LocalEnvironmentTable reference(map, options);
+  std::vector<std::vector<double>> expected(kQueries);
+  for (uint32_t i = 0; i < kQueries; ++i) expected[i] = query(reference, i);
+
+  const LocalEnvironmentTable shared(map, options);
+  std::vector<uint32_t> mismatches(kThreads, 0);
+  std::latch start(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      start.arrive_and_wait();
+      for (uint32_t i = 0; i < kQueries; ++i)
+        if (query(shared, i) != expected[i]) ++mismatches[t];
+      shared.bytes();  // reads the built slices while others may still be building
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(mismatches[t], 0u) << "thread " << t;
+  EXPECT_EQ(shared.slicesBuilt(), reference.slicesBuilt());
+  EXPECT_EQ(shared.bytes(), reference.bytes());
 }
 
 TEST(SharedTables, TabulatedBrdfSampler) {

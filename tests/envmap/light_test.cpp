@@ -294,6 +294,8 @@ TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
   for (EnvironmentSampling s : {UniformSphere, Uniform, Alias, Adaptive, Hierarchical})
     for (LightPdfs pdfs : {LightPdfs::Complete, LightPdfs::Incomplete, LightPdfs::Either})
       EXPECT_EQ(tablesFor(s, pdfs), std::vector{s}) << toString(s);
+  for (LightPdfs pdfs : {LightPdfs::Complete, LightPdfs::Incomplete, LightPdfs::Either})
+    EXPECT_EQ(tablesFor(Local, pdfs), std::vector{Adaptive});  // the local table is the light's own
 
   // A light made for incomplete pdfs only cannot answer a call that needs a complete one.
   const EnvironmentLight mis(map, {.strategy = Compensated}, LightPdfs::Incomplete, source);
@@ -310,6 +312,50 @@ TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
     return std::make_shared<const EnvironmentTable>(smoothMap(16, 16), strategy, simplify);
   };
   EXPECT_THROW(EnvironmentLight(map, {}, LightPdfs::Either, wrong), std::invalid_argument);
+}
+
+// A local light samples its local table, in the map frame, for calls with a normal, and the
+// Adaptive table for calls without one; the normal is turned into the map frame like directions.
+TEST(Local, TheNormalChoosesTheLocalTable) {
+  const auto map = smoothMap(256, 128);
+  const Rotation rotation = Rotation::aboutY(0.7);
+  const EnvironmentLight local(map, {.strategy = EnvironmentSampling::Local,
+                                     .worldFromMap = rotation,
+                                     .local = {.normalRows = 16, .normalColumns = 32, .blockSize = 8}});
+  const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive, .worldFromMap = rotation});
+  const LocalEnvironmentTable* table = local.localTable();
+  ASSERT_NE(table, nullptr);
+  EXPECT_EQ(adaptive.localTable(), nullptr);
+  EXPECT_EQ(table->options().normalRows, 16u);
+  EXPECT_EQ(local.tableBytes(), adaptive.tableBytes() + table->bytes());
+  // Facing the map's bright lobe (smoothMap: around θ = 0.4π, φ = 0.6π), turned into the world.
+  const Vec3d n = rotation.apply(LatLongMapping::direction(0.4 * kPi, 0.6 * kPi));
+  Pcg32 rng(8);
+  uint64_t above = 0, adaptiveAbove = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const float u0 = i < 2 ? 0.0f : rng.nextFloat(), u1 = i == 1 ? kOneMinusEpsilon : rng.nextFloat();
+    for (const LightSampleContext& plain : kLightContexts) {
+      const LightSample a = adaptive.sample(plain, u0, u1), b = local.sample(plain, u0, u1);
+      ASSERT_EQ(a.direction, b.direction);
+      ASSERT_EQ(a.pdf, b.pdf);
+      ASSERT_EQ(local.pdf(plain, a.direction), adaptive.pdf(plain, a.direction));
+      LightSampleContext context = plain;
+      context.normal = n;
+      const LightSample s = local.sample(context, u0, u1);
+      const LocalEnvironmentTable::Sample t = table->sample(rotation.applyInverse(n), u0, u1);
+      ASSERT_EQ(s.direction, rotation.apply(t.direction));
+      ASSERT_EQ(s.pdf, t.pdf);
+      ASSERT_EQ(local.pdf(context, s.direction), s.pdf);
+      ASSERT_EQ(local.eval(s.direction), s.radiance);
+      above += dot(s.direction, n) > 0;
+      adaptiveAbove += dot(a.direction, n) > 0;
+    }
+  }
+  // The cosine is that of this normal, in the world: few samples below its horizon.
+  EXPECT_GT(above, 7400u) << adaptiveAbove;  // 95.8% expected
+  EXPECT_LT(adaptiveAbove, 5600u) << above;  // 64.5% expected
+  EXPECT_EQ(table->slicesBuilt(), 1u);
+  EXPECT_THROW(EnvironmentTable(map, EnvironmentSampling::Local), std::invalid_argument);
 }
 
 TEST(SunSky, PresetsPutTheSunWhereTheySay) {

@@ -241,6 +241,9 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   scene = tinyScene();
   scene["environment"]["epsilon"] = -1;
   failure(scene, "$.environment.epsilon: must be finite and >= 0, got -1");
+  scene = tinyScene();
+  scene["environment"]["block_size"] = 5000;
+  failure(scene, "$.environment.block_size: must be in [1, 4096], got 5000");
   expectNoOutputs();
 }
 

@@ -10,13 +10,22 @@
 // samples alone. So a compensated light keeps the complete table (Adaptive) beside it and every
 // sample() / pdf() says which it may use (LightSampleContext::allowIncompletePdf); the two must
 // agree within one estimator. Every other strategy's table is complete and serves both.
+//
+// Local sampling (local_environment_table.h) draws from L(ω) max(0, n · ω) for the shading normal
+// n the call gives (LightSampleContext::normal); its pdf is positive wherever that product is, so
+// it is complete for any estimator of reflected light. A call without a normal (a light-only
+// estimate of something other than a surface's reflection, a test) falls back to the complete
+// Adaptive table the light keeps beside it; sample() and pdf() of one estimator must then agree on
+// giving the normal or not, as they must on allowIncompletePdf.
 
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "acdf/envmap/environment_map.h"
 #include "acdf/envmap/environment_table.h"
+#include "acdf/envmap/local_environment_table.h"
 #include "acdf/sampling/rgb.h"
 #include "acdf/sampling/transform.h"
 
@@ -24,13 +33,14 @@ namespace acdf {
 
 struct EnvironmentLightOptions {
   EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
-  SimplifyOptions simplify{};  // Adaptive and Compensated
-  Rotation worldFromMap{};     // the map frame's directions in the world (default: the same)
-  float scale = 1.0f;          // radiance multiplier; finite and > 0
+  SimplifyOptions simplify{};       // Adaptive, Compensated and Local
+  Rotation worldFromMap{};          // the map frame's directions in the world (default: the same)
+  float scale = 1.0f;               // radiance multiplier; finite and > 0
+  LocalEnvironmentOptions local{};  // Local: the normal grid and blocks
 };
 
 // The one check of these options, for the light and the scene loader. Throws OptionError
-// ("scale", or the simplify options' own).
+// ("scale", or the simplify or local options' own).
 void validate(const EnvironmentLightOptions& options);
 
 // What a light sample or pdf depends on besides its variates or direction.
@@ -38,6 +48,8 @@ struct LightSampleContext {
   // True when another technique samples every direction the light lights (BSDF sampling, the
   // estimator combining both by MIS): the light may then leave out what it covers (compensated).
   bool allowIncompletePdf = false;
+  // The shading normal of the point lit (world frame, non-zero): Local sampling's condition.
+  std::optional<Vec3d> normal;
 };
 
 struct LightSample {
@@ -60,7 +72,9 @@ class EnvironmentLight {
   // bad scale or bad simplify options (or what a table's constructor throws).
   explicit EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options = {});
   // The tables the calls `pdfs` use, from `tables` (which must give tables of `map`'s size; the
-  // same pixels are the source's concern, e.g. a cache key).
+  // same pixels are the source's concern, e.g. a cache key). A Local light builds its local
+  // table itself: its slices are built lazily, all 2048 of a 1024 × 512 map in a third of a
+  // second, so they are not worth a cache file.
   EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options, LightPdfs pdfs,
                    const EnvironmentTableSource& tables);
 
@@ -71,14 +85,18 @@ class EnvironmentLight {
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
 
-  // The table sample() and pdf() use in `context`. Throws std::logic_error for a context the
-  // light was not made for (a complete pdf from a light made for incomplete ones only).
+  // The table sample() and pdf() use in `context` (for Local, the Adaptive one of calls without a
+  // normal). Throws std::logic_error for a context the light was not made for (a complete pdf
+  // from a light made for incomplete ones only).
   const EnvironmentTable& table(const LightSampleContext& context) const;
   // True for a black map (and one whose every pixel underflows in its tables): nothing to sample.
   bool emitsNothing() const;
   const EnvironmentMap& map() const { return *map_; }
   const EnvironmentLightOptions& options() const { return options_; }
-  // Bytes of the tables the light holds (0 for uniform-sphere sampling).
+  // Local only (else null): the table of the calls with a normal.
+  const LocalEnvironmentTable* localTable() const { return local_.get(); }
+  // Bytes of the tables the light holds (0 for uniform-sphere sampling; the local slices built so
+  // far).
   std::size_t tableBytes() const;
 
  private:
@@ -87,6 +105,7 @@ class EnvironmentLight {
   // complete_ serves calls that need a complete pdf; incomplete_, when set (Compensated), those
   // that allow an incomplete one. Either may be null when no call will need it.
   std::shared_ptr<const EnvironmentTable> complete_, incomplete_;
+  std::shared_ptr<const LocalEnvironmentTable> local_;
 };
 
 }  // namespace acdf

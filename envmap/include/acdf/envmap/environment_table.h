@@ -40,6 +40,10 @@
 //                 get pdf 0 and are left to BSDF sampling under MIS. A map with nothing above its
 //                 mean (a constant one) falls back to the uncompensated table
 //                 (compensationFellBack()).
+//   Local         not a table of this class (the constructor throws std::invalid_argument): the
+//                 distribution of L(ω) max(0, n · ω) for the surface normal n of each call
+//                 (LocalEnvironmentTable, local_environment_table.h), which EnvironmentLight holds
+//                 beside the Adaptive table.
 // complete() is false for Compensated unless it fell back: its pdf may be 0 where the map has
 // light, so it serves only estimators that allow an incomplete pdf (EnvironmentLight chooses).
 //
@@ -64,13 +68,14 @@
 
 namespace acdf {
 
-enum class EnvironmentSampling { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical };
+enum class EnvironmentSampling { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical, Local };
 
 inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
     EnvironmentSampling::UniformSphere, EnvironmentSampling::Uniform,     EnvironmentSampling::Alias,
-    EnvironmentSampling::Adaptive,      EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical};
+    EnvironmentSampling::Adaptive,      EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical,
+    EnvironmentSampling::Local};
 
-// "uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"; parse throws
+// "uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local"; parse throws
 // std::invalid_argument naming them.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
@@ -83,7 +88,7 @@ class EnvironmentTable {
     double pdf = 0;    // per steradian; 0 only for a map that emits nothing
   };
 
-  // Throws std::invalid_argument for no map or bad simplify options (or what the table's
+  // Throws std::invalid_argument for no map, bad simplify options or Local (or what the table's
   // constructor throws).
   EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
                    const SimplifyOptions& simplify = {});

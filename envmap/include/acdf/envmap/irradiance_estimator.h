@@ -61,8 +61,9 @@ class IrradianceEstimator {
   std::vector<double> exact_;
 };
 
-// The estimators compared: the light's own samples, and two that ignore the map (`light` only
-// evaluates it): uniform directions over the sphere and cosine-weighted ones about the normal.
+// The estimators compared: the light's own samples (for the normal: a local light samples its
+// slice), and two that ignore the map (`light` only evaluates it): uniform directions over the
+// sphere and cosine-weighted ones about the normal.
 IrradianceSampler lightSamplingEstimator(const EnvironmentLight& light);
 IrradianceSampler uniformSphereEstimator(const EnvironmentLight& light);
 IrradianceSampler cosineEstimator(const EnvironmentLight& light);

@@ -29,4 +29,9 @@ struct LightChiSquareOptions {
 // The light must emit something (throws std::invalid_argument otherwise).
 SphereChiSquareReport lightChiSquareTest(const EnvironmentLight& light, const LightChiSquareOptions& options = {});
 
+// The same test of any sampler of a width × height map's directions, in the map frame (lat_long.h)
+// (options.context is unused).
+SphereChiSquareReport mapChiSquareTest(uint32_t width, uint32_t height, const DirectionSampler& mapSample,
+                                       const DirectionPdf& mapPdf, const LightChiSquareOptions& options = {});
+
 }  // namespace acdf
