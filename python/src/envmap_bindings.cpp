@@ -39,10 +39,16 @@ std::shared_ptr<EnvironmentMap> mapFromArray(const Array<float>& rgb) {
                                           std::move(values));
 }
 
+// The local strategy's normal grid and block size, as the scene format names them.
+struct LocalGrid {
+  uint32_t normalRows, normalColumns, blockSize;
+};
+
 EnvironmentLight makeLight(std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale,
                            double rotationDegrees, std::optional<double> epsilon,
-                           const std::optional<SimplifyOptions>& simplify) {
+                           const std::optional<SimplifyOptions>& simplify, const LocalGrid& grid) {
   EnvironmentLightOptions options;
+  options.local = {grid.normalRows, grid.normalColumns, grid.blockSize};
   options.strategy = parseEnvironmentSampling(strategy);
   options.simplify = simplifyOptions(options.simplify, simplify, epsilon);
   options.scale = scale;
@@ -53,50 +59,87 @@ EnvironmentLight makeLight(std::shared_ptr<EnvironmentMap> map, const std::strin
   return EnvironmentLight(std::move(map), options);
 }
 
+// The context of row i: the normal of that row (or the only one), if any.
+struct Contexts {
+  bool allowIncomplete;
+  std::optional<Directions> normals;
+  LightSampleContext operator()(std::size_t i) const {
+    LightSampleContext c{.allowIncompletePdf = allowIncomplete};
+    if (normals) c.normal = (*normals)[i];
+    return c;
+  }
+};
+
+Contexts contextsOf(bool allowIncomplete, const std::optional<Array<double>>& normal, std::size_t n) {
+  Contexts c{allowIncomplete, std::nullopt};
+  if (normal) {
+    c.normals = directions(*normal, "normal");
+    pairedRows(n, c.normals->rows, "normal and the samples");
+    if (c.normals->rows != 1 && c.normals->rows != n) throw py::value_error("normal: one row or one per sample");
+  }
+  return c;
+}
+
 const char* kLightDoc = R"(An environment map placed in the world and sampled by one strategy.
 
-EnvironmentLight(map, strategy="adaptive", scale=1.0, rotation=0.0, epsilon=None, simplify=None)
+EnvironmentLight(map, strategy="adaptive", scale=1.0, rotation=0.0, epsilon=None, simplify=None,
+                 normal_rows=32, normal_columns=64, block_size=16)
 EnvironmentLight.load(path, ...the same keywords)
 
 map: an acdf.EnvironmentMap. strategy: "uniform-sphere", "uniform" (pbrt's and Mitsuba's table),
-"alias", "adaptive" (the paper's), "compensated" (pbrt-v4's MIS compensation: incomplete, see
+"alias", "adaptive" (the paper's), "local" (conditioned on the surface normal), "compensated" (pbrt-v4's MIS compensation: incomplete, see
 allow_incomplete_pdf), "hierarchical" (Mitsuba 3's Hierarchical2D). scale multiplies the radiance;
 rotation turns the map about +Y (degrees, counter-clockwise seen from above), as in scene files.
 
 Directions are world-frame float64 (n, 3) arrays (+Y up); pdfs are per steradian (float64),
 radiance is RGB float32 (n, 3). A sample's pdf is what pdf() returns for its direction.
 allow_incomplete_pdf=True: the caller also samples the BSDF and combines the two by MIS, so a
-compensated light may leave directions dimmer than the map's mean to it (pdf 0 there).)";
+compensated light may leave directions dimmer than the map's mean to it (pdf 0 there).
+strategy="local" samples L(w) max(0, n.w) for the shading normal n each call gives (normal=...),
+from a grid of normal_rows x normal_columns normal cells over blocks of block_size^2 pixels (Lawrence
+et al. 2005; a normal cell's table is built when a normal in it is first used).)";
 
 void bindLight(py::module_& m) {
   py::class_<EnvironmentLight> c(m, "EnvironmentLight", kLightDoc);
-  c.def(py::init(&makeLight), "map"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0,
-        "epsilon"_a = py::none(), "simplify"_a = py::none());
+  const LocalEnvironmentOptions d;
+  c.def(py::init([](std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale, double rotation,
+                    std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify, uint32_t normalRows,
+                    uint32_t normalColumns, uint32_t blockSize) {
+          return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify,
+                           {normalRows, normalColumns, blockSize});
+        }),
+        "map"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0, "epsilon"_a = py::none(),
+        "simplify"_a = py::none(), "normal_rows"_a = d.normalRows, "normal_columns"_a = d.normalColumns,
+        "block_size"_a = d.blockSize);
   c.def_static(
       "load",
       [](const std::string& path, const std::string& strategy, float scale, double rotation,
-         std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify) {
+         std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify, uint32_t normalRows,
+         uint32_t normalColumns, uint32_t blockSize) {
         std::shared_ptr<EnvironmentMap> map;
         {
           py::gil_scoped_release release;
           map = std::make_shared<EnvironmentMap>(EnvironmentMap::load(path));
         }
-        return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify);
+        return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify,
+                         {normalRows, normalColumns, blockSize});
       },
       "path"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0, "epsilon"_a = py::none(),
-      "simplify"_a = py::none(), "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
+      "simplify"_a = py::none(), "normal_rows"_a = d.normalRows, "normal_columns"_a = d.normalColumns,
+      "block_size"_a = d.blockSize, "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
   c.def(
       "sample",
-      [](const EnvironmentLight& light, const Array<float>& u, bool allowIncomplete) {
+      [](const EnvironmentLight& light, const Array<float>& u, const std::optional<Array<double>>& normal,
+         bool allowIncomplete) {
         const std::size_t n = rows(u, 2, "u");
+        const Contexts context = contextsOf(allowIncomplete, normal, n);
         auto dirs = output<double>(n, 3), pdf = output<double>(n);
         auto radiance = output<float>(n, 3);
         const float* in = u.data();
         double *ds = dirs.mutable_data(), *ps = pdf.mutable_data();
         float* rs = radiance.mutable_data();
-        const LightSampleContext context{.allowIncompletePdf = allowIncomplete};
         forEachRow(n, [&](std::size_t i) {
-          const LightSample s = light.sample(context, in[2 * i], in[2 * i + 1]);
+          const LightSample s = light.sample(context(i), in[2 * i], in[2 * i + 1]);
           storeVec3(ds, i, s.direction);
           rs[3 * i] = s.radiance.r;
           rs[3 * i + 1] = s.radiance.g;
@@ -105,20 +148,24 @@ void bindLight(py::module_& m) {
         });
         return py::make_tuple(dirs, radiance, pdf);
       },
-      "u"_a, "allow_incomplete_pdf"_a = false,
+      "u"_a, "normal"_a = py::none(), "allow_incomplete_pdf"_a = false,
       "Samples for variates u of shape (n, 2): (dirs (n, 3), radiance (n, 3), pdf (n,)). pdf is 0 only\n"
-      "for a light that emits nothing (then there is no sample).");
+      "for a light that emits nothing (then there is no sample). normal: the shading normals (world\n"
+      "frame, (n, 3) or one (3,)) the local strategy samples L(w) max(0, n.w) for; without them a local\n"
+      "light samples its adaptive table. pdf() must be given the same normals.");
   c.def(
       "pdf",
-      [](const EnvironmentLight& light, const Array<double>& dirs, bool allowIncomplete) {
+      [](const EnvironmentLight& light, const Array<double>& dirs, const std::optional<Array<double>>& normal,
+         bool allowIncomplete) {
         const Directions w = directions(dirs, "dirs");
+        const Contexts context = contextsOf(allowIncomplete, normal, w.rows);
         auto pdf = output<double>(w.rows);
         double* ps = pdf.mutable_data();
-        const LightSampleContext context{.allowIncompletePdf = allowIncomplete};
-        forEachRow(w.rows, [&](std::size_t i) { ps[i] = light.pdf(context, w[i]); });
+        forEachRow(w.rows, [&](std::size_t i) { ps[i] = light.pdf(context(i), w[i]); });
         return pdf;
       },
-      "dirs"_a, "allow_incomplete_pdf"_a = false, "Density per steradian of sample() at each direction, shape (n,).");
+      "dirs"_a, "normal"_a = py::none(), "allow_incomplete_pdf"_a = false,
+      "Density per steradian of sample() at each direction, shape (n,) (with the same normals).");
   c.def(
       "eval",
       [](const EnvironmentLight& light, const Array<double>& dirs) {

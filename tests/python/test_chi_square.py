@@ -11,7 +11,7 @@ from scipy import stats
 import acdf
 
 SAMPLES = 1_000_000
-TESTS_IN_FILE = 3
+TESTS_IN_FILE = 4
 ALPHA = 1.0 - (1.0 - 0.01) ** (1.0 / TESTS_IN_FILE)
 
 
@@ -54,15 +54,20 @@ def sky(width, height):
     return np.repeat(lum[..., None], 3, axis=2).astype(np.float32) * np.array([1.0, 0.9, 0.7], np.float32)
 
 
-@pytest.mark.parametrize("strategy", ["adaptive", "hierarchical"])
+@pytest.mark.parametrize("strategy", ["adaptive", "hierarchical", "local"])
 def test_environment_light(strategy, rng):
+    """Global strategies without a normal; local at a tilted normal (the surface's, world frame)."""
     width, height = 96, 48
-    light = acdf.EnvironmentLight(acdf.EnvironmentMap(sky(width, height)), strategy=strategy, epsilon=1e-3)
+    light = acdf.EnvironmentLight(acdf.EnvironmentMap(sky(width, height)), strategy=strategy, epsilon=1e-3,
+                                  block_size=4)
+    normal = np.array([0.3, 0.8, 0.5]) if strategy == "local" else None
     u = rng.random((SAMPLES, 2), dtype=np.float32)
-    dirs, radiance, pdf = light.sample(u)
+    dirs, radiance, pdf = light.sample(u, normal=normal)
     assert np.all(np.isfinite(pdf)) and np.all(pdf > 0)
     np.testing.assert_allclose(np.linalg.norm(dirs, axis=1), 1.0, rtol=1e-12)
-    np.testing.assert_allclose(light.pdf(dirs), pdf, rtol=1e-6)
+    np.testing.assert_allclose(light.pdf(dirs, normal=normal), pdf, rtol=1e-6)
+    if normal is not None:  # the cosine bound: no sample far below the normal's horizon
+        assert np.mean(dirs @ (normal / np.linalg.norm(normal)) < -0.3) < 1e-3
     # Cells: the map's own pixels (the pdf is constant on each, so pdf x solid angle is exact).
     # Direction to pixel, independently of acdf: OpenEXR's LatLong layout,
     # w(theta, phi) = (sin theta sin phi, cos theta, -sin theta cos phi).
@@ -77,7 +82,7 @@ def test_environment_light(strategy, rng):
     centres = np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], axis=-1).reshape(-1, 3)
     edges = np.arange(height + 1) / height * np.pi
     solid_angle = np.repeat((np.cos(edges[:-1]) - np.cos(edges[1:])) * 2 * np.pi / width, width)
-    assert_fits(observed, light.pdf(centres) * solid_angle, strategy)
+    assert_fits(observed, light.pdf(centres, normal=normal) * solid_angle, strategy)
 
 
 def test_tabulated_brdf_sampler(rng):

@@ -74,6 +74,12 @@ def test_bad_shapes_and_options():
         light.pdf(np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]))
     with pytest.raises(ValueError, match="dirs: row 0"):
         light.eval(np.array([[np.nan, 1.0, 0.0]]))
+    with pytest.raises(ValueError, match="normal: row 0"):
+        light.sample(np.zeros((2, 2), np.float32), normal=np.zeros(3))
+    with pytest.raises(ValueError, match="normal and the samples"):
+        light.pdf(np.ones((3, 3)), normal=np.ones((2, 3)))
+    with pytest.raises(ValueError, match="block_size"):
+        acdf.EnvironmentLight(acdf.EnvironmentMap(np.ones((4, 8, 3), np.float32)), strategy="local", block_size=0)
     sampler = acdf.CosineBrdfSampler(acdf.LambertianBrdf([0.5, 0.5, 0.5]))
     with pytest.raises(ValueError, match="row counts differ"):
         sampler.pdf(np.tile([0.0, 0.0, 1.0], (3, 1)), np.tile([0.0, 0.0, 1.0], (4, 1)))
