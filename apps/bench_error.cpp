@@ -53,6 +53,7 @@ struct BenchErrorArgs {
   std::vector<uint32_t> sppBudgets;
   std::vector<std::string> bsdf, env, mis;
   uint32_t referenceSpp = 1024;
+  uint32_t seeds = 4;
   uint32_t threads = 0;
   bool noCache = false, noPlot = false;
   std::string plotScript = ACDF_BENCH_ERROR_SCRIPT, python = "/usr/bin/python3";
@@ -99,10 +100,29 @@ std::string rowKey(const Json& row) {
                 row.value("budget", 0.0));
 }
 
-const char* const kCsvColumns[] = {
-    "bsdf_sampling", "env_sampling",     "mis",  "budget_kind",      "budget",          "seed",        "seconds",
-    "spp",           "relmse",           "rmse", "brdf_table_bytes", "env_table_bytes", "table_bytes", "table_ms",
-    "tables_built",  "tables_from_cache"};
+const char* const kCsvColumns[] = {"bsdf_sampling",
+                                   "env_sampling",
+                                   "mis",
+                                   "budget_kind",
+                                   "budget",
+                                   "seeds",
+                                   "seconds",
+                                   "seconds_stderr",
+                                   "spp",
+                                   "relmse",
+                                   "relmse_stderr",
+                                   "relmse_trimmed",
+                                   "relmse_trimmed_stderr",
+                                   "rmse",
+                                   "rmse_stderr",
+                                   "efficiency",
+                                   "efficiency_stderr",
+                                   "brdf_table_bytes",
+                                   "env_table_bytes",
+                                   "table_bytes",
+                                   "table_ms",
+                                   "tables_built",
+                                   "tables_from_cache"};
 
 std::string csvCell(const Json& v) {
   if (v.is_string()) return v.get<std::string>();  // strategy names: no commas or quotes
@@ -162,6 +182,7 @@ class BenchError {
     const Film film = makeFilm(scene);
     width_ = film.width();
     height_ = film.height();
+    sceneSeed_ = scene.settings.seed;
     StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, scene.hasMeasuredMaterial());
     plan_ = std::move(plan.render);
     skipped_ = std::move(plan.skipped);
@@ -317,11 +338,21 @@ class BenchError {
                 {"reference_hash", referenceHash_},
                 {"budget_kind", budgetKind()},
                 {"threads", args_.threads},
+                {"seeds", args_.seeds},
+                {"scene_seed", sceneSeed_},
                 {"relmse", "mean over pixels and channels of (I - R)^2 / (R^2 + 0.01)"},
-                {"rmse", "sqrt(mean over pixels and channels of (I - R)^2)"}};
+                {"relmse_trimmed",
+                 fmt::format("relmse after discarding the floor({} x pixels) pixels of largest error (a pixel's error: "
+                             "the mean over its channels)",
+                             kTrimmedFraction)},
+                {"rmse", "sqrt(mean over pixels and channels of (I - R)^2)"},
+                {"efficiency",
+                 "1 / (relmse x seconds) of the means over seeds; its stderr by the delta method with the seeds' "
+                 "covariance of relmse and seconds"},
+                {"stderr", "standard error of the mean over seeds: sample standard deviation / sqrt(seeds)"}};
   }
 
-  // Rows of an earlier run with the same scene, reference, budget kind and threads are kept.
+  // Rows of an earlier run with the same scene, reference, budget kind, threads and seeds are kept.
   void resume() {
     const fs::path path = dir_ / "results.json";
     const auto earlier = readJsonFile(path);
@@ -330,11 +361,13 @@ class BenchError {
     const Json& then = (*earlier)["settings"];
     const bool same = then.is_object() && then.value("scene_hash", "") == now["scene_hash"] &&
                       then.value("reference_hash", "") == now["reference_hash"] &&
-                      then.value("budget_kind", "") == now["budget_kind"] && then.value("threads", 0u) == args_.threads;
+                      then.value("budget_kind", "") == now["budget_kind"] &&
+                      then.value("threads", 0u) == args_.threads && then.value("seeds", 0u) == args_.seeds &&
+                      then.value("scene_seed", uint64_t(0)) == sceneSeed_;
     if (!same || !(*earlier)["rows"].is_array()) {
       std::fprintf(
           stderr,
-          "bench-error: %s is from other settings (scene, reference, budget kind or threads): starting afresh\n",
+          "bench-error: %s is from other settings (scene, reference, budget kind, threads or seeds): starting afresh\n",
           path.c_str());
       return;
     }
@@ -343,8 +376,10 @@ class BenchError {
     kept_ = rows_.size();
   }
 
-  uint64_t seedFor(const Strategy& s, double budget) const {
-    return ContentHash().text(s.id()).number(std::bit_cast<uint64_t>(budget)).digest().low;
+  // Seed `k` of a row: a hash of the scene's seed, the strategy, the budget and k, so every render
+  // of the matrix has its own seed and a rerun (or a shard) renders the same ones.
+  uint64_t seedFor(const Strategy& s, double budget, uint32_t k) const {
+    return ContentHash().number(sceneSeed_).text(s.id()).number(std::bit_cast<uint64_t>(budget)).number(k).digest().low;
   }
 
   void renderRows() {
@@ -372,39 +407,64 @@ class BenchError {
       for (double budget : budgets_) {
         ++index;
         if (!pending(budget)) continue;
-        scene.settings.seed = seedFor(s, budget);
-        std::optional<double> seconds;
-        if (args_.sppBudgets.empty())
-          seconds = budget;
-        else
-          scene.settings.spp = static_cast<uint32_t>(budget);
-        const RenderStats stats = renderImage(scene, seconds);
-        const RenderError error = renderError(lastImage_, reference_);
-        // The image of the largest budget feeds the difference images; written before its row,
-        // so a row on disk always has its image.
-        if (budget == budgets_.back()) writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
+        std::vector<SeedRender> renders;
+        Json perSeed = Json::array();
+        uint64_t sppSum = 0;
+        for (uint32_t k = 0; k < args_.seeds; ++k) {
+          scene.settings.seed = seedFor(s, budget, k);
+          std::optional<double> seconds;
+          if (args_.sppBudgets.empty())
+            seconds = budget;
+          else
+            scene.settings.spp = static_cast<uint32_t>(budget);
+          const RenderStats stats = renderImage(scene, seconds);
+          const RenderError error = renderError(lastImage_, reference_);
+          renders.push_back({error, stats.seconds});
+          sppSum += stats.spp;
+          perSeed.push_back({{"seed", scene.settings.seed},
+                             {"seconds", stats.seconds},
+                             {"spp", stats.spp},
+                             {"relmse", error.relMse},
+                             {"relmse_trimmed", error.relMseTrimmed},
+                             {"rmse", error.rmse}});
+          // The first seed's image of the largest budget feeds the difference images; written
+          // before its row, so a row on disk always has its image.
+          if (k == 0 && budget == budgets_.back())
+            writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
+        }
+        const SeedAggregate a = aggregateSeeds(renders);
+        const uint64_t spp = (sppSum + args_.seeds / 2) / args_.seeds;
         Json row{{"bsdf_sampling", toString(s.bsdf)},
                  {"env_sampling", toString(s.env)},
                  {"mis", toString(s.mis)},
                  {"budget_kind", budgetKind()},
                  {"budget", budget},
-                 {"seed", scene.settings.seed},
-                 {"seconds", stats.seconds},
-                 {"spp", stats.spp},
-                 {"relmse", error.relMse},
-                 {"rmse", error.rmse},
+                 {"seeds", args_.seeds},
+                 {"seconds", a.seconds.mean},
+                 {"seconds_stderr", a.seconds.standardError},
+                 {"spp", spp},
+                 {"relmse", a.relMse.mean},
+                 {"relmse_stderr", a.relMse.standardError},
+                 {"relmse_trimmed", a.relMseTrimmed.mean},
+                 {"relmse_trimmed_stderr", a.relMseTrimmed.standardError},
+                 {"rmse", a.rmse.mean},
+                 {"rmse_stderr", a.rmse.standardError},
+                 {"efficiency", a.efficiency.mean},
+                 {"efficiency_stderr", a.efficiency.standardError},
                  {"brdf_table_bytes", memory.brdf},
                  {"env_table_bytes", memory.environment},
                  {"table_bytes", memory.brdf + memory.environment},
                  {"table_ms", tableMs},
                  {"tables_built", tables_->tablesBuilt().size() - builtBefore},
-                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore}};
+                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore},
+                 {"per_seed", perSeed}};
         done_.insert(rowKey(row));
         rows_.push_back(std::move(row));
         ++rendered_;
         writeResults();
-        std::fprintf(stderr, "[%zu/%zu] %s, %g %s: %u spp, relMSE %.3g, RMSE %.3g\n", index, total, s.label().c_str(),
-                     budget, args_.sppBudgets.empty() ? "s" : "spp", stats.spp, error.relMse, error.rmse);
+        std::fprintf(stderr, "[%zu/%zu] %s, %g %s, %u seeds: %llu spp, relMSE %.3g +- %.2g, trimmed %.3g\n", index,
+                     total, s.label().c_str(), budget, args_.sppBudgets.empty() ? "s" : "spp", args_.seeds,
+                     static_cast<unsigned long long>(spp), a.relMse.mean, a.relMse.standardError, a.relMseTrimmed.mean);
       }
     }
     if (rendered_ == 0) writeResults();  // the settings of this run, even when nothing was new
@@ -474,6 +534,7 @@ class BenchError {
   std::string sceneHash_, referenceHash_, referenceDescription_, referenceOrigin_;
   Json referenceInfo_;
   uint32_t width_ = 0, height_ = 0;
+  uint64_t sceneSeed_ = 0;
   Image reference_, lastImage_;
   std::set<std::string> done_;
   std::vector<Json> rows_;
@@ -488,16 +549,20 @@ Command addBenchError(CLI::App& parent) {
       "bench-error", "Error against render time for every sampling strategy combination, against a reference.");
   app->footer(
       "Renders SCENE with every combination of the strategy lists (default: all of them) for every budget,\n"
-      "each with its own seed, and measures the error against a reference: relMSE = mean over pixels and\n"
-      "channels of (I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2). The tables are built (or read\n"
-      "from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
+      "--seeds times, and measures the error against a reference: relMSE = mean over pixels and channels of\n"
+      "(I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2), and the firefly-robust relmse_trimmed =\n"
+      "relMSE after discarding the 0.1% of pixels of largest error. A row reports the means over its seeds,\n"
+      "their standard errors (*_stderr) and efficiency = 1 / (relMSE x seconds) with its delta-method error.\n"
+      "Seed k of a row is a hash of the scene's seed, the strategy, the budget and k. The tables are built\n"
+      "(or read from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
       "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
       "the first --env-sampling, and BRDF strategies other than the first when no material is measured.\n"
       "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
       "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
       "DIR gets results.csv and results.json (rewritten after every row: a stopped run resumes, skipping\n"
-      "finished rows, when the scene, reference, budget kind and threads are the same), images/ (the renders\n"
-      "of the largest budget), diff/ (false colour: red where a render differs from the reference, and where\n"
+      "finished rows, when the scene, reference, budget kind, threads and seeds are the same), images/ (the\n"
+      "first seed's renders of the largest budget), diff/ (false colour: red where a render differs from the "
+      "reference, and where\n"
       "the adaptive table's render differs from the uniform table's), and the plots of --plot-script.\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / reference / output directory or command line, 3 the plots\n"
@@ -512,6 +577,7 @@ Command addBenchError(CLI::App& parent) {
       ->delimiter(',')
       ->check(CLI::Range(1u, 1u << 20))
       ->excludes(budgets);
+  app->add_option("--seeds", args->seeds, "Independent renders per row (default 4)")->check(CLI::Range(1u, 1000u));
   app->add_option("-o,--out", args->out, "Output directory (default bench-error)");
   app->add_option("--bsdf-sampling", args->bsdf, "BRDF strategies, e.g. uniform,adaptive (default: all)")
       ->delimiter(',');

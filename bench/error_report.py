@@ -127,16 +127,24 @@ def markdown(data, results, image_dir, doc_dir, command):
     for name, title in (("error_vs_time.png", "Error against time"), ("memory_vs_error.png", "Table memory against error")):
         if os.path.exists(os.path.join(image_dir, name)):
             out += [f"![{title}]({rel(os.path.join(image_dir, name))})", ""]
-    out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; efficiency = 1 / (relMSE × time):", ""]
-    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "RMSE", "efficiency", "table memory",
-              "table set-up (ms)"]
+    seeds = settings.get("seeds", 1)
+    out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; mean ± standard error over {seeds} "
+            "seed(s); relMSE trimmed = relMSE without the 0.1% of pixels of largest error (firefly-robust); "
+            "efficiency = 1 / (relMSE × time), its error by the delta method:", ""]
+    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE", "efficiency",
+              "table memory", "table set-up (ms)"]
     table_rows = []
     for s, points in curves.items():
         p = points[-1]
-        eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
-        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"], f"{p['relmse']:.3g}",
-                                         f"{p['rmse']:.3g}", f"{eff:.3g}", fmt_bytes(p["table_bytes"]),
-                                         f"{p['table_ms']:.0f}"]))
+        eff = p.get("efficiency")
+        if eff is None:
+            eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
+        pm = lambda key, value: f"{value:.3g} ± {p.get(key, 0):.2g}"
+        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"],
+                                         pm("relmse_stderr", p["relmse"]),
+                                         pm("relmse_trimmed_stderr", p.get("relmse_trimmed", p["relmse"])),
+                                         f"{p['rmse']:.3g}", pm("efficiency_stderr", eff),
+                                         fmt_bytes(p["table_bytes"]), f"{p['table_ms']:.0f}"]))
     table_rows.sort(key=lambda t: t[0])
     out.append(table(header, [r for _, r in table_rows]))
     diffs = sorted(f for f in os.listdir(image_dir) if f.endswith("_adaptive_power.png"))
