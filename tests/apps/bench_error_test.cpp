@@ -319,6 +319,12 @@ TEST_F(BenchErrorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
                                              {"--budgets", "abc"},
                                              {"--spp-budgets", "0"},
                                              {"--seeds", "0"},
+                                             {"--shard", "0/2"},
+                                             {"--shard", "3/2"},
+                                             {"--shard", "2"},
+                                             {"--shard", "1/0"},
+                                             {"--shard", "a/b"},
+                                             {"--shard", "1/2x"},
                                              {"--budgets", "1", "--spp-budgets", "2"},
                                              {"--env-sampling", "sunny"},
                                              {"--mis", "both"}}) {
@@ -349,6 +355,77 @@ TEST_F(BenchErrorCli, APlotFailureKeepsTheResultsAndSaysWhy) {
   EXPECT_EQ(r.exitCode, 3) << apptest::describe(r);
   EXPECT_NE(r.err.find("plotting failed (cannot run " + path("no-python") + ")"), std::string::npos) << r.err;
   EXPECT_EQ(results()["rows"].size(), 1u);
+}
+
+// The figures of a row that do not depend on the clock or the table cache.
+nlohmann::json deterministic(const nlohmann::json& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& row : rows) {
+    nlohmann::json r;
+    for (const char* key :
+         {"row", "bsdf_sampling", "env_sampling", "mis", "budget", "seeds", "spp", "relmse", "relmse_stderr",
+          "relmse_trimmed", "relmse_trimmed_stderr", "rmse", "rmse_stderr", "table_bytes"})
+      r[key] = row.at(key);
+    for (const auto& seed : row.at("per_seed")) r["per_seed"].push_back({seed.at("seed"), seed.at("relmse")});
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
+  // 2 strategies x 3 budgets: the shards split each strategy's budgets between them.
+  const std::vector<std::string> small = {"--spp-budgets",   "1,2,4",           "--seeds", "2",
+                                          "--bsdf-sampling", "adaptive",        "--mis",   "power",
+                                          "--env-sampling",  "uniform,adaptive"};
+  std::vector<std::string> whole = small;
+  whole.push_back("--no-plot");
+  const RunResult unsharded = benchError(whole, "whole");
+  ASSERT_EQ(unsharded.exitCode, 0) << apptest::describe(unsharded);
+
+  // The shards at once with GNU parallel when it is there (else one after the other), measured
+  // against the unsharded run's reference (rendered once, as across machines), then merged.
+  std::string command = "ACDF=" + apptest::acdfExe() + " " + apptest::sourceDir() +
+                        "/scripts/bench-error-parallel --no-plot 2 " + path("sharded") + " " + path("scene.json") +
+                        " --reference " + path("whole/reference.exr");
+  for (const std::string& a : small) command += " " + a;
+  command += " >" + path("parallel.out") + " 2>" + path("parallel.err");
+  ASSERT_EQ(std::system(command.c_str()), 0) << apptest::readFile(path("parallel.err"));
+  const nlohmann::json merged = results("sharded"), reference = results("whole");
+  EXPECT_EQ(results("sharded/shard-1")["rows"].size(), 3u);
+  EXPECT_EQ(results("sharded/shard-2")["rows"].size(), 3u);
+  ASSERT_EQ(merged["rows"].size(), 6u);
+  EXPECT_EQ(deterministic(merged["rows"]), deterministic(reference["rows"]));
+  nlohmann::json mergedSettings = merged["settings"], unshardedSettings = reference["settings"];
+  mergedSettings.erase("reference");  // its render time
+  unshardedSettings.erase("reference");
+  EXPECT_EQ(mergedSettings, unshardedSettings);
+  EXPECT_EQ(apptest::readFile(path("sharded/results.csv")).substr(0, 100),
+            apptest::readFile(path("whole/results.csv")).substr(0, 100));
+  for (const char* image : {"images/adaptive_uniform_power.exr", "images/adaptive_adaptive_power.exr",
+                            "diff/adaptive_adaptive_power.png", "diff/env-adaptive-vs-uniform_adaptive_power.png"}) {
+    EXPECT_TRUE(fs::is_regular_file(path(std::string("sharded/") + image))) << image;
+    EXPECT_TRUE(readImage(path(std::string("sharded/") + image)).pixels ==
+                readImage(path(std::string("whole/") + image)).pixels)
+        << image;
+  }
+
+  // Shards of other runs, a shard missing or given twice: exit 2, naming the problem.
+  std::vector<std::string> other = small;
+  other[3] = "1";
+  other.insert(other.end(), {"--shard", "2/2", "--no-plot"});
+  ASSERT_EQ(benchError(other, "other").exitCode, 0);
+  const auto mergeOf = [&](std::vector<std::string> dirs) {
+    std::vector<std::string> args = {"bench-error", "--out", path("merged"), "--no-plot", "--merge"};
+    for (const std::string& d : dirs) args.push_back(path(d));
+    return apptest::runAcdf(args, dir_);
+  };
+  expectOneLineFailure(mergeOf({"sharded/shard-1", "other"}), "acdf: " + path("other/results.json") + ": ",
+                       "its seeds (1) differs from that of " + path("sharded/shard-1") + " (2)");
+  expectOneLineFailure(mergeOf({"sharded/shard-1"}), "acdf: ", "shard 2/2 is missing");
+  expectOneLineFailure(mergeOf({"sharded/shard-1", "sharded/shard-1"}), "acdf: ", "shard 1/2 is given twice");
+  expectOneLineFailure(mergeOf({"whole"}), "acdf: ", "not a shard");
+  expectOneLineFailure(mergeOf({"nothing"}), "acdf: " + path("nothing/results.json") + ": ", "no results");
+  EXPECT_FALSE(fs::exists(path("merged")));
 }
 
 bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
