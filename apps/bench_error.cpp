@@ -53,6 +53,9 @@ struct BenchErrorArgs {
   std::vector<uint32_t> sppBudgets;
   std::vector<std::string> bsdf, env, mis;
   uint32_t referenceSpp = 1024;
+  uint32_t seeds = 4;
+  std::string shard;               // "K/N", empty: every row
+  std::vector<std::string> merge;  // shard output directories to join
   uint32_t threads = 0;
   bool noCache = false, noPlot = false;
   std::string plotScript = ACDF_BENCH_ERROR_SCRIPT, python = "/usr/bin/python3";
@@ -99,10 +102,29 @@ std::string rowKey(const Json& row) {
                 row.value("budget", 0.0));
 }
 
-const char* const kCsvColumns[] = {
-    "bsdf_sampling", "env_sampling",     "mis",  "budget_kind",      "budget",          "seed",        "seconds",
-    "spp",           "relmse",           "rmse", "brdf_table_bytes", "env_table_bytes", "table_bytes", "table_ms",
-    "tables_built",  "tables_from_cache"};
+const char* const kCsvColumns[] = {"bsdf_sampling",
+                                   "env_sampling",
+                                   "mis",
+                                   "budget_kind",
+                                   "budget",
+                                   "seeds",
+                                   "seconds",
+                                   "seconds_stderr",
+                                   "spp",
+                                   "relmse",
+                                   "relmse_stderr",
+                                   "relmse_trimmed",
+                                   "relmse_trimmed_stderr",
+                                   "rmse",
+                                   "rmse_stderr",
+                                   "efficiency",
+                                   "efficiency_stderr",
+                                   "brdf_table_bytes",
+                                   "env_table_bytes",
+                                   "table_bytes",
+                                   "table_ms",
+                                   "tables_built",
+                                   "tables_from_cache"};
 
 std::string csvCell(const Json& v) {
   if (v.is_string()) return v.get<std::string>();  // strategy names: no commas or quotes
@@ -120,6 +142,28 @@ std::string toCsv(const Json& rows) {
     out += line + "\n";
   }
   return out;
+}
+
+// DIR/results.csv and DIR/results.json, each replaced atomically.
+void writeResultFiles(const fs::path& dir, const Json& settings, const Json& skipped, const Json& rows) {
+  Json j{{"settings", settings}, {"skipped", skipped}, {"rows", rows}};
+  writeTextFileAtomically((dir / "results.csv").string(), toCsv(rows));
+  writeTextFileAtomically((dir / "results.json").string(), j.dump(2) + "\n");
+}
+
+// "K/N" with 1 <= K <= N: this shard renders the rows of index % N == K - 1.
+struct Shard {
+  uint32_t k = 1, n = 1;
+  bool has(std::size_t row) const { return row % n == k - 1; }
+};
+
+Shard parseShard(const std::string& text) {
+  unsigned k = 0, n = 0;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "%u/%u%c", &k, &n, &rest) != 2 ||
+      text.find_first_not_of("0123456789/") != std::string::npos || n < 1 || k < 1 || k > n)
+    throw UsageError(fmt::format("bench-error: --shard: '{}' is not K/N with 1 <= K <= N", text));
+  return {k, n};
 }
 
 // Runs `python script plot results.json DIR`; returns an empty string on success, else why not.
@@ -151,6 +195,8 @@ class BenchError {
   explicit BenchError(const BenchErrorArgs& args) : args_(args), dir_(args.out) {}
 
   int run() {
+    if (!args_.merge.empty()) return merge();
+    if (args_.scene.empty()) throw UsageError("bench-error: SCENE is required (or --merge DIR...)");
     validate();
     std::optional<tbb::global_control> threads;
     if (args_.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args_.threads);
@@ -162,6 +208,7 @@ class BenchError {
     const Film film = makeFilm(scene);
     width_ = film.width();
     height_ = film.height();
+    sceneSeed_ = scene.settings.seed;
     StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, scene.hasMeasuredMaterial());
     plan_ = std::move(plan.render);
     skipped_ = std::move(plan.skipped);
@@ -178,8 +225,16 @@ class BenchError {
                            args_.scene, plan_.size(), budgets_.size(), budgetKind(), skipped_.size());
     for (const SkippedStrategy& s : skipped_)
       summary += fmt::format("  left out  {}: {}\n", s.strategy.label(), s.reason);
+    if (!args_.shard.empty())
+      summary += fmt::format("shard       {}: the rows of index % {} == {}\n", args_.shard, shard_.n, shard_.k - 1);
     summary += fmt::format("reference   {} ({})\n", referenceDescription_, referenceOrigin_);
     summary += fmt::format("rows        {} rendered, {} kept from an earlier run\n", rendered_, kept_);
+    return finish(summary, differenceImages);
+  }
+
+ private:
+  // The summary's last lines and the plots, for a run and a merge alike.
+  int finish(std::string summary, std::size_t differenceImages) {
     summary += fmt::format("wrote       {}, {}, {} difference images in {}\n", (dir_ / "results.csv").string(),
                            (dir_ / "results.json").string(), differenceImages, (dir_ / "diff").string());
     std::fputs(summary.c_str(), stdout);
@@ -194,9 +249,97 @@ class BenchError {
     return std::fflush(stdout) == 0 ? 0 : 1;
   }
 
- private:
+  // --merge: the shards' rows, checked to be of one run, into --out as an unsharded run writes
+  // them. Every check comes before anything is written.
+  int merge() {
+    if (!args_.scene.empty()) throw UsageError("bench-error: --merge takes shard directories, not SCENE");
+    if (!args_.shard.empty()) throw UsageError("bench-error: --merge and --shard exclude each other");
+    std::vector<Json> shards;
+    for (const std::string& dir : args_.merge) {
+      const fs::path file = fs::path(dir) / "results.json";
+      const auto j = readJsonFile(file);
+      if (!j || !(*j)["settings"].is_object() || !(*j)["rows"].is_array())
+        throw FileError(file.string(), "no results of a bench-error run (a shard's --out?)");
+      shards.push_back(*j);
+    }
+    const Json& first = shards[0]["settings"];
+    std::set<uint32_t> seen;
+    for (std::size_t i = 0; i < shards.size(); ++i) {
+      const Json& settings = shards[i]["settings"];
+      const std::string file = (fs::path(args_.merge[i]) / "results.json").string();
+      for (const char* key :
+           {"scene_hash", "reference_hash", "budget_kind", "budgets", "seeds", "scene_seed", "threads", "strategies"})
+        if (settings.value(key, Json()) != first.value(key, Json()))
+          throw FileError(
+              file, fmt::format("its {} ({}) differs from that of {} ({}): not shards of one run", key,
+                                settings.value(key, Json()).dump(), args_.merge[0], first.value(key, Json()).dump()));
+      const Json shard = settings.value("shard", Json());
+      if (!shard.is_object()) throw FileError(file, "not a shard (run with --shard K/N)");
+      if (shard.value("n", 0u) != first["shard"].value("n", 0u))
+        throw FileError(file, fmt::format("shard {}/{} of another split than {} ({}/{})", shard.value("k", 0u),
+                                          shard.value("n", 0u), args_.merge[0], first["shard"].value("k", 0u),
+                                          first["shard"].value("n", 0u)));
+      if (!seen.insert(shard.value("k", 0u)).second)
+        throw FileError(file, fmt::format("shard {}/{} is given twice", shard.value("k", 0u), shard.value("n", 0u)));
+    }
+    const uint32_t n = first["shard"].value("n", 0u);
+    for (uint32_t k = 1; k <= n; ++k)
+      if (!seen.contains(k)) throw UsageError(fmt::format("bench-error: --merge: shard {}/{} is missing", k, n));
+
+    // The reference: the first shard's rendered one, else the given file; its pixels must be those
+    // every shard measured against.
+    const fs::path rendered = fs::path(args_.merge[0]) / "reference.exr";
+    std::error_code ec;
+    const std::string referenceFile =
+        fs::is_regular_file(rendered, ec) ? rendered.string() : first["reference"].value("file", rendered.string());
+    reference_ = readImage(referenceFile);
+    referenceInfo_ = first["reference"];
+    finishReference();
+    if (referenceHash_ != first.value("reference_hash", ""))
+      throw FileError(referenceFile, "its pixels are not those of the shards' reference");
+    width_ = reference_.width;
+    height_ = reference_.height;
+
+    std::vector<Json> rows;
+    for (const Json& shard : shards)
+      for (const Json& row : shard["rows"]) rows.push_back(row);
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const Json& a, const Json& b) { return a.value("row", 0u) < b.value("row", 0u); });
+    std::set<std::string> planned;
+    for (const Json& row : rows) {
+      const Strategy s{
+          parseOption("bench-error", "bsdf_sampling", row.value("bsdf_sampling", ""), parseBrdfSampling),
+          parseOption("bench-error", "env_sampling", row.value("env_sampling", ""), parseEnvironmentSampling),
+          parseOption("bench-error", "mis", row.value("mis", ""), parseMisMode)};
+      if (planned.insert(s.id()).second) plan_.push_back(s);
+    }
+
+    prepareOutputDirectory();
+    if (fs::is_regular_file(rendered, ec)) {
+      fs::copy_file(rendered, dir_ / "reference.exr", fs::copy_options::overwrite_existing);
+      fs::copy_file(fs::path(args_.merge[0]) / "reference.json", dir_ / "reference.json",
+                    fs::copy_options::overwrite_existing);
+    }
+    for (const std::string& dir : args_.merge)
+      for (const Strategy& s : plan_) {
+        const fs::path image = fs::path(dir) / "images" / (s.id() + ".exr");
+        if (fs::is_regular_file(image, ec))
+          fs::copy_file(image, dir_ / "images" / image.filename(), fs::copy_options::overwrite_existing);
+      }
+    Json settings = first;
+    settings.erase("shard");
+    Json rowsJson = Json::array();
+    for (const Json& row : rows) rowsJson.push_back(row);
+    writeResultFiles(dir_, settings, shards[0]["skipped"], rowsJson);
+    const std::size_t differenceImages = writeDifferenceImages();
+    const std::string summary = fmt::format("bench-error --merge: {} shards of {}, {} rows\n", shards.size(),
+                                            first.value("scene", ""), rows.size());
+    return finish(summary, differenceImages);
+  }
+
   // Everything about the command line that can be checked before anything is written.
   void validate() {
+    if (!args_.shard.empty()) shard_ = parseShard(args_.shard);
     bsdfs_ = parseList<BrdfSampling>(args_.bsdf, "--bsdf-sampling", parseBrdfSampling,
                                      {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive});
     envs_ = parseList<EnvironmentSampling>(args_.env, "--env-sampling", parseEnvironmentSampling,
@@ -310,18 +453,38 @@ class BenchError {
     return stats;
   }
 
-  Json settings() const {
-    return Json{{"scene", args_.scene},
-                {"scene_hash", sceneHash_},
-                {"reference", referenceInfo_},
-                {"reference_hash", referenceHash_},
-                {"budget_kind", budgetKind()},
-                {"threads", args_.threads},
-                {"relmse", "mean over pixels and channels of (I - R)^2 / (R^2 + 0.01)"},
-                {"rmse", "sqrt(mean over pixels and channels of (I - R)^2)"}};
+  Json strategyIds() const {
+    Json ids = Json::array();
+    for (const Strategy& s : plan_) ids.push_back(s.id());
+    return ids;
   }
 
-  // Rows of an earlier run with the same scene, reference, budget kind and threads are kept.
+  Json settings() const {
+    Json j{{"scene", args_.scene},
+           {"scene_hash", sceneHash_},
+           {"reference", referenceInfo_},
+           {"reference_hash", referenceHash_},
+           {"budget_kind", budgetKind()},
+           {"threads", args_.threads},
+           {"budgets", budgets_},
+           {"strategies", strategyIds()},
+           {"seeds", args_.seeds},
+           {"scene_seed", sceneSeed_},
+           {"relmse", "mean over pixels and channels of (I - R)^2 / (R^2 + 0.01)"},
+           {"relmse_trimmed",
+            fmt::format("relmse after discarding the floor({} x pixels) pixels of largest error (a pixel's error: "
+                        "the mean over its channels)",
+                        kTrimmedFraction)},
+           {"rmse", "sqrt(mean over pixels and channels of (I - R)^2)"},
+           {"efficiency",
+            "1 / (relmse x seconds) of the means over seeds; its stderr by the delta method with the seeds' "
+            "covariance of relmse and seconds"},
+           {"stderr", "standard error of the mean over seeds: sample standard deviation / sqrt(seeds)"}};
+    if (!args_.shard.empty()) j["shard"] = {{"k", shard_.k}, {"n", shard_.n}};
+    return j;
+  }
+
+  // Rows of an earlier run with the same scene, reference, budget kind, threads and seeds are kept.
   void resume() {
     const fs::path path = dir_ / "results.json";
     const auto earlier = readJsonFile(path);
@@ -330,12 +493,15 @@ class BenchError {
     const Json& then = (*earlier)["settings"];
     const bool same = then.is_object() && then.value("scene_hash", "") == now["scene_hash"] &&
                       then.value("reference_hash", "") == now["reference_hash"] &&
-                      then.value("budget_kind", "") == now["budget_kind"] && then.value("threads", 0u) == args_.threads;
+                      then.value("budget_kind", "") == now["budget_kind"] &&
+                      then.value("threads", 0u) == args_.threads && then.value("seeds", 0u) == args_.seeds &&
+                      then.value("scene_seed", uint64_t(0)) == sceneSeed_ &&
+                      then.value("shard", Json()) == now.value("shard", Json());
     if (!same || !(*earlier)["rows"].is_array()) {
-      std::fprintf(
-          stderr,
-          "bench-error: %s is from other settings (scene, reference, budget kind or threads): starting afresh\n",
-          path.c_str());
+      std::fprintf(stderr,
+                   "bench-error: %s is from other settings (scene, reference, budget kind, threads, seeds or shard): "
+                   "starting afresh\n",
+                   path.c_str());
       return;
     }
     for (const Json& row : (*earlier)["rows"])
@@ -343,21 +509,34 @@ class BenchError {
     kept_ = rows_.size();
   }
 
-  uint64_t seedFor(const Strategy& s, double budget) const {
-    return ContentHash().text(s.id()).number(std::bit_cast<uint64_t>(budget)).digest().low;
+  // Seed `k` of a row: a hash of the scene's seed, the strategy, the budget and k, so every render
+  // of the matrix has its own seed and a rerun (or a shard) renders the same ones.
+  uint64_t seedFor(const Strategy& s, double budget, uint32_t k) const {
+    return ContentHash().number(sceneSeed_).text(s.id()).number(std::bit_cast<uint64_t>(budget)).number(k).digest().low;
   }
 
   void renderRows() {
+    // A row's index in the matrix (strategy-major, then budget): what a shard selects by, and the
+    // order --merge restores. Rows kept from an earlier run get their index in this matrix.
+    const auto key = [](const Strategy& s, double budget) {
+      return rowKey(std::string(toString(s.bsdf)), std::string(toString(s.env)), std::string(toString(s.mis)), budget);
+    };
+    std::map<std::string, std::size_t> indexOf;
+    for (std::size_t i = 0; i < plan_.size(); ++i)
+      for (std::size_t b = 0; b < budgets_.size(); ++b) indexOf[key(plan_[i], budgets_[b])] = i * budgets_.size() + b;
+    for (Json& row : rows_)
+      if (const auto at = indexOf.find(rowKey(row)); at != indexOf.end()) row["row"] = at->second;
+
     const std::size_t total = plan_.size() * budgets_.size();
     std::size_t index = 0;
     for (const Strategy& s : plan_) {
       const auto pending = [&](double budget) {
-        return !done_.contains(
-            rowKey(std::string(toString(s.bsdf)), std::string(toString(s.env)), std::string(toString(s.mis)), budget));
+        return shard_.has(indexOf.at(key(s, budget))) && !done_.contains(key(s, budget));
       };
       if (std::none_of(budgets_.begin(), budgets_.end(), pending)) {
         index += budgets_.size();
-        std::fprintf(stderr, "[%zu/%zu] %s: kept from an earlier run\n", index, total, s.label().c_str());
+        std::fprintf(stderr, "[%zu/%zu] %s: kept from an earlier run or in another shard\n", index, total,
+                     s.label().c_str());
         continue;
       }
       SceneOverrides overrides;
@@ -372,39 +551,65 @@ class BenchError {
       for (double budget : budgets_) {
         ++index;
         if (!pending(budget)) continue;
-        scene.settings.seed = seedFor(s, budget);
-        std::optional<double> seconds;
-        if (args_.sppBudgets.empty())
-          seconds = budget;
-        else
-          scene.settings.spp = static_cast<uint32_t>(budget);
-        const RenderStats stats = renderImage(scene, seconds);
-        const RenderError error = renderError(lastImage_, reference_);
-        // The image of the largest budget feeds the difference images; written before its row,
-        // so a row on disk always has its image.
-        if (budget == budgets_.back()) writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
-        Json row{{"bsdf_sampling", toString(s.bsdf)},
+        std::vector<SeedRender> renders;
+        Json perSeed = Json::array();
+        uint64_t sppSum = 0;
+        for (uint32_t k = 0; k < args_.seeds; ++k) {
+          scene.settings.seed = seedFor(s, budget, k);
+          std::optional<double> seconds;
+          if (args_.sppBudgets.empty())
+            seconds = budget;
+          else
+            scene.settings.spp = static_cast<uint32_t>(budget);
+          const RenderStats stats = renderImage(scene, seconds);
+          const RenderError error = renderError(lastImage_, reference_);
+          renders.push_back({error, stats.seconds});
+          sppSum += stats.spp;
+          perSeed.push_back({{"seed", scene.settings.seed},
+                             {"seconds", stats.seconds},
+                             {"spp", stats.spp},
+                             {"relmse", error.relMse},
+                             {"relmse_trimmed", error.relMseTrimmed},
+                             {"rmse", error.rmse}});
+          // The first seed's image of the largest budget feeds the difference images; written
+          // before its row, so a row on disk always has its image.
+          if (k == 0 && budget == budgets_.back())
+            writeImage((dir_ / "images" / (s.id() + ".exr")).string(), lastImage_, false);
+        }
+        const SeedAggregate a = aggregateSeeds(renders);
+        const uint64_t spp = (sppSum + args_.seeds / 2) / args_.seeds;
+        Json row{{"row", indexOf.at(key(s, budget))},
+                 {"bsdf_sampling", toString(s.bsdf)},
                  {"env_sampling", toString(s.env)},
                  {"mis", toString(s.mis)},
                  {"budget_kind", budgetKind()},
                  {"budget", budget},
-                 {"seed", scene.settings.seed},
-                 {"seconds", stats.seconds},
-                 {"spp", stats.spp},
-                 {"relmse", error.relMse},
-                 {"rmse", error.rmse},
+                 {"seeds", args_.seeds},
+                 {"seconds", a.seconds.mean},
+                 {"seconds_stderr", a.seconds.standardError},
+                 {"spp", spp},
+                 {"relmse", a.relMse.mean},
+                 {"relmse_stderr", a.relMse.standardError},
+                 {"relmse_trimmed", a.relMseTrimmed.mean},
+                 {"relmse_trimmed_stderr", a.relMseTrimmed.standardError},
+                 {"rmse", a.rmse.mean},
+                 {"rmse_stderr", a.rmse.standardError},
+                 {"efficiency", a.efficiency.mean},
+                 {"efficiency_stderr", a.efficiency.standardError},
                  {"brdf_table_bytes", memory.brdf},
                  {"env_table_bytes", memory.environment},
                  {"table_bytes", memory.brdf + memory.environment},
                  {"table_ms", tableMs},
                  {"tables_built", tables_->tablesBuilt().size() - builtBefore},
-                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore}};
+                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore},
+                 {"per_seed", perSeed}};
         done_.insert(rowKey(row));
         rows_.push_back(std::move(row));
         ++rendered_;
         writeResults();
-        std::fprintf(stderr, "[%zu/%zu] %s, %g %s: %u spp, relMSE %.3g, RMSE %.3g\n", index, total, s.label().c_str(),
-                     budget, args_.sppBudgets.empty() ? "s" : "spp", stats.spp, error.relMse, error.rmse);
+        std::fprintf(stderr, "[%zu/%zu] %s, %g %s, %u seeds: %llu spp, relMSE %.3g +- %.2g, trimmed %.3g\n", index,
+                     total, s.label().c_str(), budget, args_.sppBudgets.empty() ? "s" : "spp", args_.seeds,
+                     static_cast<unsigned long long>(spp), a.relMse.mean, a.relMse.standardError, a.relMseTrimmed.mean);
       }
     }
     if (rendered_ == 0) writeResults();  // the settings of this run, even when nothing was new
@@ -419,9 +624,7 @@ class BenchError {
                          {"reason", s.reason}});
     Json rows = Json::array();
     for (const Json& r : rows_) rows.push_back(r);
-    Json j{{"settings", settings()}, {"skipped", skipped}, {"rows", rows}};
-    writeTextFileAtomically((dir_ / "results.csv").string(), toCsv(rows));
-    writeTextFileAtomically((dir_ / "results.json").string(), j.dump(2) + "\n");
+    writeResultFiles(dir_, settings(), skipped, rows);
   }
 
   // diff/<strategy>.png against the reference, and diff/<axis>-adaptive-vs-uniform_<rest>.png
@@ -474,6 +677,8 @@ class BenchError {
   std::string sceneHash_, referenceHash_, referenceDescription_, referenceOrigin_;
   Json referenceInfo_;
   uint32_t width_ = 0, height_ = 0;
+  uint64_t sceneSeed_ = 0;
+  Shard shard_;
   Image reference_, lastImage_;
   std::set<std::string> done_;
   std::vector<Json> rows_;
@@ -488,21 +693,28 @@ Command addBenchError(CLI::App& parent) {
       "bench-error", "Error against render time for every sampling strategy combination, against a reference.");
   app->footer(
       "Renders SCENE with every combination of the strategy lists (default: all of them) for every budget,\n"
-      "each with its own seed, and measures the error against a reference: relMSE = mean over pixels and\n"
-      "channels of (I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2). The tables are built (or read\n"
-      "from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
+      "--seeds times, and measures the error against a reference: relMSE = mean over pixels and channels of\n"
+      "(I - R)^2 / (R^2 + 0.01), RMSE = sqrt(mean of (I - R)^2), and the firefly-robust relmse_trimmed =\n"
+      "relMSE after discarding the 0.1% of pixels of largest error. A row reports the means over its seeds,\n"
+      "their standard errors (*_stderr) and efficiency = 1 / (relMSE x seconds) with its delta-method error.\n"
+      "Seed k of a row is a hash of the scene's seed, the strategy, the budget and k. The tables are built\n"
+      "(or read from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
       "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
       "the first --env-sampling, and BRDF strategies other than the first when no material is measured.\n"
       "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
       "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
       "DIR gets results.csv and results.json (rewritten after every row: a stopped run resumes, skipping\n"
-      "finished rows, when the scene, reference, budget kind and threads are the same), images/ (the renders\n"
-      "of the largest budget), diff/ (false colour: red where a render differs from the reference, and where\n"
-      "the adaptive table's render differs from the uniform table's), and the plots of --plot-script.\n"
+      "finished rows, when the scene, reference, budget kind, threads and seeds are the same), images/ (the\n"
+      "first seed's renders of the largest budget), diff/ (false colour: red where a render differs from the\n"
+      "reference, and where the adaptive table's render differs from the uniform table's), and the plots\n"
+      "of --plot-script.\n"
+      "--shard K/N renders only the rows of index % N == K - 1 (numbered strategy-major, then budget);\n"
+      "--merge DIR... joins shard outputs, checked to come from one run (scene, reference, budgets, seeds,\n"
+      "strategies, threads), into --out as an unsharded run writes them (scripts/bench-error-parallel).\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / reference / output directory or command line, 3 the plots\n"
       "failed (the results are complete), 1 internal error.");
-  app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
+  app->add_option("SCENE", args->scene, "Scene file (JSON); not with --merge");
   app->add_option("--reference", args->reference, "Reference image (linear EXR of the scene's resolution)");
   app->add_option("--reference-spp", args->referenceSpp, "Samples per pixel of a rendered reference")
       ->check(CLI::Range(1u, 1u << 20));
@@ -512,6 +724,9 @@ Command addBenchError(CLI::App& parent) {
       ->delimiter(',')
       ->check(CLI::Range(1u, 1u << 20))
       ->excludes(budgets);
+  app->add_option("--seeds", args->seeds, "Independent renders per row (default 4)")->check(CLI::Range(1u, 1000u));
+  app->add_option("--shard", args->shard, "K/N: render only the rows of index % N == K - 1 (1 <= K <= N)");
+  app->add_option("--merge", args->merge, "Join these shard output directories into --out, then plot")->expected(1, -1);
   app->add_option("-o,--out", args->out, "Output directory (default bench-error)");
   app->add_option("--bsdf-sampling", args->bsdf, "BRDF strategies, e.g. uniform,adaptive (default: all)")
       ->delimiter(',');

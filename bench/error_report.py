@@ -3,8 +3,9 @@
 
 usage: bench/error_report.py plot RESULTS.json OUT_DIR
          error_vs_time.png (log-log relMSE against render time, one curve per strategy
-         combination, a panel per MIS mode) and memory_vs_error.png (table memory against the
-         relMSE of the largest budget), into OUT_DIR.
+         combination with standard-error bars over the seeds, a panel per MIS mode; colour = BRDF
+         strategy, line style and marker = environment strategy) and memory_vs_error.png (table
+         memory against the relMSE of the largest budget), into OUT_DIR.
        bench/error_report.py docs RESULTS.json DOC.md IMAGE_DIR [--command TEXT]
          copies the plots and the adaptive-vs-uniform difference images next to RESULTS.json into
          IMAGE_DIR and rewrites the part of DOC.md between <!-- bench-error: begin --> and
@@ -24,7 +25,10 @@ from doc_sections import fmt_bytes, machine, replace_sections, table
 
 MIS_ORDER = ["power", "balance", "light-only", "bsdf-only"]
 ENV_ORDER = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"]
-BSDF_STYLE = {"cosine": ":", "uniform": "--", "adaptive": "-"}
+BSDF_COLOR = {"cosine": "tab:gray", "uniform": "tab:blue", "adaptive": "tab:red"}
+# Line style and marker of each environment strategy: one curve told apart by two cues.
+ENV_STYLE = {"uniform-sphere": (":", "x"), "uniform": ("--", "s"), "alias": ((0, (1, 1, 4, 1)), "v"),
+             "adaptive": ("-", "o"), "compensated": ("-.", "^"), "hierarchical": ((0, (6, 2)), "D")}
 
 
 def load(path):
@@ -67,34 +71,58 @@ def plot(results, out_dir):
         sys.exit(f"error_report.py: {results} has no rows to plot")
     curves = by_strategy(rows)
     kind = data["settings"].get("budget_kind", "seconds")
-    colors = {env: plt.get_cmap("tab10")(i) for i, env in enumerate(ENV_ORDER)}
+    from matplotlib.lines import Line2D
     mises = sorted({s[2] for s in curves}, key=lambda m: MIS_ORDER.index(m) if m in MIS_ORDER else 9)
+    seeds = data["settings"].get("seeds", 1)
 
-    fig, axes = plt.subplots(1, len(mises), figsize=(5.2 * len(mises), 4.6), squeeze=False, sharey=True)
+    fig, axes = plt.subplots(1, len(mises), figsize=(5.2 * len(mises), 4.9), squeeze=False, sharey=True)
     for ax, mis in zip(axes[0], mises):
         for s in sorted((s for s in curves if s[2] == mis), key=sort_key):
             points = curves[s]
             xs = [p["seconds"] if kind == "seconds" else p["spp"] for p in points]
-            ax.loglog(xs, [p["relmse"] for p in points], BSDF_STYLE.get(s[0], "-"), marker="o", markersize=3,
-                      color=colors.get(s[1], "black"), label=f"{s[0]} × {s[1]}")
+            ys = [p["relmse"] for p in points]
+            # Bars of ± one standard error, the lower one kept above 0 for the log axis.
+            se = [p.get("relmse_stderr", 0) for p in points]
+            style, marker = ENV_STYLE.get(s[1], ("-", "o"))
+            ax.errorbar(xs, ys, yerr=[[min(e, 0.95 * y) for e, y in zip(se, ys)], se], linestyle=style,
+                        marker=marker, markersize=3.5, linewidth=1.2, capsize=2, elinewidth=0.8,
+                        color=BSDF_COLOR.get(s[0], "black"), markerfacecolor="none")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
         ax.set_title(f"MIS: {mis}")
         ax.set_xlabel("render time (s)" if kind == "seconds" else "samples per pixel")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6, title="BRDF × environment", title_fontsize=7)
-    axes[0][0].set_ylabel("relMSE against the reference")
-    fig.suptitle(f"{data['settings']['scene']}: error against {'time' if kind == 'seconds' else 'samples'}")
+    shown = {s[0] for s in curves}, {s[1] for s in curves}
+    bsdf_keys = [Line2D([], [], color=BSDF_COLOR[b], linewidth=2, label=b) for b in BSDF_COLOR if b in shown[0]]
+    env_keys = [Line2D([], [], color="black", linestyle=ENV_STYLE[e][0], marker=ENV_STYLE[e][1], markersize=4,
+                       markerfacecolor="none", label=e) for e in ENV_ORDER if e in shown[1]]
+    first = axes[0][0]
+    first.add_artist(first.legend(handles=bsdf_keys, title="BRDF sampling (colour)", fontsize=7, title_fontsize=7,
+                                  loc="lower left"))
+    axes[0][-1].legend(handles=env_keys, title="environment (line, marker)", fontsize=7, title_fontsize=7,
+                       loc="upper right")
+    first.set_ylabel(f"relMSE against the reference (mean ± s.e., {seeds} seed{'s' if seeds != 1 else ''})")
+    fig.suptitle(f"{data['settings']['scene']}: error against {'time' if kind == 'seconds' else 'samples'}\n"
+                 f"{machine()}", fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "error_vs_time.png"), dpi=90)
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(7, 4.6))
-    markers = {"power": "o", "balance": "s", "light-only": "^", "bsdf-only": "x"}
+    # Colour = BRDF strategy and marker = environment strategy as in error_vs_time; fill = MIS.
+    fills = {"power": "full", "balance": "bottom", "light-only": "left", "bsdf-only": "none"}
     for s in sorted(curves, key=sort_key):
         last = curves[s][-1]
-        ax.scatter([max(last["table_bytes"], 1) / 2**20], [last["relmse"]], color=colors.get(s[1], "black"),
-                   marker=markers.get(s[2], "o"), label=f"{s[0]} × {s[1]} × {s[2]}")
+        se = last.get("relmse_stderr", 0)
+        ax.errorbar([max(last["table_bytes"], 1) / 2**20], [last["relmse"]],
+                    yerr=[[min(se, 0.95 * last["relmse"])], [se]], color=BSDF_COLOR.get(s[0], "black"),
+                    marker=ENV_STYLE.get(s[1], ("-", "o"))[1], linestyle="none", capsize=2,
+                    fillstyle=fills.get(s[2], "full"),
+                    label=f"{s[0]} × {s[1]} × {s[2]}")
     ax.set_xscale("symlog", linthresh=0.01)
     ax.set_yscale("log")
+    fig.suptitle(f"{data['settings']['scene']}: table memory against error\n(colour = BRDF, marker = "
+                 "environment, fill = MIS; bars ± one standard error)", fontsize=9)
     ax.set_xlabel("table memory, BRDF + environment (MiB; 0 = no table)")
     ax.set_ylabel(f"relMSE at the largest budget ({curves[next(iter(curves))][-1]['budget']:g} {kind})")
     ax.grid(True, which="both", alpha=0.3)
@@ -127,16 +155,24 @@ def markdown(data, results, image_dir, doc_dir, command):
     for name, title in (("error_vs_time.png", "Error against time"), ("memory_vs_error.png", "Table memory against error")):
         if os.path.exists(os.path.join(image_dir, name)):
             out += [f"![{title}]({rel(os.path.join(image_dir, name))})", ""]
-    out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; efficiency = 1 / (relMSE × time):", ""]
-    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "RMSE", "efficiency", "table memory",
-              "table set-up (ms)"]
+    seeds = settings.get("seeds", 1)
+    out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; mean ± standard error over {seeds} "
+            "seed(s); relMSE trimmed = relMSE without the 0.1% of pixels of largest error (firefly-robust); "
+            "efficiency = 1 / (relMSE × time), its error by the delta method:", ""]
+    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE", "efficiency",
+              "table memory", "table set-up (ms)"]
     table_rows = []
     for s, points in curves.items():
         p = points[-1]
-        eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
-        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"], f"{p['relmse']:.3g}",
-                                         f"{p['rmse']:.3g}", f"{eff:.3g}", fmt_bytes(p["table_bytes"]),
-                                         f"{p['table_ms']:.0f}"]))
+        eff = p.get("efficiency")
+        if eff is None:
+            eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
+        pm = lambda key, value: f"{value:.3g} ± {p.get(key, 0):.2g}"
+        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"],
+                                         pm("relmse_stderr", p["relmse"]),
+                                         pm("relmse_trimmed_stderr", p.get("relmse_trimmed", p["relmse"])),
+                                         f"{p['rmse']:.3g}", pm("efficiency_stderr", eff),
+                                         fmt_bytes(p["table_bytes"]), f"{p['table_ms']:.0f}"]))
     table_rows.sort(key=lambda t: t[0])
     out.append(table(header, [r for _, r in table_rows]))
     diffs = sorted(f for f in os.listdir(image_dir) if f.endswith("_adaptive_power.png"))

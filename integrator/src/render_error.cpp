@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <vector>
 
 namespace acdf {
 
@@ -15,13 +18,66 @@ constexpr double kFullRedDifference = 0.5;
 
 RenderError renderError(const Image& image, const Image& reference) {
   double relSum = 0, sqSum = 0;
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const double r = reference.pixels[i], d = double(image.pixels[i]) - r;
-    relSum += d * d / (r * r + kRelMseOffset);
-    sqSum += d * d;
+  const std::size_t channels = std::max<uint32_t>(image.channels, 1);
+  std::vector<double> pixelTerms(image.pixels.size() / channels);
+  for (std::size_t p = 0; p < pixelTerms.size(); ++p) {
+    double pixelSum = 0;
+    for (std::size_t c = 0; c < channels; ++c) {
+      const std::size_t i = p * channels + c;
+      const double r = reference.pixels[i], d = double(image.pixels[i]) - r;
+      pixelSum += d * d / (r * r + kRelMseOffset);
+      sqSum += d * d;
+    }
+    relSum += pixelSum;
+    pixelTerms[p] = pixelSum / static_cast<double>(channels);
   }
   const double n = static_cast<double>(image.pixels.size());
-  return {relSum / n, std::sqrt(sqSum / n)};
+  // The trimmed mean: the largest terms moved to the back, the front summed.
+  const std::size_t discarded = static_cast<std::size_t>(kTrimmedFraction * static_cast<double>(pixelTerms.size()));
+  const std::size_t kept = pixelTerms.size() - discarded;
+  std::nth_element(pixelTerms.begin(), pixelTerms.begin() + static_cast<std::ptrdiff_t>(kept), pixelTerms.end());
+  double trimmedSum = 0;
+  for (std::size_t p = 0; p < kept; ++p) trimmedSum += pixelTerms[p];
+  return {relSum / n, std::sqrt(sqSum / n), kept > 0 ? trimmedSum / static_cast<double>(kept) : 0.0};
+}
+
+MeanAndError meanAndError(std::span<const double> values) {
+  if (values.empty()) return {};
+  const double k = static_cast<double>(values.size());
+  double sum = 0;
+  for (double v : values) sum += v;
+  const double mean = sum / k;
+  if (values.size() < 2) return {mean, 0};
+  double sq = 0;
+  for (double v : values) sq += (v - mean) * (v - mean);
+  return {mean, std::sqrt(sq / (k - 1) / k)};
+}
+
+SeedAggregate aggregateSeeds(std::span<const SeedRender> seeds) {
+  if (seeds.empty()) throw std::invalid_argument("aggregateSeeds: no seeds");
+  const auto over = [&](const std::function<double(const SeedRender&)>& field) {
+    std::vector<double> values;
+    for (const SeedRender& s : seeds) values.push_back(field(s));
+    return meanAndError(values);
+  };
+  SeedAggregate a;
+  a.relMse = over([](const SeedRender& s) { return s.error.relMse; });
+  a.relMseTrimmed = over([](const SeedRender& s) { return s.error.relMseTrimmed; });
+  a.rmse = over([](const SeedRender& s) { return s.error.rmse; });
+  a.seconds = over([](const SeedRender& s) { return s.seconds; });
+  const double r = a.relMse.mean, t = a.seconds.mean;
+  if (!(r > 0) || !(t > 0)) return a;  // a perfect or instant render has no finite efficiency
+  a.efficiency.mean = 1 / (r * t);
+  const double k = static_cast<double>(seeds.size());
+  double cov = 0;
+  if (seeds.size() > 1) {
+    for (const SeedRender& s : seeds) cov += (s.error.relMse - r) * (s.seconds - t);
+    cov /= k - 1;
+  }
+  const double rel2 = (a.relMse.standardError / r) * (a.relMse.standardError / r) +
+                      (a.seconds.standardError / t) * (a.seconds.standardError / t) + 2 * cov / (k * r * t);
+  a.efficiency.standardError = a.efficiency.mean * std::sqrt(std::max(rel2, 0.0));
+  return a;
 }
 
 Image differenceImage(const Image& a, const Image& b, const Image& reference) {

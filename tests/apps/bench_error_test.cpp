@@ -1,8 +1,8 @@
 // `acdf bench-error` end to end on a 32×16 scene (a tabulated gold sphere on a diffuse floor under a
 // smooth 64×32 sky the test writes) with sample-count budgets, so every figure is deterministic:
-// a row for every strategy combination, error falling with the sample count, CSV and JSON that
-// agree, resuming without rendering finished rows, reusing the reference only while it matches,
-// and the bad-input contract (exit 2, one line, nothing written).
+// a row for every strategy combination, error falling with the sample count, the mean and
+// standard error over seeds, CSV and JSON that agree, resuming without rendering finished rows, reusing the reference
+// only while it matches, and the bad-input contract (exit 2, one line, nothing written).
 
 #include <algorithm>
 #include <cmath>
@@ -122,8 +122,32 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
   return rows;
 }
 
+// A row's figures against those of its seeds (relMSE's stderr = s / √K by hand); adds the seeds.
+void expectRowAggregatesItsSeeds(const nlohmann::json& row, std::size_t seeds, std::set<uint64_t>& seedValues) {
+  ASSERT_EQ(row["seeds"], seeds);
+  ASSERT_EQ(row["per_seed"].size(), seeds);
+  double sum = 0, sq = 0;
+  for (const auto& render : row["per_seed"]) {
+    seedValues.insert(render["seed"].get<uint64_t>());
+    EXPECT_EQ(render["spp"].get<double>(), row["budget"].get<double>());
+    sum += render["relmse"].get<double>();
+  }
+  const double mean = sum / double(seeds);
+  for (const auto& render : row["per_seed"]) sq += std::pow(render["relmse"].get<double>() - mean, 2);
+  const double stderr_ = seeds > 1 ? std::sqrt(sq / double(seeds - 1) / double(seeds)) : 0.0;
+  EXPECT_NEAR(row["relmse"].get<double>(), mean, 1e-12 * mean);
+  EXPECT_NEAR(row["relmse_stderr"].get<double>(), stderr_, 1e-9 * mean);
+  EXPECT_EQ(row["relmse_stderr"].get<double>() > 0, seeds > 1);
+  EXPECT_NEAR(row["relmse_trimmed"].get<double>(), mean, 1e-12 * mean) << "512 pixels: none discarded";
+  EXPECT_NEAR(row["efficiency"].get<double>(), 1 / (mean * row["seconds"].get<double>()),
+              1e-9 * row["efficiency"].get<double>());
+  EXPECT_EQ(row["efficiency_stderr"].get<double>() > 0, seeds > 1);
+}
+
 TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRendersNothing) {
-  const RunResult first = benchError({"--spp-budgets", "1,8,64", "--no-plot"});
+  // Two seeds a row: the error falls with the sample count on their mean (a single seed's firefly
+  // can break that), and 171 rows stay fast. The resume test runs the default four.
+  const RunResult first = benchError({"--spp-budgets", "1,8,64", "--no-plot", "--seeds", "2"});
   ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
 
   // The combinations: all of them, minus those identical by construction.
@@ -142,21 +166,27 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   std::set<uint64_t> seeds;
   for (const auto& row : rows) {
     byCombination[{row["bsdf_sampling"], row["env_sampling"], row["mis"]}][row["budget"].get<double>()] = row;
-    seeds.insert(row["seed"].get<uint64_t>());
+    expectRowAggregatesItsSeeds(row, 2, seeds);
     EXPECT_EQ(row["spp"].get<double>(), row["budget"].get<double>());
     EXPECT_EQ(row["table_bytes"], row["brdf_table_bytes"].get<uint64_t>() + row["env_table_bytes"].get<uint64_t>());
     EXPECT_GT(row["relmse"].get<double>(), 0);
     EXPECT_GT(row["rmse"].get<double>(), 0);
   }
-  EXPECT_EQ(seeds.size(), rows.size()) << "every row renders with its own seed";
+  EXPECT_EQ(seeds.size(), 2 * rows.size()) << "every render has its own seed";
   ASSERT_EQ(byCombination.size(), expected.size());
+  std::size_t strictlyFalling = 0;
   for (const auto& [combination, budgets] : byCombination) {
     const auto& [bsdf, env, mis] = combination;
     EXPECT_TRUE(expected.contains(combination)) << bsdf << " " << env << " " << mis;
     ASSERT_EQ(budgets.size(), 3u);
-    const double e1 = budgets.at(1)["relmse"], e8 = budgets.at(8)["relmse"], e64 = budgets.at(64)["relmse"];
-    EXPECT_LT(e64, e8) << bsdf << " " << env << " " << mis;
-    EXPECT_LT(e8, e1) << bsdf << " " << env << " " << mis;
+    // The error falls with the sample count: beyond doubt over 64× the samples; over 8× within
+    // two standard errors, as a firefly in one seed (cosine sampling of the gold) can lift a mean.
+    const auto e = [&](double spp) { return budgets.at(spp)["relmse"].get<double>(); };
+    const auto se = [&](double spp) { return budgets.at(spp)["relmse_stderr"].get<double>(); };
+    EXPECT_LT(e(64), e(1)) << bsdf << " " << env << " " << mis;
+    EXPECT_LT(e(64) - 2 * se(64), e(8) + 2 * se(8)) << bsdf << " " << env << " " << mis;
+    EXPECT_LT(e(8) - 2 * se(8), e(1) + 2 * se(1)) << bsdf << " " << env << " " << mis;
+    strictlyFalling += e(64) < e(8) && e(8) < e(1);
     // Table memory: none without tables; the adaptive BRDF table is the smaller one.
     const auto bytes = [&](const std::string& b, const std::string& e) {
       return byCombination.at({b, e, mis}).at(64)["brdf_table_bytes"].get<uint64_t>();
@@ -169,6 +199,7 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + ".exr")));
     EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + ".png")));
   }
+  EXPECT_GE(strictlyFalling, 50u) << "of 57 combinations";
   EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power.png")));
   EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance.png")));
 
@@ -176,7 +207,7 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   const auto csv = parseCsv(apptest::readFile(path("out/results.csv")));
   ASSERT_EQ(csv.size(), rows.size() + 1);
   const std::vector<std::string>& header = csv[0];
-  ASSERT_EQ(header.size(), 16u);
+  ASSERT_EQ(header.size(), 23u);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_EQ(csv[i + 1].size(), header.size());
     for (std::size_t c = 0; c < header.size(); ++c) {
@@ -189,7 +220,7 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   }
 
   // Nothing new to render: every row is kept, the reference reused.
-  const RunResult second = benchError({"--spp-budgets", "1,8,64", "--no-plot"});
+  const RunResult second = benchError({"--spp-budgets", "1,8,64", "--no-plot", "--seeds", "2"});
   ASSERT_EQ(second.exitCode, 0) << apptest::describe(second);
   EXPECT_EQ(rowCounts(first), std::make_pair(198, 0));
   EXPECT_EQ(rowCounts(second), std::make_pair(0, 198));
@@ -205,6 +236,9 @@ TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
   ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
   EXPECT_EQ(rowCounts(first), std::make_pair(4, 0));
   const nlohmann::json complete = results();
+  std::set<uint64_t> seeds;
+  for (const auto& row : complete["rows"]) expectRowAggregatesItsSeeds(row, 4, seeds);
+  EXPECT_EQ(seeds.size(), 16u) << "four seeds a row, each its own";
 
   // A run stopped after its second row: the rows on disk are those finished.
   nlohmann::json stopped = complete;
@@ -217,9 +251,13 @@ TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
   const nlohmann::json& again = resumedResults["rows"];
   ASSERT_EQ(again.size(), complete["rows"].size());
   for (std::size_t i = 0; i < again.size(); ++i)
-    for (const char* key : {"bsdf_sampling", "env_sampling", "budget", "seed", "spp", "relmse", "rmse", "table_bytes"})
+    for (const char* key : {"bsdf_sampling", "env_sampling", "budget", "seeds", "spp", "relmse", "relmse_stderr",
+                            "relmse_trimmed", "rmse", "table_bytes"})
       EXPECT_EQ(again[i][key], complete["rows"][i][key])
           << "row " << i << " " << key << ": the same seed, the same row";
+  for (std::size_t i = 0; i < again.size(); ++i)
+    for (std::size_t k = 0; k < 4; ++k)
+      EXPECT_EQ(again[i]["per_seed"][k]["seed"], complete["rows"][i]["per_seed"][k]["seed"]) << "row " << i;
 
   // A wider matrix keeps the rows it shares with the earlier one.
   std::vector<std::string> wider = small;
@@ -227,6 +265,14 @@ TEST_F(BenchErrorCli, ResumeRendersOnlyTheRowsMissing) {
   const RunResult more = benchError(wider);
   ASSERT_EQ(more.exitCode, 0) << apptest::describe(more);
   EXPECT_EQ(rowCounts(more), std::make_pair(4, 4));
+
+  // Another number of seeds: other rows, rendered afresh.
+  std::vector<std::string> fewer = small;
+  fewer.insert(fewer.end(), {"--seeds", "1"});
+  const RunResult reseeded = benchError(fewer);
+  ASSERT_EQ(reseeded.exitCode, 0) << apptest::describe(reseeded);
+  EXPECT_EQ(rowCounts(reseeded), std::make_pair(4, 0));
+  EXPECT_NE(reseeded.err.find("starting afresh"), std::string::npos) << reseeded.err;
 }
 
 TEST_F(BenchErrorCli, ReferenceIsReusedOnlyWhileItMatches) {
@@ -273,6 +319,13 @@ TEST_F(BenchErrorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
                                              {"--budgets", "1,-2"},
                                              {"--budgets", "abc"},
                                              {"--spp-budgets", "0"},
+                                             {"--seeds", "0"},
+                                             {"--shard", "0/2"},
+                                             {"--shard", "3/2"},
+                                             {"--shard", "2"},
+                                             {"--shard", "1/0"},
+                                             {"--shard", "a/b"},
+                                             {"--shard", "1/2x"},
                                              {"--budgets", "1", "--spp-budgets", "2"},
                                              {"--env-sampling", "sunny"},
                                              {"--mis", "both"}}) {
@@ -303,6 +356,77 @@ TEST_F(BenchErrorCli, APlotFailureKeepsTheResultsAndSaysWhy) {
   EXPECT_EQ(r.exitCode, 3) << apptest::describe(r);
   EXPECT_NE(r.err.find("plotting failed (cannot run " + path("no-python") + ")"), std::string::npos) << r.err;
   EXPECT_EQ(results()["rows"].size(), 1u);
+}
+
+// The figures of a row that do not depend on the clock or the table cache.
+nlohmann::json deterministic(const nlohmann::json& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& row : rows) {
+    nlohmann::json r;
+    for (const char* key :
+         {"row", "bsdf_sampling", "env_sampling", "mis", "budget", "seeds", "spp", "relmse", "relmse_stderr",
+          "relmse_trimmed", "relmse_trimmed_stderr", "rmse", "rmse_stderr", "table_bytes"})
+      r[key] = row.at(key);
+    for (const auto& seed : row.at("per_seed")) r["per_seed"].push_back({seed.at("seed"), seed.at("relmse")});
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
+  // 2 strategies x 3 budgets: the shards split each strategy's budgets between them.
+  const std::vector<std::string> small = {"--spp-budgets",   "1,2,4",           "--seeds", "2",
+                                          "--bsdf-sampling", "adaptive",        "--mis",   "power",
+                                          "--env-sampling",  "uniform,adaptive"};
+  std::vector<std::string> whole = small;
+  whole.push_back("--no-plot");
+  const RunResult unsharded = benchError(whole, "whole");
+  ASSERT_EQ(unsharded.exitCode, 0) << apptest::describe(unsharded);
+
+  // The shards at once with GNU parallel when it is there (else one after the other), measured
+  // against the unsharded run's reference (rendered once, as across machines), then merged.
+  std::string command = "ACDF=" + apptest::acdfExe() + " " + apptest::sourceDir() +
+                        "/scripts/bench-error-parallel --no-plot 2 " + path("sharded") + " " + path("scene.json") +
+                        " --reference " + path("whole/reference.exr");
+  for (const std::string& a : small) command += " " + a;
+  command += " >" + path("parallel.out") + " 2>" + path("parallel.err");
+  ASSERT_EQ(std::system(command.c_str()), 0) << apptest::readFile(path("parallel.err"));
+  const nlohmann::json merged = results("sharded"), reference = results("whole");
+  EXPECT_EQ(results("sharded/shard-1")["rows"].size(), 3u);
+  EXPECT_EQ(results("sharded/shard-2")["rows"].size(), 3u);
+  ASSERT_EQ(merged["rows"].size(), 6u);
+  EXPECT_EQ(deterministic(merged["rows"]), deterministic(reference["rows"]));
+  nlohmann::json mergedSettings = merged["settings"], unshardedSettings = reference["settings"];
+  mergedSettings.erase("reference");  // its render time
+  unshardedSettings.erase("reference");
+  EXPECT_EQ(mergedSettings, unshardedSettings);
+  EXPECT_EQ(apptest::readFile(path("sharded/results.csv")).substr(0, 100),
+            apptest::readFile(path("whole/results.csv")).substr(0, 100));
+  for (const char* image : {"images/adaptive_uniform_power.exr", "images/adaptive_adaptive_power.exr",
+                            "diff/adaptive_adaptive_power.png", "diff/env-adaptive-vs-uniform_adaptive_power.png"}) {
+    EXPECT_TRUE(fs::is_regular_file(path(std::string("sharded/") + image))) << image;
+    EXPECT_TRUE(readImage(path(std::string("sharded/") + image)).pixels ==
+                readImage(path(std::string("whole/") + image)).pixels)
+        << image;
+  }
+
+  // Shards of other runs, a shard missing or given twice: exit 2, naming the problem.
+  std::vector<std::string> other = small;
+  other[3] = "1";
+  other.insert(other.end(), {"--shard", "2/2", "--no-plot"});
+  ASSERT_EQ(benchError(other, "other").exitCode, 0);
+  const auto mergeOf = [&](std::vector<std::string> dirs) {
+    std::vector<std::string> args = {"bench-error", "--out", path("merged"), "--no-plot", "--merge"};
+    for (const std::string& d : dirs) args.push_back(path(d));
+    return apptest::runAcdf(args, dir_);
+  };
+  expectOneLineFailure(mergeOf({"sharded/shard-1", "other"}), "acdf: " + path("other/results.json") + ": ",
+                       "its seeds (1) differs from that of " + path("sharded/shard-1") + " (2)");
+  expectOneLineFailure(mergeOf({"sharded/shard-1"}), "acdf: ", "shard 2/2 is missing");
+  expectOneLineFailure(mergeOf({"sharded/shard-1", "sharded/shard-1"}), "acdf: ", "shard 1/2 is given twice");
+  expectOneLineFailure(mergeOf({"whole"}), "acdf: ", "not a shard");
+  expectOneLineFailure(mergeOf({"nothing"}), "acdf: " + path("nothing/results.json") + ": ", "no results");
+  EXPECT_FALSE(fs::exists(path("merged")));
 }
 
 bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
