@@ -175,8 +175,13 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   EXPECT_EQ(seeds.size(), 2 * rows.size()) << "every render has its own seed";
   ASSERT_EQ(byCombination.size(), expected.size());
   std::size_t strictlyFalling = 0;
-  for (const auto& [combination, budgets] : byCombination) {
-    const auto& [bsdf, env, mis] = combination;
+  for (const auto& entry : byCombination) {
+    // Named references, not structured bindings: the lambdas below capture them (clang 14).
+    const auto& combination = entry.first;
+    const auto& budgets = entry.second;
+    const std::string& bsdf = std::get<0>(combination);
+    const std::string& env = std::get<1>(combination);
+    const std::string& mis = std::get<2>(combination);
     EXPECT_TRUE(expected.contains(combination)) << bsdf << " " << env << " " << mis;
     ASSERT_EQ(budgets.size(), 3u);
     // The error falls with the sample count: beyond doubt over 64× the samples; over 8× within
