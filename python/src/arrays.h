@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "acdf/sampling/rgb.h"
 #include "acdf/sampling/sphere.h"
 
 namespace acdf::python {
@@ -112,6 +113,12 @@ inline Directions directions(const Array<double>& a, const char* name) {
   const std::size_t n = rows(a, 3, name, true);
   requireDirections(a.data(), n, name);
   return {a.data(), n};
+}
+
+inline void storeRgb(float* data, std::size_t i, const Rgb& c) {
+  data[3 * i] = c.r;
+  data[3 * i + 1] = c.g;
+  data[3 * i + 2] = c.b;
 }
 
 inline void storeVec3(double* data, std::size_t i, const Vec3d& v) {

@@ -26,12 +26,6 @@ using namespace pybind11::literals;
 
 namespace {
 
-void storeRgb(float* data, std::size_t i, const Rgb& c) {
-  data[3 * i] = c.r;
-  data[3 * i + 1] = c.g;
-  data[3 * i + 2] = c.b;
-}
-
 // f(wo, wi) for batches of directions in the local frame; either may be one row (broadcast).
 template <class Evaluator>
 py::array_t<float> evalBatch(const Evaluator& f, const Array<double>& wo, const Array<double>& wi) {

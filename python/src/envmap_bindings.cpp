@@ -141,9 +141,7 @@ void bindLight(py::module_& m) {
         forEachRow(n, [&](std::size_t i) {
           const LightSample s = light.sample(context(i), in[2 * i], in[2 * i + 1]);
           storeVec3(ds, i, s.direction);
-          rs[3 * i] = s.radiance.r;
-          rs[3 * i + 1] = s.radiance.g;
-          rs[3 * i + 2] = s.radiance.b;
+          storeRgb(rs, i, s.radiance);
           ps[i] = s.pdf;
         });
         return py::make_tuple(dirs, radiance, pdf);
@@ -172,12 +170,7 @@ void bindLight(py::module_& m) {
         const Directions w = directions(dirs, "dirs");
         auto radiance = output<float>(w.rows, 3);
         float* rs = radiance.mutable_data();
-        forEachRow(w.rows, [&](std::size_t i) {
-          const Rgb l = light.eval(w[i]);
-          rs[3 * i] = l.r;
-          rs[3 * i + 1] = l.g;
-          rs[3 * i + 2] = l.b;
-        });
+        forEachRow(w.rows, [&](std::size_t i) { storeRgb(rs, i, light.eval(w[i])); });
         return radiance;
       },
       "dirs"_a, "Radiance arriving from each direction (nearest pixel, times the scale), shape (n, 3).");
