@@ -24,11 +24,12 @@ import sys
 from doc_sections import fmt_bytes, machine, replace_sections, table
 
 MIS_ORDER = ["power", "balance", "light-only", "bsdf-only"]
-ENV_ORDER = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical"]
+ENV_ORDER = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local"]
 BSDF_COLOR = {"cosine": "tab:gray", "uniform": "tab:blue", "adaptive": "tab:red"}
 # Line style and marker of each environment strategy: one curve told apart by two cues.
 ENV_STYLE = {"uniform-sphere": (":", "x"), "uniform": ("--", "s"), "alias": ((0, (1, 1, 4, 1)), "v"),
-             "adaptive": ("-", "o"), "compensated": ("-.", "^"), "hierarchical": ((0, (6, 2)), "D")}
+             "adaptive": ("-", "o"), "compensated": ("-.", "^"), "hierarchical": ((0, (6, 2)), "D"),
+             "local": ((0, (3, 1, 1, 1, 1, 1)), "P")}
 
 
 def load(path):
