@@ -23,12 +23,14 @@ RESULTS_DIR ?= bench/results
 BENCH_ARGS ?=
 DEMO_INPUT ?= data/envmaps/sunset_1024x512.exr
 # make bench's error-against-time run (acdf bench-error on scenes/demo.json): three MIS modes
-# (balance behaves like power), budgets up to 2 s, each rendered with 4 seeds for error bars:
-# 14 s of rendering a combination, as the single-seed 1-8 s run before, about 15 minutes on 2
-# cores. A stopped run resumes. The full matrix (all four MIS modes, 1-16 s, 4 seeds, about
-# 2 hours): BENCH_ERROR_ARGS= (docs/performance.md, "Error against time").
+# (balance behaves like power), four environment tables (pbrt-v4's uniform one, our adaptive,
+# compensated and local ones), independent and Sobol samples, budgets up to 2 s, each rendered
+# with 4 seeds for error bars: 14 s of rendering a combination, about 15 minutes on 2 cores. A
+# stopped run resumes. The full matrix (every strategy, both samplers, 1-16 s, 4 seeds, about 4
+# hours): BENCH_ERROR_ARGS="--sampler independent,sobol" (docs/performance.md).
 BENCH_ERROR_DIR ?= $(RESULTS_DIR)/error
-BENCH_ERROR_ARGS ?= --budgets 0.5,1,2 --seeds 4 --mis power,bsdf-only,light-only --reference-spp 1024
+BENCH_ERROR_ARGS ?= --budgets 0.5,1,2 --seeds 4 --mis power,bsdf-only,light-only \
+  --env-sampling uniform,adaptive,compensated,local --sampler independent,sobol --reference-spp 1024
 BENCH_ERROR_COMMAND = $(BUILD_DIR)/bin/acdf bench-error scenes/demo.json --out $(BENCH_ERROR_DIR) $(BENCH_ERROR_ARGS)
 # The demo's measured materials, generated from the bundled neural fits (35 MB each, not in git).
 # scenes/demo.json refers to them as ../build/demo/*.binary, so they live there whatever BUILD_DIR.

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -51,8 +52,9 @@ struct BenchErrorArgs {
   std::string scene, reference, out = "bench-error";
   std::vector<double> budgets;  // seconds
   std::vector<uint32_t> sppBudgets;
-  std::vector<std::string> bsdf, env, mis;
+  std::vector<std::string> bsdf, env, mis, samplers;
   uint32_t referenceSpp = 1024;
+  double targetRelMse = 0;  // 0: the least relMSE of any strategy at the smallest budget
   uint32_t seeds = 4;
   std::string shard;               // "K/N", empty: every row
   std::vector<std::string> merge;  // shard output directories to join
@@ -93,18 +95,29 @@ std::vector<T> parseList(const std::vector<std::string>& names, const std::strin
   return out;
 }
 
-// Row key for resuming: the strategy and the budget.
-std::string rowKey(const std::string& bsdf, const std::string& env, const std::string& mis, double budget) {
-  return fmt::format("{}|{}|{}|{:a}", bsdf, env, mis, budget);
+// A results row's strategy; none if a name is missing or unknown.
+std::optional<Strategy> strategyOf(const Json& row) {
+  try {
+    return Strategy{parseBrdfSampling(row.value("bsdf_sampling", "")),
+                    parseEnvironmentSampling(row.value("env_sampling", "")), parseMisMode(row.value("mis", "")),
+                    parseSamplerKind(row.value("sampler", ""))};
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;
+  }
 }
-std::string rowKey(const Json& row) {
-  return rowKey(row.value("bsdf_sampling", ""), row.value("env_sampling", ""), row.value("mis", ""),
-                row.value("budget", 0.0));
+
+// Row key for resuming: the strategy and the budget.
+std::string rowKey(const Strategy& s, double budget) { return fmt::format("{}|{:a}", s.id(), budget); }
+std::optional<std::string> rowKey(const Json& row) {
+  const std::optional<Strategy> s = strategyOf(row);
+  if (!s || !row.contains("budget") || !row["budget"].is_number()) return std::nullopt;
+  return rowKey(*s, row["budget"].get<double>());
 }
 
 const char* const kCsvColumns[] = {"bsdf_sampling",
                                    "env_sampling",
                                    "mis",
+                                   "sampler",
                                    "budget_kind",
                                    "budget",
                                    "seeds",
@@ -144,10 +157,69 @@ std::string toCsv(const Json& rows) {
   return out;
 }
 
-// DIR/results.csv and DIR/results.json, each replaced atomically.
-void writeResultFiles(const fs::path& dir, const Json& settings, const Json& skipped, const Json& rows) {
-  Json j{{"settings", settings}, {"skipped", skipped}, {"rows", rows}};
+// The relMSE the time-to-target figures aim at: the one given, else the least any strategy
+// reached at the smallest budget (so the best strategy needs that budget, the others longer).
+double targetRelMse(const Json& rows, double given) {
+  if (given > 0 || rows.empty()) return given;
+  double smallest = std::numeric_limits<double>::infinity(), target = 0;
+  for (const Json& row : rows) smallest = std::min(smallest, row.value("budget", 0.0));
+  for (const Json& row : rows)
+    if (row.value("budget", 0.0) == smallest && row.value("relmse", 0.0) > 0)
+      target = target > 0 ? std::min(target, row.value("relmse", 0.0)) : row.value("relmse", 0.0);
+  return target;
+}
+
+// Per strategy, the render time to reach `target` along its rows (timeToReach).
+Json curves(const Json& rows, double target) {
+  std::map<std::string, std::pair<Strategy, std::vector<ErrorAtTime>>> byStrategy;
+  for (const Json& row : rows) {
+    const Strategy s = *strategyOf(row);
+    auto& [strategy, points] = byStrategy.try_emplace(s.id(), s, std::vector<ErrorAtTime>{}).first->second;
+    points.push_back({row.value("seconds", 0.0), {row.value("relmse", 0.0), row.value("relmse_stderr", 0.0)}});
+  }
+  Json out = Json::array();
+  for (auto& [id, entry] : byStrategy) {
+    auto& [s, points] = entry;
+    std::sort(points.begin(), points.end(),
+              [](const ErrorAtTime& a, const ErrorAtTime& b) { return a.seconds < b.seconds; });
+    const TimeToTarget t = timeToReach(points, target);
+    out.push_back({{"bsdf_sampling", toString(s.bsdf)},
+                   {"env_sampling", toString(s.env)},
+                   {"mis", toString(s.mis)},
+                   {"sampler", toString(s.sampler)},
+                   {"time_to_target", std::isfinite(t.seconds) ? Json(t.seconds) : Json()},
+                   {"time_to_target_stderr", std::isfinite(t.standardError) ? Json(t.standardError) : Json()},
+                   {"time_to_target_extrapolated", t.extrapolated}});
+  }
+  return out;
+}
+
+std::string curvesCsv(const Json& curves) {
+  std::string out = "bsdf_sampling,env_sampling,mis,sampler,time_to_target,time_to_target_stderr,extrapolated\n";
+  for (const Json& c : curves)
+    out += fmt::format("{},{},{},{},{},{},{}\n", c["bsdf_sampling"].get<std::string>(),
+                       c["env_sampling"].get<std::string>(), c["mis"].get<std::string>(),
+                       c["sampler"].get<std::string>(), csvCell(c["time_to_target"]),
+                       csvCell(c["time_to_target_stderr"]), c["time_to_target_extrapolated"].get<bool>() ? 1 : 0);
+  return out;
+}
+
+// DIR/results.csv, DIR/curves.csv and DIR/results.json, each replaced atomically.
+void writeResultFiles(const fs::path& dir, const Json& settings, const Json& skipped, const Json& rows,
+                      double givenTarget) {
+  const double target = targetRelMse(rows, givenTarget);
+  Json j{{"settings", settings},
+         {"skipped", skipped},
+         {"target_relmse", target},
+         {"target_relmse_rule",
+          givenTarget > 0 ? "given (--target-relmse)" : "the least relmse of any strategy at the smallest budget"},
+         {"time_to_target",
+          "render seconds to reach target_relmse: interpolated log-log between the budgets around it, else "
+          "extrapolated from the nearest end by relmse ~ 1/seconds; stderr from the budgets' relmse stderr"},
+         {"curves", curves(rows, target)},
+         {"rows", rows}};
   writeTextFileAtomically((dir / "results.csv").string(), toCsv(rows));
+  writeTextFileAtomically((dir / "curves.csv").string(), curvesCsv(j["curves"]));
   writeTextFileAtomically((dir / "results.json").string(), j.dump(2) + "\n");
 }
 
@@ -209,7 +281,8 @@ class BenchError {
     width_ = film.width();
     height_ = film.height();
     sceneSeed_ = scene.settings.seed;
-    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, scene.hasMeasuredMaterial());
+    if (samplers_.empty()) samplers_ = {scene.settings.sampler};
+    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, samplers_, scene.hasMeasuredMaterial());
     plan_ = std::move(plan.render);
     skipped_ = std::move(plan.skipped);
     if (!args_.reference.empty()) loadGivenReference();
@@ -281,6 +354,10 @@ class BenchError {
                                           first["shard"].value("n", 0u)));
       if (!seen.insert(shard.value("k", 0u)).second)
         throw FileError(file, fmt::format("shard {}/{} is given twice", shard.value("k", 0u), shard.value("n", 0u)));
+      for (const Json& row : shards[i]["rows"])
+        if (!rowKey(row))
+          throw FileError(file,
+                          "a row without a known strategy (bsdf_sampling, env_sampling, mis, sampler) and budget");
     }
     const uint32_t n = first["shard"].value("n", 0u);
     for (uint32_t k = 1; k <= n; ++k)
@@ -306,13 +383,8 @@ class BenchError {
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Json& a, const Json& b) { return a.value("row", 0u) < b.value("row", 0u); });
     std::set<std::string> planned;
-    for (const Json& row : rows) {
-      const Strategy s{
-          parseOption("bench-error", "bsdf_sampling", row.value("bsdf_sampling", ""), parseBrdfSampling),
-          parseOption("bench-error", "env_sampling", row.value("env_sampling", ""), parseEnvironmentSampling),
-          parseOption("bench-error", "mis", row.value("mis", ""), parseMisMode)};
-      if (planned.insert(s.id()).second) plan_.push_back(s);
-    }
+    for (const Json& row : rows)
+      if (const Strategy s = *strategyOf(row); planned.insert(s.id()).second) plan_.push_back(s);
 
     prepareOutputDirectory();
     if (fs::is_regular_file(rendered, ec)) {
@@ -330,7 +402,7 @@ class BenchError {
     settings.erase("shard");
     Json rowsJson = Json::array();
     for (const Json& row : rows) rowsJson.push_back(row);
-    writeResultFiles(dir_, settings, shards[0]["skipped"], rowsJson);
+    writeResultFiles(dir_, settings, shards[0]["skipped"], rowsJson, args_.targetRelMse);
     const std::size_t differenceImages = writeDifferenceImages();
     const std::string summary = fmt::format("bench-error --merge: {} shards of {}, {} rows\n", shards.size(),
                                             first.value("scene", ""), rows.size());
@@ -346,6 +418,7 @@ class BenchError {
                                            {std::begin(kEnvironmentSamplings), std::end(kEnvironmentSamplings)});
     mises_ = parseList<MisMode>(args_.mis, "--mis", parseMisMode,
                                 {MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly});
+    samplers_ = parseList<SamplerKind>(args_.samplers, "--sampler", parseSamplerKind, {});
     if (!args_.sppBudgets.empty()) {
       for (uint32_t spp : args_.sppBudgets) budgets_.push_back(spp);
     } else {
@@ -505,7 +578,8 @@ class BenchError {
       return;
     }
     for (const Json& row : (*earlier)["rows"])
-      if (row.is_object() && done_.insert(rowKey(row)).second) rows_.push_back(row);
+      if (const auto key = row.is_object() ? rowKey(row) : std::nullopt; key && done_.insert(*key).second)
+        rows_.push_back(row);
     kept_ = rows_.size();
   }
 
@@ -518,20 +592,18 @@ class BenchError {
   void renderRows() {
     // A row's index in the matrix (strategy-major, then budget): what a shard selects by, and the
     // order --merge restores. Rows kept from an earlier run get their index in this matrix.
-    const auto key = [](const Strategy& s, double budget) {
-      return rowKey(std::string(toString(s.bsdf)), std::string(toString(s.env)), std::string(toString(s.mis)), budget);
-    };
     std::map<std::string, std::size_t> indexOf;
     for (std::size_t i = 0; i < plan_.size(); ++i)
-      for (std::size_t b = 0; b < budgets_.size(); ++b) indexOf[key(plan_[i], budgets_[b])] = i * budgets_.size() + b;
+      for (std::size_t b = 0; b < budgets_.size(); ++b)
+        indexOf[rowKey(plan_[i], budgets_[b])] = i * budgets_.size() + b;
     for (Json& row : rows_)
-      if (const auto at = indexOf.find(rowKey(row)); at != indexOf.end()) row["row"] = at->second;
+      if (const auto at = indexOf.find(*rowKey(row)); at != indexOf.end()) row["row"] = at->second;
 
     const std::size_t total = plan_.size() * budgets_.size();
     std::size_t index = 0;
     for (const Strategy& s : plan_) {
       const auto pending = [&](double budget) {
-        return shard_.has(indexOf.at(key(s, budget))) && !done_.contains(key(s, budget));
+        return shard_.has(indexOf.at(rowKey(s, budget))) && !done_.contains(rowKey(s, budget));
       };
       if (std::none_of(budgets_.begin(), budgets_.end(), pending)) {
         index += budgets_.size();
@@ -543,6 +615,7 @@ class BenchError {
       overrides.bsdfSampling = s.bsdf;
       overrides.envSampling = s.env;
       overrides.mis = s.mis;
+      overrides.sampler = s.sampler;
       const std::size_t builtBefore = tables_->tablesBuilt().size(), cachedBefore = tables_->tablesFromCache().size();
       const auto setupStart = Clock::now();
       Scene scene = loadScene(args_.scene, overrides, *tables_);
@@ -578,10 +651,11 @@ class BenchError {
         }
         const SeedAggregate a = aggregateSeeds(renders);
         const uint64_t spp = (sppSum + args_.seeds / 2) / args_.seeds;
-        Json row{{"row", indexOf.at(key(s, budget))},
+        Json row{{"row", indexOf.at(rowKey(s, budget))},
                  {"bsdf_sampling", toString(s.bsdf)},
                  {"env_sampling", toString(s.env)},
                  {"mis", toString(s.mis)},
+                 {"sampler", toString(s.sampler)},
                  {"budget_kind", budgetKind()},
                  {"budget", budget},
                  {"seeds", args_.seeds},
@@ -603,7 +677,7 @@ class BenchError {
                  {"tables_built", tables_->tablesBuilt().size() - builtBefore},
                  {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore},
                  {"per_seed", perSeed}};
-        done_.insert(rowKey(row));
+        done_.insert(rowKey(s, budget));
         rows_.push_back(std::move(row));
         ++rendered_;
         writeResults();
@@ -621,10 +695,11 @@ class BenchError {
       skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)},
                          {"env_sampling", toString(s.strategy.env)},
                          {"mis", toString(s.strategy.mis)},
+                         {"sampler", toString(s.strategy.sampler)},
                          {"reason", s.reason}});
     Json rows = Json::array();
     for (const Json& r : rows_) rows.push_back(r);
-    writeResultFiles(dir_, settings(), skipped, rows);
+    writeResultFiles(dir_, settings(), skipped, rows, args_.targetRelMse);
   }
 
   // diff/<strategy>.png against the reference, and diff/<axis>-adaptive-vs-uniform_<rest>.png
@@ -648,16 +723,16 @@ class BenchError {
     for (const auto& [id, image] : images) write(id, image, reference_);
     for (const Strategy& s : plan_) {
       if (s.env == EnvironmentSampling::Adaptive) {
-        const Strategy uniform{s.bsdf, EnvironmentSampling::Uniform, s.mis};
+        const Strategy uniform{s.bsdf, EnvironmentSampling::Uniform, s.mis, s.sampler};
         if (images.contains(s.id()) && images.contains(uniform.id()))
-          write(fmt::format("env-adaptive-vs-uniform_{}_{}", toString(s.bsdf), toString(s.mis)), images.at(s.id()),
-                images.at(uniform.id()));
+          write(fmt::format("env-adaptive-vs-uniform_{}_{}_{}", toString(s.bsdf), toString(s.mis), toString(s.sampler)),
+                images.at(s.id()), images.at(uniform.id()));
       }
       if (s.bsdf == BrdfSampling::Adaptive) {
-        const Strategy uniform{BrdfSampling::Uniform, s.env, s.mis};
+        const Strategy uniform{BrdfSampling::Uniform, s.env, s.mis, s.sampler};
         if (images.contains(s.id()) && images.contains(uniform.id()))
-          write(fmt::format("bsdf-adaptive-vs-uniform_{}_{}", toString(s.env), toString(s.mis)), images.at(s.id()),
-                images.at(uniform.id()));
+          write(fmt::format("bsdf-adaptive-vs-uniform_{}_{}_{}", toString(s.env), toString(s.mis), toString(s.sampler)),
+                images.at(s.id()), images.at(uniform.id()));
       }
     }
     return written;
@@ -671,6 +746,7 @@ class BenchError {
   std::vector<BrdfSampling> bsdfs_;
   std::vector<EnvironmentSampling> envs_;
   std::vector<MisMode> mises_;
+  std::vector<SamplerKind> samplers_;  // empty until the scene is loaded: its own sampler
   std::vector<double> budgets_;
   std::vector<Strategy> plan_;
   std::vector<SkippedStrategy> skipped_;
@@ -699,10 +775,13 @@ Command addBenchError(CLI::App& parent) {
       "their standard errors (*_stderr) and efficiency = 1 / (relMSE x seconds) with its delta-method error.\n"
       "Seed k of a row is a hash of the scene's seed, the strategy, the budget and k. The tables are built\n"
       "(or read from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
+      "A combination is BRDF sampling x environment sampling x MIS mode x sample source (--sampler).\n"
       "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
       "the first --env-sampling, and BRDF strategies other than the first when no material is measured.\n"
       "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
       "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
+      "Per strategy, curves.csv (and results.json's curves) give the render time to reach --target-relmse,\n"
+      "interpolated log-log between budgets, else extrapolated by relMSE ~ 1/time (flagged).\n"
       "DIR gets results.csv and results.json (rewritten after every row: a stopped run resumes, skipping\n"
       "finished rows, when the scene, reference, budget kind, threads and seeds are the same), images/ (the\n"
       "first seed's renders of the largest budget), diff/ (false colour: red where a render differs from the\n"
@@ -724,6 +803,9 @@ Command addBenchError(CLI::App& parent) {
       ->delimiter(',')
       ->check(CLI::Range(1u, 1u << 20))
       ->excludes(budgets);
+  app->add_option("--target-relmse", args->targetRelMse,
+                  "relMSE for the time-to-target figures (default: the least of any strategy at the smallest budget)")
+      ->check(CLI::PositiveNumber);
   app->add_option("--seeds", args->seeds, "Independent renders per row (default 4)")->check(CLI::Range(1u, 1000u));
   app->add_option("--shard", args->shard, "K/N: render only the rows of index % N == K - 1 (1 <= K <= N)");
   app->add_option("--merge", args->merge, "Join these shard output directories into --out, then plot")->expected(1, -1);
@@ -732,6 +814,8 @@ Command addBenchError(CLI::App& parent) {
       ->delimiter(',');
   app->add_option("--env-sampling", args->env, "Environment strategies (default: all)")->delimiter(',');
   app->add_option("--mis", args->mis, "MIS modes, e.g. power,bsdf-only (default: all)")->delimiter(',');
+  app->add_option("--sampler", args->samplers, "Sample sources, e.g. independent,sobol (default: the scene's)")
+      ->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");
   app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
   app->add_flag("--no-plot", args->noPlot, "Do not run the plot script");

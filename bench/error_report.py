@@ -3,9 +3,11 @@
 
 usage: bench/error_report.py plot RESULTS.json OUT_DIR
          error_vs_time.png (log-log relMSE against render time, one curve per strategy
-         combination with standard-error bars over the seeds, a panel per MIS mode; colour = BRDF
-         strategy, line style and marker = environment strategy) and memory_vs_error.png (table
-         memory against the relMSE of the largest budget), into OUT_DIR.
+         combination with standard-error bars over the seeds, a panel per MIS mode and sample
+         source; colour = BRDF strategy, line style and marker = environment strategy; in each
+         panel the best curve at the largest budget and the adaptive and uniform tables' pair are
+         drawn bold and named, the rest faint) and memory_vs_error.png (table memory against the
+         relMSE of the largest budget), into OUT_DIR.
        bench/error_report.py docs RESULTS.json DOC.md IMAGE_DIR [--command TEXT]
          copies the plots and the adaptive-vs-uniform difference images next to RESULTS.json into
          IMAGE_DIR and rewrites the part of DOC.md between <!-- bench-error: begin --> and
@@ -41,7 +43,7 @@ def load(path):
 
 
 def strategy(row):
-    return (row["bsdf_sampling"], row["env_sampling"], row["mis"])
+    return (row["bsdf_sampling"], row["env_sampling"], row["mis"], row["sampler"])
 
 
 def by_strategy(rows):
@@ -54,8 +56,37 @@ def by_strategy(rows):
 
 
 def sort_key(s):
-    bsdf, env, mis = s
-    return (MIS_ORDER.index(mis) if mis in MIS_ORDER else 9, ENV_ORDER.index(env) if env in ENV_ORDER else 9, bsdf)
+    bsdf, env, mis, sampler = s
+    return (sampler, MIS_ORDER.index(mis) if mis in MIS_ORDER else 9, ENV_ORDER.index(env) if env in ENV_ORDER else 9,
+            bsdf)
+
+
+# The paper's Table 2 pair of difference images, independent samples (bench-error's diff/ names).
+PAPER_DIFFERENCES = ("env-adaptive-vs-uniform_adaptive_power_independent.png",
+                     "bsdf-adaptive-vs-uniform_adaptive_power_independent.png")
+# The paper's comparison: adaptive tables on both axes against uniform tables on both.
+PAPER_PAIR = (("adaptive", "adaptive"), ("uniform", "uniform"))
+
+
+def highlighted(curves, panel):
+    """The curves of a panel worth reading first: the lowest relMSE at the largest budget, and
+    the adaptive and uniform tables' pair when the panel has them."""
+    best = min(panel, key=lambda s: curves[s][-1]["relmse"])
+    return {best} | {s for s in panel if (s[0], s[1]) in PAPER_PAIR}
+
+
+def name_curve_ends(fig, ax, names, gap=9):
+    """Writes each (x, y, text, colour) beside its point, moving a name up until it is `gap`
+    points clear of the one below, so curves that end together stay readable."""
+    fig.canvas.draw()  # fixes the axes' limits, so data converts to display points
+    scale = fig.dpi / 72
+    previous = None
+    for x, y, text, color in sorted(names, key=lambda n: ax.transData.transform((n[0], n[1]))[1]):
+        at = ax.transData.transform((x, y))[1] / scale
+        shown = at if previous is None else max(at, previous + gap)
+        ax.annotate(text, (x, y), xytext=(4, shown - at), textcoords="offset points", fontsize=7, va="center",
+                    color=color, zorder=4)
+        previous = shown
 
 
 def plot(results, out_dir):
@@ -74,25 +105,40 @@ def plot(results, out_dir):
     kind = data["settings"].get("budget_kind", "seconds")
     from matplotlib.lines import Line2D
     mises = sorted({s[2] for s in curves}, key=lambda m: MIS_ORDER.index(m) if m in MIS_ORDER else 9)
+    samplers = sorted({s[3] for s in curves})
     seeds = data["settings"].get("seeds", 1)
 
-    fig, axes = plt.subplots(1, len(mises), figsize=(5.2 * len(mises), 4.9), squeeze=False, sharey=True)
-    for ax, mis in zip(axes[0], mises):
-        for s in sorted((s for s in curves if s[2] == mis), key=sort_key):
-            points = curves[s]
-            xs = [p["seconds"] if kind == "seconds" else p["spp"] for p in points]
-            ys = [p["relmse"] for p in points]
-            # Bars of ± one standard error, the lower one kept above 0 for the log axis.
-            se = [p.get("relmse_stderr", 0) for p in points]
-            style, marker = ENV_STYLE.get(s[1], ("-", "o"))
-            ax.errorbar(xs, ys, yerr=[[min(e, 0.95 * y) for e, y in zip(se, ys)], se], linestyle=style,
-                        marker=marker, markersize=3.5, linewidth=1.2, capsize=2, elinewidth=0.8,
-                        color=BSDF_COLOR.get(s[0], "black"), markerfacecolor="none")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_title(f"MIS: {mis}")
-        ax.set_xlabel("render time (s)" if kind == "seconds" else "samples per pixel")
-        ax.grid(True, which="both", alpha=0.3)
+    fig, axes = plt.subplots(len(samplers), len(mises), figsize=(5.2 * len(mises), 4.4 * len(samplers) + 0.5),
+                             squeeze=False, sharey=True)
+    for row, sampler in enumerate(samplers):
+        for ax, mis in zip(axes[row], mises):
+            panel = [s for s in curves if s[2] == mis and s[3] == sampler]
+            if not panel:
+                ax.set_visible(False)
+                continue
+            bold = highlighted(curves, panel)
+            names = []
+            for s in sorted(panel, key=sort_key):
+                points = curves[s]
+                xs = [p["seconds"] if kind == "seconds" else p["spp"] for p in points]
+                ys = [p["relmse"] for p in points]
+                # Bars of ± one standard error, the lower one kept above 0 for the log axis.
+                se = [p.get("relmse_stderr", 0) for p in points]
+                style, marker = ENV_STYLE.get(s[1], ("-", "o"))
+                key = s in bold
+                ax.errorbar(xs, ys, yerr=[[min(e, 0.95 * y) for e, y in zip(se, ys)], se], linestyle=style,
+                            marker=marker, markersize=4.5 if key else 3, linewidth=2.2 if key else 0.8, capsize=2,
+                            elinewidth=1.0 if key else 0.5, alpha=1.0 if key else 0.3, zorder=3 if key else 2,
+                            color=BSDF_COLOR.get(s[0], "black"), markerfacecolor="none")
+                if key:
+                    names.append((xs[-1], ys[-1], f"{s[0]} × {s[1]}", BSDF_COLOR.get(s[0], "black")))
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.margins(x=0.25)  # room for the names at the curves' ends
+            name_curve_ends(fig, ax, names)
+            ax.set_title(f"MIS: {mis}, {sampler} samples" if len(samplers) > 1 else f"MIS: {mis}")
+            ax.set_xlabel("render time (s)" if kind == "seconds" else "samples per pixel")
+            ax.grid(True, which="both", alpha=0.3)
     shown = {s[0] for s in curves}, {s[1] for s in curves}
     bsdf_keys = [Line2D([], [], color=BSDF_COLOR[b], linewidth=2, label=b) for b in BSDF_COLOR if b in shown[0]]
     env_keys = [Line2D([], [], color="black", linestyle=ENV_STYLE[e][0], marker=ENV_STYLE[e][1], markersize=4,
@@ -102,8 +148,10 @@ def plot(results, out_dir):
                                   loc="lower left"))
     axes[0][-1].legend(handles=env_keys, title="environment (line, marker)", fontsize=7, title_fontsize=7,
                        loc="upper right")
-    first.set_ylabel(f"relMSE against the reference (mean ± s.e., {seeds} seed{'s' if seeds != 1 else ''})")
-    fig.suptitle(f"{data['settings']['scene']}: error against {'time' if kind == 'seconds' else 'samples'}\n"
+    for row in axes:
+        row[0].set_ylabel(f"relMSE against the reference (mean ± s.e., {seeds} seed{'s' if seeds != 1 else ''})")
+    fig.suptitle(f"{data['settings']['scene']}: error against {'time' if kind == 'seconds' else 'samples'}; bold "
+                 "and named: each panel's best at the largest budget and the adaptive/uniform table pair\n"
                  f"{machine()}", fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "error_vs_time.png"), dpi=90)
@@ -112,6 +160,7 @@ def plot(results, out_dir):
     fig, ax = plt.subplots(figsize=(7, 4.6))
     # Colour = BRDF strategy and marker = environment strategy as in error_vs_time; fill = MIS.
     fills = {"power": "full", "balance": "bottom", "light-only": "left", "bsdf-only": "none"}
+    samplers = sorted({s[3] for s in curves})
     for s in sorted(curves, key=sort_key):
         last = curves[s][-1]
         se = last.get("relmse_stderr", 0)
@@ -119,7 +168,7 @@ def plot(results, out_dir):
                     yerr=[[min(se, 0.95 * last["relmse"])], [se]], color=BSDF_COLOR.get(s[0], "black"),
                     marker=ENV_STYLE.get(s[1], ("-", "o"))[1], linestyle="none", capsize=2,
                     fillstyle=fills.get(s[2], "full"),
-                    label=f"{s[0]} × {s[1]} × {s[2]}")
+                    label=" × ".join(s if len(samplers) > 1 else s[:3]))
     ax.set_xscale("symlog", linthresh=0.01)
     ax.set_yscale("log")
     fig.suptitle(f"{data['settings']['scene']}: table memory against error\n(colour = BRDF, marker = "
@@ -157,11 +206,24 @@ def markdown(data, results, image_dir, doc_dir, command):
         if os.path.exists(os.path.join(image_dir, name)):
             out += [f"![{title}]({rel(os.path.join(image_dir, name))})", ""]
     seeds = settings.get("seeds", 1)
+    target = data.get("target_relmse")
+    to_target = {(c["bsdf_sampling"], c["env_sampling"], c["mis"], c["sampler"]): c for c in data.get("curves", [])}
     out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; mean ± standard error over {seeds} "
             "seed(s); relMSE trimmed = relMSE without the 0.1% of pixels of largest error (firefly-robust); "
-            "efficiency = 1 / (relMSE × time), its error by the delta method:", ""]
-    header = ["BRDF", "environment", "MIS", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE", "efficiency",
-              "table memory", "table set-up (ms)"]
+            "efficiency = 1 / (relMSE × time), its error by the delta method; time to "
+            + (f"relMSE {target:.3g} ({data.get('target_relmse_rule', '')}): " if target else "the target: ")
+            + "interpolated log-log between the budgets around it, or, marked *, extrapolated by relMSE ∝ 1/time "
+            "from the nearest budget:", ""]
+    header = ["BRDF", "environment", "MIS", "samples", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE",
+              "efficiency", "time to target (s)", "table memory", "table set-up (ms)"]
+
+    def time_to_target(s):
+        c = to_target.get(s)
+        if not c or c.get("time_to_target") is None:
+            return "n/a"
+        mark = "*" if c.get("time_to_target_extrapolated") else ""
+        return f"{c['time_to_target']:.3g} ± {c.get('time_to_target_stderr') or 0:.2g}{mark}"
+
     table_rows = []
     for s, points in curves.items():
         p = points[-1]
@@ -169,14 +231,14 @@ def markdown(data, results, image_dir, doc_dir, command):
         if eff is None:
             eff = 1.0 / (p["relmse"] * p["seconds"]) if p["relmse"] > 0 and p["seconds"] > 0 else float("inf")
         pm = lambda key, value: f"{value:.3g} ± {p.get(key, 0):.2g}"
-        table_rows.append((p["relmse"], [s[0], s[1], s[2], f"{p['seconds']:.2f}", p["spp"],
+        table_rows.append((p["relmse"], [s[0], s[1], s[2], s[3], f"{p['seconds']:.2f}", p["spp"],
                                          pm("relmse_stderr", p["relmse"]),
                                          pm("relmse_trimmed_stderr", p.get("relmse_trimmed", p["relmse"])),
-                                         f"{p['rmse']:.3g}", pm("efficiency_stderr", eff),
+                                         f"{p['rmse']:.3g}", pm("efficiency_stderr", eff), time_to_target(s),
                                          fmt_bytes(p["table_bytes"]), f"{p['table_ms']:.0f}"]))
     table_rows.sort(key=lambda t: t[0])
     out.append(table(header, [r for _, r in table_rows]))
-    diffs = sorted(f for f in os.listdir(image_dir) if f.endswith("_adaptive_power.png"))
+    diffs = sorted(f for f in os.listdir(image_dir) if f in PAPER_DIFFERENCES)
     if diffs:
         out += ["", "Difference images at the largest budget, power MIS (red where the adaptive table's render "
                 "differs from the uniform table's on one axis, the other axis adaptive, relative to the reference; "
@@ -198,7 +260,7 @@ def docs(results, doc, image_dir, command):
     # The paper's Table 2 pair under power MIS: the adaptive table against the uniform one on one
     # axis, the other axis adaptive (two PNGs, to keep the docs small; DIR/diff has all).
     diff_dir = os.path.join(src, "diff")
-    for name in ("env-adaptive-vs-uniform_adaptive_power.png", "bsdf-adaptive-vs-uniform_adaptive_power.png"):
+    for name in PAPER_DIFFERENCES:
         if os.path.exists(os.path.join(diff_dir, name)):
             shutil.copyfile(os.path.join(diff_dir, name), os.path.join(image_dir, name))
     section = markdown(data, results, image_dir, os.path.dirname(os.path.abspath(doc)), command)

@@ -80,6 +80,29 @@ SeedAggregate aggregateSeeds(std::span<const SeedRender> seeds) {
   return a;
 }
 
+TimeToTarget timeToReach(std::span<const ErrorAtTime> points, double target) {
+  std::vector<ErrorAtTime> usable;
+  for (const ErrorAtTime& p : points)
+    if (p.seconds > 0 && p.relMse.mean > 0 && std::isfinite(p.seconds) && std::isfinite(p.relMse.mean))
+      usable.push_back(p);
+  if (usable.empty() || !(target > 0)) return {std::nan(""), std::nan(""), false};
+  const auto delta = [](const ErrorAtTime& p) { return p.relMse.standardError / p.relMse.mean; };
+  for (std::size_t i = 0; i + 1 < usable.size(); ++i) {
+    const ErrorAtTime &a = usable[i], &b = usable[i + 1];
+    if (!(a.relMse.mean >= target && b.relMse.mean <= target && b.relMse.mean < a.relMse.mean && b.seconds > a.seconds))
+      continue;
+    const double x1 = std::log(a.seconds), x2 = std::log(b.seconds);
+    const double y1 = std::log(a.relMse.mean), y2 = std::log(b.relMse.mean);
+    const double w = (std::log(target) - y1) / (y2 - y1), slope = (y2 - y1) / (x2 - x1);
+    const double seconds = std::exp(x1 + w * (x2 - x1));
+    const double relative = std::hypot((1 - w) * delta(a), w * delta(b)) / std::abs(slope);
+    return {seconds, seconds * relative, false};
+  }
+  const ErrorAtTime& from = usable.front().relMse.mean <= target ? usable.front() : usable.back();
+  const double seconds = from.seconds * from.relMse.mean / target;
+  return {seconds, seconds * delta(from), true};
+}
+
 Image differenceImage(const Image& a, const Image& b, const Image& reference) {
   Image out;
   out.width = reference.width;

@@ -201,18 +201,46 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     if (bsdf == "adaptive") {
       EXPECT_LT(bytes("adaptive", env), bytes("uniform", env));
     }
-    EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + ".exr")));
-    EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + ".png")));
+    EXPECT_EQ(budgets.at(64)["sampler"], "independent") << "the scene's sampler";
+    EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + "_independent.exr")));
+    EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + "_independent.png")));
   }
   EXPECT_GE(strictlyFalling, 50u) << "of 57 combinations";
-  EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power.png")));
-  EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power_independent.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance_independent.png")));
+
+  // Time to the target relMSE, by default the least at the smallest budget: the strategy that
+  // reached it needs exactly that row's time; every other one crosses it later along its own
+  // rows, or is extrapolated because it stays above it.
+  double target = INFINITY;
+  for (const auto& row : rows)
+    if (row["budget"] == 1) target = std::min(target, row["relmse"].get<double>());
+  EXPECT_EQ(j["target_relmse"].get<double>(), target);
+  ASSERT_EQ(j["curves"].size(), expected.size());
+  std::size_t atTheTarget = 0;
+  for (const auto& curve : j["curves"]) {
+    const auto& budgets = byCombination.at({curve["bsdf_sampling"], curve["env_sampling"], curve["mis"]});
+    const double t = curve["time_to_target"].get<double>();
+    EXPECT_GT(curve["time_to_target_stderr"].get<double>(), 0);
+    if (budgets.at(1)["relmse"] == target) {
+      ++atTheTarget;
+      EXPECT_NEAR(t, budgets.at(1)["seconds"].get<double>(), 1e-9 * t);
+    } else if (curve["time_to_target_extrapolated"]) {
+      EXPECT_GT(budgets.at(64)["relmse"].get<double>(), target) << curve;
+      EXPECT_GT(t, budgets.at(64)["seconds"].get<double>()) << curve;
+    } else {
+      EXPECT_GT(t, budgets.at(1)["seconds"].get<double>()) << curve;
+      EXPECT_LE(t, budgets.at(64)["seconds"].get<double>()) << curve;
+    }
+  }
+  EXPECT_EQ(atTheTarget, 1u);
+  EXPECT_EQ(parseCsv(apptest::readFile(path("out/curves.csv"))).size(), expected.size() + 1);
 
   // results.csv: the same rows, the same figures.
   const auto csv = parseCsv(apptest::readFile(path("out/results.csv")));
   ASSERT_EQ(csv.size(), rows.size() + 1);
   const std::vector<std::string>& header = csv[0];
-  ASSERT_EQ(header.size(), 23u);
+  ASSERT_EQ(header.size(), 24u);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_EQ(csv[i + 1].size(), header.size());
     for (std::size_t c = 0; c < header.size(); ++c) {
@@ -369,7 +397,7 @@ nlohmann::json deterministic(const nlohmann::json& rows) {
   for (const auto& row : rows) {
     nlohmann::json r;
     for (const char* key :
-         {"row", "bsdf_sampling", "env_sampling", "mis", "budget", "seeds", "spp", "relmse", "relmse_stderr",
+         {"row", "bsdf_sampling", "env_sampling", "mis", "sampler", "budget", "seeds", "spp", "relmse", "relmse_stderr",
           "relmse_trimmed", "relmse_trimmed_stderr", "rmse", "rmse_stderr", "table_bytes"})
       r[key] = row.at(key);
     for (const auto& seed : row.at("per_seed")) r["per_seed"].push_back({seed.at("seed"), seed.at("relmse")});
@@ -407,8 +435,9 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   EXPECT_EQ(mergedSettings, unshardedSettings);
   EXPECT_EQ(apptest::readFile(path("sharded/results.csv")).substr(0, 100),
             apptest::readFile(path("whole/results.csv")).substr(0, 100));
-  for (const char* image : {"images/adaptive_uniform_power.exr", "images/adaptive_adaptive_power.exr",
-                            "diff/adaptive_adaptive_power.png", "diff/env-adaptive-vs-uniform_adaptive_power.png"}) {
+  for (const char* image : {"images/adaptive_uniform_power_independent.exr",
+                            "images/adaptive_adaptive_power_independent.exr", "diff/adaptive_adaptive_power_independent.png",
+                            "diff/env-adaptive-vs-uniform_adaptive_power_independent.png"}) {
     EXPECT_TRUE(fs::is_regular_file(path(std::string("sharded/") + image))) << image;
     EXPECT_TRUE(readImage(path(std::string("sharded/") + image)).pixels ==
                 readImage(path(std::string("whole/") + image)).pixels)
@@ -432,6 +461,28 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   expectOneLineFailure(mergeOf({"whole"}), "acdf: ", "not a shard");
   expectOneLineFailure(mergeOf({"nothing"}), "acdf: " + path("nothing/results.json") + ": ", "no results");
   EXPECT_FALSE(fs::exists(path("merged")));
+}
+
+TEST_F(BenchErrorCli, SampleSourcesAreComparedSideBySide) {
+  // One strategy under both sample sources: each its own rows, seeds and image; the Sobol
+  // points' stratification lowers the error at 64 spp on the smooth sky.
+  const RunResult r =
+      benchError({"--spp-budgets", "4,64", "--seeds", "2", "--no-plot", "--bsdf-sampling", "adaptive", "--env-sampling",
+                  "adaptive", "--mis", "power", "--sampler", "independent,sobol,sobol"});
+  ASSERT_EQ(r.exitCode, 0) << apptest::describe(r);
+  const nlohmann::json j = results();
+  ASSERT_EQ(j["rows"].size(), 4u);
+  std::map<std::string, double> relMseAt64;
+  for (const auto& row : j["rows"])
+    if (row["budget"] == 64) relMseAt64[row["sampler"]] = row["relmse"].get<double>();
+  ASSERT_EQ(relMseAt64.size(), 2u);
+  EXPECT_LT(relMseAt64["sobol"], 0.5 * relMseAt64["independent"]);  // 0.19× (0.29× at 256 reference spp)
+  EXPECT_EQ(j["settings"]["strategies"],
+            nlohmann::json({"adaptive_adaptive_power_independent", "adaptive_adaptive_power_sobol"}));
+  EXPECT_NE(readImage(path("out/images/adaptive_adaptive_power_independent.exr")).pixels,
+            readImage(path("out/images/adaptive_adaptive_power_sobol.exr")).pixels);
+  expectOneLineFailure(benchError({"--spp-budgets", "1", "--sampler", "halton"}, "bad"), "acdf: ", "--sampler");
+  EXPECT_FALSE(fs::exists(path("bad")));
 }
 
 bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
@@ -459,9 +510,9 @@ TEST_F(BenchErrorCli, PlotsAndTheDocsSectionAreWritten) {
   EXPECT_EQ(once.find("old"), std::string::npos);
   EXPECT_NE(once.find("before\n<!-- bench-error: begin -->"), std::string::npos);
   EXPECT_NE(once.find("<!-- bench-error: end -->\nafter"), std::string::npos);
-  EXPECT_NE(once.find("| adaptive | adaptive | power |"), std::string::npos) << once;
+  EXPECT_NE(once.find("| adaptive | adaptive | power | independent |"), std::string::npos) << once;
   EXPECT_NE(once.find("](images/error_vs_time.png)"), std::string::npos) << once;
-  EXPECT_TRUE(fs::is_regular_file(path("images/env-adaptive-vs-uniform_adaptive_power.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("images/env-adaptive-vs-uniform_adaptive_power_independent.png")));
 }
 
 }  // namespace

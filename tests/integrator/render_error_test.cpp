@@ -87,5 +87,37 @@ TEST(RenderError, EfficiencyAndItsDeltaMethodError) {
   EXPECT_THROW(aggregateSeeds(std::span<const SeedRender>()), std::invalid_argument);
 }
 
+TEST(RenderError, TimeToReachATargetIsInterpolatedLogLog) {
+  // relMSE 0.08, 0.04, 0.01 at 1, 2, 4 s (slope −1 then −2); target 0.02 lies between 2 s and 4 s
+  // at w = ln(0.02 / 0.04) / ln(0.01 / 0.04) = 1/2: t* = 2 · 2^(1/2).
+  const std::vector<ErrorAtTime> curve = {{1, {0.08, 0.008}}, {2, {0.04, 0.004}}, {4, {0.01, 0.002}}};
+  const TimeToTarget t = timeToReach(curve, 0.02);
+  EXPECT_FALSE(t.extrapolated);
+  EXPECT_NEAR(t.seconds, 2 * std::sqrt(2.0), 1e-12);
+  // δ = 0.1 and 0.2: σ_t / t* = √((0.5 · 0.1)² + (0.5 · 0.2)²) / 2.
+  EXPECT_NEAR(t.standardError / t.seconds, std::hypot(0.05, 0.1) / 2, 1e-12);
+  // On a measured point: that point's time.
+  EXPECT_NEAR(timeToReach(curve, 0.04).seconds, 2, 1e-12);
+  EXPECT_NEAR(timeToReach(curve, 0.08).seconds, 1, 1e-12);
+}
+
+TEST(RenderError, TimeToReachATargetOutsideTheCurveIsExtrapolatedByOneOverTime) {
+  const std::vector<ErrorAtTime> curve = {{1, {0.08, 0.008}}, {2, {0.04, 0.004}}, {4, {0.01, 0.002}}};
+  const TimeToTarget slower = timeToReach(curve, 0.001);  // not reached: from the last point
+  EXPECT_TRUE(slower.extrapolated);
+  EXPECT_NEAR(slower.seconds, 40, 1e-12);
+  EXPECT_NEAR(slower.standardError, 40 * 0.2, 1e-12);
+  const TimeToTarget faster = timeToReach(curve, 0.16);  // reached before the first point
+  EXPECT_TRUE(faster.extrapolated);
+  EXPECT_NEAR(faster.seconds, 0.5, 1e-12);
+  // A curve that rises (noise) never crosses downward: extrapolated from its first point.
+  const std::vector<ErrorAtTime> rising = {{1, {0.01, 0}}, {2, {0.03, 0}}};
+  EXPECT_NEAR(timeToReach(rising, 0.02).seconds, 0.5, 1e-12);
+  // Unusable points are ignored; none left gives NaN.
+  const std::vector<ErrorAtTime> zero = {{1, {0, 0}}, {0, {0.1, 0}}};
+  EXPECT_TRUE(std::isnan(timeToReach(zero, 0.02).seconds));
+  EXPECT_TRUE(std::isnan(timeToReach(curve, 0).seconds));
+}
+
 }  // namespace
 }  // namespace acdf

@@ -49,6 +49,28 @@ struct SeedAggregate {
 // `seeds` must not be empty.
 SeedAggregate aggregateSeeds(std::span<const SeedRender> seeds);
 
+// One budget of a strategy's error-against-time curve: the means over seeds.
+struct ErrorAtTime {
+  double seconds = 0;
+  MeanAndError relMse;
+};
+
+// The render time at which a strategy's relMSE reaches `target`, read off its curve (`points` in
+// order of time; those without a positive time and relMSE are ignored). In log-log coordinates
+// (x = ln t, y = ln relMSE) between the first two consecutive points whose relMSE falls across
+// the target:
+//   x* = x₁ + w (x₂ − x₁),  w = (ln target − y₁) / (y₂ − y₁),
+// and its standard error from the points' relative errors δᵢ = σᵢ / relMSEᵢ (the errors of yᵢ):
+//   σ_t / t* = √(((1 − w) δ₁)² + (w δ₂)²) / |slope|,  slope = (y₂ − y₁) / (x₂ − x₁).
+// Where the curve does not cross the target, t* is extrapolated from the first point if it is
+// already below the target, else from the last (still above it), by relMSE ∝ 1 / t:
+//   t* = t · relMSE / target, σ_t / t* = δ; `extrapolated` says so. NaN without usable points.
+struct TimeToTarget {
+  double seconds = 0, standardError = 0;
+  bool extrapolated = false;
+};
+TimeToTarget timeToReach(std::span<const ErrorAtTime> points, double target);
+
 // A false-colour picture of where `a` differs from `b` relative to `reference` (all RGB, of one
 // size): red by the √ of the pixel's relMSE term (full red at a relative difference of 0.5), over
 // a dim grey copy of the reference for orientation.

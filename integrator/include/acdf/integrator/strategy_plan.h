@@ -1,6 +1,6 @@
 #pragma once
-// The sampling-strategy combinations (BRDF sampling × environment sampling × MIS mode) a
-// comparison renders, with the rules for which of them render the same image by construction, so
+// The sampling-strategy combinations (BRDF sampling × environment sampling × MIS mode × sample
+// source) a comparison renders, with the rules for which of them render the same image by construction, so
 // a comparison renders each image once and says why it left the others out.
 
 #include <string>
@@ -16,10 +16,11 @@ struct Strategy {
   BrdfSampling bsdf;
   EnvironmentSampling env;
   MisMode mis;
+  SamplerKind sampler = SamplerKind::Independent;
 
-  // "adaptive × hierarchical × power".
+  // "adaptive × hierarchical × power × sobol".
   std::string label() const;
-  // File-name form, "adaptive_hierarchical_power".
+  // File-name form, "adaptive_hierarchical_power_sobol".
   std::string id() const;
 };
 
@@ -29,7 +30,7 @@ struct SkippedStrategy {
 };
 
 struct StrategyPlan {
-  std::vector<Strategy> render;  // in the order MIS mode, BRDF sampling, environment sampling
+  std::vector<Strategy> render;  // in the order sample source, MIS mode, BRDF sampling, environment sampling
   std::vector<SkippedStrategy> skipped;
 };
 
@@ -37,6 +38,7 @@ struct StrategyPlan {
 // a measured material every BRDF strategy samples as the first one does; bsdf-only never samples
 // the environment, so only the first environment strategy is rendered with it.
 StrategyPlan planStrategies(const std::vector<BrdfSampling>& bsdfs, const std::vector<EnvironmentSampling>& envs,
-                            const std::vector<MisMode>& mises, bool sceneHasMeasured);
+                            const std::vector<MisMode>& mises, const std::vector<SamplerKind>& samplers,
+                            bool sceneHasMeasured);
 
 }  // namespace acdf
