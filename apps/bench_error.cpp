@@ -619,6 +619,7 @@ class BenchError {
       const std::size_t builtBefore = tables_->tablesBuilt().size(), cachedBefore = tables_->tablesFromCache().size();
       const auto setupStart = Clock::now();
       Scene scene = loadScene(args_.scene, overrides, *tables_);
+      scene.buildDeferredTables();
       const double tableMs = millisecondsSince(setupStart);
       const Scene::TableBytes memory = scene.tableBytes();
       for (double budget : budgets_) {

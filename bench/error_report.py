@@ -182,6 +182,53 @@ def plot(results, out_dir):
     plt.close(fig)
 
 
+# The changes whose size a reader wants to trust: one axis changed, the rest fixed, power MIS.
+CHANGES = (("BRDF table adaptive → uniform", ("adaptive", "adaptive", "power", "independent"),
+            ("uniform", "adaptive", "power", "independent")),
+           ("env table adaptive → uniform", ("adaptive", "adaptive", "power", "independent"),
+            ("adaptive", "uniform", "power", "independent")),
+           ("env table adaptive → local", ("adaptive", "adaptive", "power", "independent"),
+            ("adaptive", "local", "power", "independent")),
+           ("samples independent → Sobol", ("adaptive", "adaptive", "power", "independent"),
+            ("adaptive", "adaptive", "power", "sobol")))
+
+
+def relative_change(a, b, key):
+    """(b − a) / a of a row's mean `key` and its standard error: the rows' seeds are independent,
+    so the ratio's relative errors add in quadrature."""
+    ra, rb = a[key], b[key]
+    ea, eb = a.get(key + "_stderr", 0) / ra, b.get(key + "_stderr", 0) / rb
+    return rb / ra - 1, rb / ra * (ea * ea + eb * eb) ** 0.5
+
+
+def resolution(data, kind):
+    """Whether the run tells a 10% difference from noise: each change of CHANGES at each budget,
+    relMSE and trimmed relMSE, as a relative change ± its standard error; 10% is resolved where
+    that error is at most 5% (two standard errors)."""
+    rows = {(strategy(r), r["budget"]): r for r in data["rows"]}
+    budgets = sorted({r["budget"] for r in data["rows"]})
+    lines = []
+    for budget in budgets:
+        for name, a, b in CHANGES:
+            if (a, budget) not in rows or (b, budget) not in rows:
+                continue
+            cells = [f"{budget:g} {'s' if kind == 'seconds' else 'spp'}", name]
+            resolved = []
+            for key in ("relmse", "relmse_trimmed"):
+                change, error = relative_change(rows[(a, budget)], rows[(b, budget)], key)
+                cells.append(f"{100 * change:+.0f} % ± {100 * error:.1f} %")
+                resolved.append("yes" if error <= 0.05 else "no")
+            lines.append(cells + resolved)
+    if not lines:
+        return []
+    seeds = data["settings"].get("seeds", 1)
+    return ["", f"Does the run resolve 10 %? Each change below is (b − a) / a of the mean over {seeds} seeds, ± its "
+            "standard error (the two rows' relative errors in quadrature); 10 % is resolved where that error is at "
+            "most 5 %, two standard errors:", "",
+            table(["budget", "change (power MIS)", "relMSE", "trimmed relMSE", "10 % resolved (relMSE)",
+                   "10 % resolved (trimmed)"], lines)]
+
+
 def markdown(data, results, image_dir, doc_dir, command):
     settings = data["settings"]
     kind = settings.get("budget_kind", "seconds")
@@ -238,6 +285,7 @@ def markdown(data, results, image_dir, doc_dir, command):
                                          fmt_bytes(p["table_bytes"]), f"{p['table_ms']:.0f}"]))
     table_rows.sort(key=lambda t: t[0])
     out.append(table(header, [r for _, r in table_rows]))
+    out += resolution(data, kind)
     diffs = sorted(f for f in os.listdir(image_dir) if f in PAPER_DIFFERENCES)
     if diffs:
         out += ["", "Difference images at the largest budget, power MIS (red where the adaptive table's render "

@@ -14,6 +14,10 @@ Scene::TableBytes Scene::tableBytes() const {
   return bytes;
 }
 
+void Scene::buildDeferredTables() const {
+  if (const LocalEnvironmentTable* local = environment->localTable()) local->buildAll();
+}
+
 bool Scene::hasMeasuredMaterial() const {
   for (const auto& material : materials)
     if (dynamic_cast<const MerlBrdf*>(&material->model()) != nullptr) return true;

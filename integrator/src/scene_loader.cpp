@@ -376,9 +376,6 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
                                                   [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
                                                     return tables.environmentTable(map, key, strategy, simplify);
                                                   });
-  // Every slice now, in parallel (a third of a second for a 1024 × 512 map), so that the render
-  // does not wait for them, one by one, and its timing is the sampling's alone.
-  if (const LocalEnvironmentTable* local = light->localTable()) local->buildAll();
   return light;
 }
 

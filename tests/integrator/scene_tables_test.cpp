@@ -1,7 +1,7 @@
 // The environment tables a scene gets: the loader asks the TableProvider only for the tables its
 // light's calls use (a compensated light under MIS: the compensated table; under light-only: the
 // complete, adaptive one; uniform-sphere sampling: none), and lights of one map under other
-// rotations and scales share them.
+// rotations and scales share them; a local light builds its slices on first use or when asked.
 
 #include <gtest/gtest.h>
 
@@ -69,6 +69,24 @@ TEST(SceneTables, CompensatedLightsGetTheTableTheirEstimatorUses) {
     EXPECT_TRUE(tables.tablesBuilt().empty());
     EXPECT_EQ(scene.environment->tableBytes(), 0u);
   }
+}
+
+TEST(SceneTables, LocalSlicesAreBuiltOnFirstUseOrWhenAsked) {
+  TableProvider tables(TableCache::disabled());
+  nlohmann::json json = mapScene("local", "power");
+  json["environment"]["normal_rows"] = 4;
+  json["environment"]["normal_columns"] = 8;
+  const Scene scene = load(json, tables);
+  const LocalEnvironmentTable* local = scene.environment->localTable();
+  ASSERT_NE(local, nullptr);
+  EXPECT_EQ(local->slicesBuilt(), 0u) << "loading builds none";
+  LightSampleContext context;
+  context.normal = Vec3d{0, 1, 0};
+  (void)scene.environment->sample(context, 0.3f, 0.7f);
+  EXPECT_EQ(local->slicesBuilt(), 1u);
+  scene.buildDeferredTables();
+  EXPECT_EQ(local->slicesBuilt(), 32u);
+  EXPECT_EQ(scene.tableBytes().environment, scene.environment->tableBytes());
 }
 
 TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {

@@ -73,8 +73,12 @@ struct Scene {
   struct TableBytes {
     std::size_t brdf = 0, environment = 0;
   };
-  // Bytes of the sampling tables it renders with (a sampler two materials share counts once).
+  // Bytes of the sampling tables it renders with (a sampler two materials share counts once); of
+  // the local environment table, the slices built so far.
   TableBytes tableBytes() const;
+  // Builds now, in parallel, what a render would build on first use (the local environment
+  // table's slices), so that a timed render measures sampling alone.
+  void buildDeferredTables() const;
   // Whether a material is measured (a MERL table): only then does the BRDF sampling strategy
   // change the image.
   bool hasMeasuredMaterial() const;
