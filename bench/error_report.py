@@ -7,12 +7,13 @@ usage: bench/error_report.py plot RESULTS.json OUT_DIR
          source; colour = BRDF strategy, line style and marker = environment strategy; in each
          panel the best curve at the largest budget and the adaptive and uniform tables' pair are
          drawn bold and named, the rest faint) and memory_vs_error.png (table memory against the
-         relMSE of the largest budget), into OUT_DIR.
+         relMSE of the largest budget, a panel per sample source), into OUT_DIR.
        bench/error_report.py docs RESULTS.json DOC.md IMAGE_DIR [--command TEXT]
          copies the plots and the adaptive-vs-uniform difference images next to RESULTS.json into
          IMAGE_DIR and rewrites the part of DOC.md between <!-- bench-error: begin --> and
-         <!-- bench-error: end --> (appended when absent): the machine, the command, the settings
-         and the table of every combination at the largest budget. Idempotent.
+         <!-- bench-error: end --> (appended when absent): the machine, the command, the settings,
+         the table of every combination at the largest budget with its time to the target relMSE,
+         and whether the run resolves a 10% difference. Idempotent.
 
 Needs Debian's python3-matplotlib (scripts/install-deps) for `plot`; run it with /usr/bin/python3,
 since a pyenv python may shadow it without matplotlib.
@@ -157,26 +158,39 @@ def plot(results, out_dir):
     fig.savefig(os.path.join(out_dir, "error_vs_time.png"), dpi=90)
     plt.close(fig)
 
-    fig, ax = plt.subplots(figsize=(7, 4.6))
-    # Colour = BRDF strategy and marker = environment strategy as in error_vs_time; fill = MIS.
+    # Colour = BRDF strategy and marker = environment strategy as in error_vs_time; fill = MIS; a
+    # panel per sample source. Keyed by three small legends, not one entry per point.
     fills = {"power": "full", "balance": "bottom", "light-only": "left", "bsdf-only": "none"}
     samplers = sorted({s[3] for s in curves})
-    for s in sorted(curves, key=sort_key):
-        last = curves[s][-1]
-        se = last.get("relmse_stderr", 0)
-        ax.errorbar([max(last["table_bytes"], 1) / 2**20], [last["relmse"]],
-                    yerr=[[min(se, 0.95 * last["relmse"])], [se]], color=BSDF_COLOR.get(s[0], "black"),
-                    marker=ENV_STYLE.get(s[1], ("-", "o"))[1], linestyle="none", capsize=2,
-                    fillstyle=fills.get(s[2], "full"),
-                    label=" × ".join(s if len(samplers) > 1 else s[:3]))
-    ax.set_xscale("symlog", linthresh=0.01)
-    ax.set_yscale("log")
-    fig.suptitle(f"{data['settings']['scene']}: table memory against error\n(colour = BRDF, marker = "
-                 "environment, fill = MIS; bars ± one standard error)", fontsize=9)
-    ax.set_xlabel("table memory, BRDF + environment (MiB; 0 = no table)")
-    ax.set_ylabel(f"relMSE at the largest budget ({curves[next(iter(curves))][-1]['budget']:g} {kind})")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=5, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1))
+    fig, axes = plt.subplots(1, len(samplers), figsize=(5.6 * len(samplers), 4.8), squeeze=False, sharey=True)
+    for ax, sampler in zip(axes[0], samplers):
+        for s in sorted((s for s in curves if s[3] == sampler), key=sort_key):
+            last = curves[s][-1]
+            se = last.get("relmse_stderr", 0)
+            ax.errorbar([max(last["table_bytes"], 1) / 2**20], [last["relmse"]],
+                        yerr=[[min(se, 0.95 * last["relmse"])], [se]], color=BSDF_COLOR.get(s[0], "black"),
+                        marker=ENV_STYLE.get(s[1], ("-", "o"))[1], linestyle="none", capsize=2,
+                        fillstyle=fills.get(s[2], "full"))
+        ax.set_xscale("symlog", linthresh=0.01)
+        ax.set_yscale("log")
+        ax.set_title(f"{sampler} samples", fontsize=9)
+        ax.set_xlabel("table memory, BRDF + environment (MiB; 0 = no table)")
+        ax.grid(True, which="both", alpha=0.3)
+    shown = [{s[i] for s in curves} for i in range(3)]
+    first = axes[0][0]
+    first.set_ylabel(f"relMSE at the largest budget ({curves[next(iter(curves))][-1]['budget']:g} {kind})")
+    keys = (([Line2D([], [], color=BSDF_COLOR[b], marker="o", linestyle="none", label=b)
+              for b in BSDF_COLOR if b in shown[0]], "BRDF (colour)", 0.0),
+            ([Line2D([], [], color="black", marker=ENV_STYLE[e][1], linestyle="none", fillstyle="none", label=e)
+              for e in ENV_ORDER if e in shown[1]], "environment (marker)", 0.17),
+            ([Line2D([], [], color="black", marker="o", linestyle="none", fillstyle=fills.get(m, "full"), label=m)
+              for m in MIS_ORDER if m in shown[2]], "MIS (fill)", 0.38))
+    # Side by side along the bottom of the first panel, below the table-less strategies' points.
+    for handles, title, left in keys:
+        first.add_artist(first.legend(handles=handles, title=title, fontsize=6, title_fontsize=6, loc="lower left",
+                                      bbox_to_anchor=(left, 0.0)))
+    fig.suptitle(f"{data['settings']['scene']}: table memory against error (bars ± one standard error)\n"
+                 f"{machine()}", fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "memory_vs_error.png"), dpi=90)
     plt.close(fig)
@@ -216,7 +230,7 @@ def resolution(data, kind):
             resolved = []
             for key in ("relmse", "relmse_trimmed"):
                 change, error = relative_change(rows[(a, budget)], rows[(b, budget)], key)
-                cells.append(f"{100 * change:+.0f} % ± {100 * error:.1f} %")
+                cells.append(f"{100 * change:+.1f} % ± {100 * error:.1f} %")
                 resolved.append("yes" if error <= 0.05 else "no")
             lines.append(cells + resolved)
     if not lines:
