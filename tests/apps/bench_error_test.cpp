@@ -1,13 +1,16 @@
 // `acdf bench-error` end to end on a 32×16 scene (a tabulated gold sphere on a diffuse floor under a
 // smooth 64×32 sky the test writes) with sample-count budgets, so every figure is deterministic:
 // a row for every strategy combination, error falling with the sample count, the mean and
-// standard error over seeds, CSV and JSON that agree, resuming without rendering finished rows, reusing the reference
-// only while it matches, and the bad-input contract (exit 2, one line, nothing written).
+// standard error over seeds, the time to a target relMSE, CSV and JSON that agree, resuming
+// without rendering finished rows, reusing the reference only while it matches, sample sources
+// side by side, shards (GNU parallel here and over ssh, a Slurm array) merging to the unsharded
+// run, and the bad-input contract (exit 2, one line, nothing written).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -435,14 +438,64 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   EXPECT_EQ(mergedSettings, unshardedSettings);
   EXPECT_EQ(apptest::readFile(path("sharded/results.csv")).substr(0, 100),
             apptest::readFile(path("whole/results.csv")).substr(0, 100));
-  for (const char* image : {"images/adaptive_uniform_power_independent.exr",
-                            "images/adaptive_adaptive_power_independent.exr", "diff/adaptive_adaptive_power_independent.png",
-                            "diff/env-adaptive-vs-uniform_adaptive_power_independent.png"}) {
+  for (const char* image :
+       {"images/adaptive_uniform_power_independent.exr", "images/adaptive_adaptive_power_independent.exr",
+        "diff/adaptive_adaptive_power_independent.png",
+        "diff/env-adaptive-vs-uniform_adaptive_power_independent.png"}) {
     EXPECT_TRUE(fs::is_regular_file(path(std::string("sharded/") + image))) << image;
     EXPECT_TRUE(readImage(path(std::string("sharded/") + image)).pixels ==
                 readImage(path(std::string("whole/") + image)).pixels)
         << image;
   }
+
+  // Over ssh, as across machines: two hosts of an ssh login file, reached through a stand-in
+  // for ssh that runs the remote command here as ssh would (its arguments joined, given to a
+  // shell), so the quoting GNU parallel adds for the remote side is exercised (the output
+  // directory's name has a space).
+  if (std::system("command -v parallel >/dev/null 2>&1") == 0) {
+    apptest::writeFile(
+        path("fake-ssh"),
+        "#!/usr/bin/env bash\n"
+        "while [[ $# -gt 0 && $1 == -* ]]; do case $1 in -o|-p|-l|-i|-F) shift 2;; *) shift;; esac; done\n"
+        "echo \"$1\" >> " +
+            path("ssh-hosts") +
+            "\n"
+            "shift; [[ ${1-} == -- ]] && shift\n"
+            "exec bash -c \"$*\"\n");
+    fs::permissions(path("fake-ssh"), fs::perms::owner_all);
+    apptest::writeFile(path("logins"), path("fake-ssh") + " host-a\n" + path("fake-ssh") + " host-b\n");
+    std::string overSsh = "ACDF=" + apptest::acdfExe() + " " + apptest::sourceDir() +
+                          "/scripts/bench-error-parallel --sshloginfile " + path("logins") + " --no-plot 2 '" +
+                          path("over ssh") + "' " + path("scene.json") + " --reference " + path("whole/reference.exr");
+    for (const std::string& a : small) overSsh += " " + a;
+    overSsh += " >" + path("ssh.out") + " 2>" + path("ssh.err");
+    ASSERT_EQ(std::system(overSsh.c_str()), 0) << apptest::readFile(path("ssh.err"));
+    EXPECT_EQ(deterministic(results("over ssh")["rows"]), deterministic(reference["rows"]));
+    const std::string hosts = apptest::readFile(path("ssh-hosts"));
+    EXPECT_NE(hosts.find("host-a"), std::string::npos) << hosts;
+    EXPECT_NE(hosts.find("host-b"), std::string::npos) << hosts;
+  } else {
+    std::cout << "[ SKIPPED ] the run over ssh: no GNU parallel (apt-get install parallel)\n";
+  }
+
+  // As a Slurm array job: each task as Slurm starts it (its array variables set), then the merge
+  // the dependent job runs.
+  for (int task = 1; task <= 2; ++task) {
+    std::string slurm =
+        "SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
+        " SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_MAX=2 SLURM_CPUS_PER_TASK=1 ACDF=" + apptest::acdfExe() + " " +
+        apptest::sourceDir() + "/scripts/bench-error-slurm.sh " + path("slurm") + " " + path("scene.json") +
+        " --reference " + path("whole/reference.exr");
+    for (const std::string& a : small) slurm += " " + a;
+    slurm += " >" + path("slurm.out") + " 2>" + path("slurm.err");
+    ASSERT_EQ(std::system(slurm.c_str()), 0) << apptest::readFile(path("slurm.err"));
+  }
+  ASSERT_EQ(apptest::runAcdf({"bench-error", "--merge", path("slurm/shard-1"), path("slurm/shard-2"), "--out",
+                              path("slurm"), "--no-plot"},
+                             dir_)
+                .exitCode,
+            0);
+  EXPECT_EQ(deterministic(results("slurm")["rows"]), deterministic(reference["rows"]));
 
   // Shards of other runs, a shard missing or given twice: exit 2, naming the problem.
   std::vector<std::string> other = small;
