@@ -30,6 +30,7 @@
 #include "acdf/integrator/scene.h"
 #include "acdf/integrator/strategy_plan.h"
 #include "acdf/sampling/table_cache.h"
+#include "acdf/sampling/write_atomically.h"
 #include "errors.h"
 #include "files.h"
 #include "options.h"
@@ -218,9 +219,9 @@ void writeResultFiles(const fs::path& dir, const Json& settings, const Json& ski
           "extrapolated from the nearest end by relmse ~ 1/seconds; stderr from the budgets' relmse stderr"},
          {"curves", curves(rows, target)},
          {"rows", rows}};
-  writeTextFileAtomically((dir / "results.csv").string(), toCsv(rows));
-  writeTextFileAtomically((dir / "curves.csv").string(), curvesCsv(j["curves"]));
-  writeTextFileAtomically((dir / "results.json").string(), j.dump(2) + "\n");
+  writeFileAtomically((dir / "results.csv").string(), toCsv(rows));
+  writeFileAtomically((dir / "curves.csv").string(), curvesCsv(j["curves"]));
+  writeFileAtomically((dir / "results.json").string(), j.dump(2) + "\n");
 }
 
 // "K/N" with 1 <= K <= N: this shard renders the rows of index % N == K - 1.
@@ -508,7 +509,7 @@ class BenchError {
     wanted["seconds"] = stats.seconds;
     referenceOrigin_ = fmt::format("{} spp, rendered in {:.1f} s", args_.referenceSpp, stats.seconds);
     writeImage(exr.string(), reference_ = lastImage_, false);
-    writeTextFileAtomically(info.string(), wanted.dump(2) + "\n");
+    writeFileAtomically(info.string(), wanted.dump(2) + "\n");
     referenceInfo_ = wanted;
     finishReference();
   }

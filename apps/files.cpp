@@ -4,13 +4,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <system_error>
 
-#include <fmt/format.h>
-
 #include "acdf/sampling/regular_file.h"
-#include "acdf/sampling/temporary_files.h"
 #include "errors.h"
 
 namespace acdf::app {
@@ -38,27 +34,6 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
   if (static_cast<std::uintmax_t>(in.gcount()) != size)
     throw FileError(path, "read error (file changed while reading?)");
   return bytes;
-}
-
-void writeTextFileAtomically(const std::string& path, std::string_view text) {
-  std::random_device random;
-  const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
-  const TemporaryFileGuard guard(temp);  // removed if a signal kills us mid-write
-  std::error_code ec;
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (out) out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) {
-      fs::remove(temp, ec);
-      throw FileError(path, "cannot write the temporary file " + temp);
-    }
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw FileError(path, "cannot rename the temporary file into place");
-  }
 }
 
 }  // namespace acdf::app

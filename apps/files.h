@@ -15,9 +15,4 @@ std::uintmax_t checkInputFile(const std::string& path);
 // The whole file, after checkInputFile(). Throws FileError if it cannot be read.
 std::vector<unsigned char> readFileBytes(const std::string& path);
 
-// Writes `text` to a temporary file next to `path` (guarded against signals, temporary_files.h)
-// and renames it over `path`: a reader sees the old file or the new one, never a partial one.
-// Throws FileError naming `path`.
-void writeTextFileAtomically(const std::string& path, std::string_view text);
-
 }  // namespace acdf::app

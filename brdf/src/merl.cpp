@@ -13,7 +13,7 @@
 #include <system_error>
 
 #include "acdf/sampling/regular_file.h"
-#include "write_atomically.h"
+#include "acdf/sampling/write_atomically.h"
 
 namespace acdf {
 
@@ -243,7 +243,7 @@ void MerlBrdf::save(const fs::path& path) const {
       const double v = values_[3 * i + c];
       std::memcpy(bytes.get() + kHeaderBytes + (c * kCells + i) * sizeof(double), &v, sizeof(double));
     }
-  writeFileAtomically(name, bytes.get(), kFileBytes);
+  writeFileAtomically(name, std::as_bytes(std::span(bytes.get(), kFileBytes)));
 }
 
 void MerlBrdf::saveRaw(const fs::path& path, std::span<const double> values) {
@@ -262,7 +262,7 @@ void MerlBrdf::saveRaw(const fs::path& path, std::span<const double> values) {
   const int32_t dims[3] = {kThetaHalfCells, kThetaDiffCells, kPhiDiffCells};
   std::memcpy(bytes.get(), dims, kHeaderBytes);
   std::memcpy(bytes.get() + kHeaderBytes, values.data(), 3 * kChannelBytes);
-  writeFileAtomically(name, bytes.get(), kFileBytes);
+  writeFileAtomically(name, std::as_bytes(std::span(bytes.get(), kFileBytes)));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -9,7 +9,7 @@
 
 #include "acdf/sampling/file_error.h"
 #include "acdf/sampling/regular_file.h"
-#include "write_atomically.h"
+#include "acdf/sampling/write_atomically.h"
 
 namespace acdf {
 
@@ -43,8 +43,8 @@ class HeaderReader {
  private:
   void need(std::size_t n, const std::string& what) {
     if (bytes_.size() - pos_ < n) {
-      throw FileError(file_, "truncated header: the file ends inside " + what + " (at byte " +
-                                     std::to_string(pos_) + " of " + std::to_string(bytes_.size()) + ")");
+      throw FileError(file_, "truncated header: the file ends inside " + what + " (at byte " + std::to_string(pos_) +
+                                 " of " + std::to_string(bytes_.size()) + ")");
     }
   }
   std::span<const unsigned char> bytes_;
@@ -113,7 +113,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
     throw FileError(file, "truncated header: " + std::to_string(bytes.size()) + " bytes, the header alone is 18");
   if (bytes[12] != 1 || bytes[13] != 0) {
     throw FileError(file, "tensor file version " + std::to_string(bytes[12]) + "." + std::to_string(bytes[13]) +
-                                  ", only 1.0 is supported");
+                              ", only 1.0 is supported");
   }
   uint32_t count;
   std::memcpy(&count, bytes.data() + 14, sizeof count);
@@ -121,7 +121,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
   // before reserving anything for it.
   if (count > (bytes.size() - kHeaderBytes) / 13) {
     throw FileError(file, "header claims " + std::to_string(count) + " fields, more than its " +
-                                  std::to_string(bytes.size()) + " bytes can describe");
+                              std::to_string(bytes.size()) + " bytes can describe");
   }
   TensorFile result;
   std::vector<std::pair<uint64_t, uint64_t>> extents;  // offset and bytes of each field's data
@@ -136,7 +136,7 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
     const auto offset = in.take<uint64_t>(where);
     if (ndim > TensorField::kMaxDims) {
       throw FileError(file, field + " has " + std::to_string(ndim) + " dimensions, at most " +
-                                    std::to_string(TensorField::kMaxDims) + " are supported");
+                                std::to_string(TensorField::kMaxDims) + " are supported");
     }
     if (code < 1 || code > 11) throw FileError(file, field + " has an unknown dtype code " + std::to_string(code));
     TensorField f;
@@ -162,8 +162,8 @@ TensorFile TensorFile::parse(std::span<const unsigned char> bytes, const std::st
     const std::string field = "field '" + printable(result.fields_[i].first) + "'";
     if (offset > bytes.size() || size > bytes.size() - offset) {
       throw FileError(file, field + " (" + TensorField::typeName(f.type) + ", " + std::to_string(f.elements()) +
-                                    " elements at offset " + std::to_string(offset) +
-                                    ") lies beyond the end of the file (" + std::to_string(bytes.size()) + " bytes)");
+                                " elements at offset " + std::to_string(offset) +
+                                ") lies beyond the end of the file (" + std::to_string(bytes.size()) + " bytes)");
     }
     f.data.assign(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
                   bytes.begin() + static_cast<std::ptrdiff_t>(offset + size));
@@ -234,7 +234,7 @@ std::vector<unsigned char> TensorFile::serialize() const {
 
 void TensorFile::save(const std::filesystem::path& path) const {
   const std::vector<unsigned char> bytes = serialize();
-  writeFileAtomically(path.string(), bytes.data(), bytes.size());
+  writeFileAtomically(path.string(), std::as_bytes(std::span(bytes)));
 }
 
 }  // namespace acdf

@@ -5,14 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <new>
-#include <random>
 #include <system_error>
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include "acdf/sampling/regular_file.h"
-#include "acdf/sampling/temporary_files.h"
+#include "acdf/sampling/write_atomically.h"
 
 namespace acdf {
 
@@ -125,34 +124,24 @@ void checkWritable(const std::string& path, const Image& image) {
 // file next to `path`, then renames it over `path`: a failure leaves no partial file.
 void writeAtomically(const std::string& path, const char* format, const Image& image, OIIO::TypeDesc type,
                      const void* pixels, const char* compression) {
-  // Next to the target, so the rename stays within one file system (and is atomic).
-  std::random_device random;
-  const std::string temp = fmt::format("{}.tmp-{:08x}", path, static_cast<unsigned>(random()));
-  auto output = OIIO::ImageOutput::create(format);
-  if (!output) throw FileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
-  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), static_cast<int>(image.channels),
-                       type);
-  if (image.channels == 1) spec.channelnames = {"Y"};
-  if (compression) spec.attribute("compression", compression);
-  auto fail = [&](const std::string& what) {
-    const std::string detail = output->geterror();
-    (void)takeGlobalError();
-    output->close();
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    throw FileError(path, withDetail(what, detail));
-  };
-  // Removed if a signal kills us mid-write; guarded before it exists, so no signal finds it unguarded.
-  const TemporaryFileGuard guard(temp);
-  if (!output->open(temp, spec)) fail("cannot create the temporary file " + temp);
-  if (!output->write_image(type, pixels)) fail("cannot write the temporary file " + temp);
-  if (!output->close()) fail("cannot write the temporary file " + temp);
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw FileError(path, "cannot rename the temporary file into place");
-  }
+  writeFileAtomically(path, [&](const std::string& temp) {
+    auto output = OIIO::ImageOutput::create(format);
+    if (!output)
+      throw FileError(path, withDetail(fmt::format("OpenImageIO cannot write {}", format), takeGlobalError()));
+    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height),
+                         static_cast<int>(image.channels), type);
+    if (image.channels == 1) spec.channelnames = {"Y"};
+    if (compression) spec.attribute("compression", compression);
+    auto fail = [&](const std::string& what) {
+      const std::string detail = output->geterror();
+      (void)takeGlobalError();
+      output->close();
+      throw FileError(path, withDetail(what, detail));
+    };
+    if (!output->open(temp, spec)) fail("cannot create the temporary file " + temp);
+    if (!output->write_image(type, pixels)) fail("cannot write the temporary file " + temp);
+    if (!output->close()) fail("cannot write the temporary file " + temp);
+  });
 }
 
 }  // namespace

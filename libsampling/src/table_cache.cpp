@@ -1,7 +1,7 @@
 #include "acdf/sampling/table_cache.h"
-#include "acdf/sampling/temporary_files.h"
+#include "acdf/sampling/file_error.h"
+#include "acdf/sampling/write_atomically.h"
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <random>
 #include <system_error>
 #include <thread>
 
@@ -49,14 +48,6 @@ CacheKey getKey(ByteReader& in) {
 }
 
 CacheKey checksum(std::span<const std::byte> payload) { return ContentHash().bytes(payload).digest(); }
-
-// Unique among the threads and processes of this machine, and random across machines sharing
-// the directory.
-std::string temporarySuffix() {
-  static std::atomic<uint64_t> counter{0};
-  static const uint64_t random = std::random_device{}() * 0x100000000ull + std::random_device{}();
-  return ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++) + "." + std::to_string(random);
-}
 
 }  // namespace
 
@@ -222,33 +213,24 @@ bool TableCache::store(const CacheKey& key, std::span<const std::byte> payload) 
   std::filesystem::create_directories(directory_, ec);
   if (ec) return failed("cannot create " + directory_.string() + ": " + ec.message());
 
-  ByteWriter header;
-  header.putBytes(std::as_bytes(std::span(kMagic)));
-  header.put(kTableCacheFormatVersion);
-  putKey(header, key);
-  header.put<uint64_t>(payload.size());
-  putKey(header, checksum(payload));
-
   const std::filesystem::path path = fileOf(key);
-  const std::filesystem::path temporary = path.string() + temporarySuffix();
-  const TemporaryFileGuard guard(temporary.string());  // a unique name: removed if a signal kills us
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) return failed("cannot write " + temporary.string());
-    file.write(reinterpret_cast<const char*>(header.bytes().data()),
-               static_cast<std::streamsize>(header.bytes().size()));
-    file.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
-    file.close();
-    if (!file) {
-      std::filesystem::remove(temporary, ec);
-      return failed("error writing " + temporary.string());
-    }
-  }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    const std::string problem = "cannot rename " + temporary.string() + " to " + path.string() + ": " + ec.message();
-    std::filesystem::remove(temporary, ec);
-    return failed(problem);
+  try {
+    writeFileAtomically(path.string(), [&](const std::string& temporary) {
+      ByteWriter header;
+      header.putBytes(std::as_bytes(std::span(kMagic)));
+      header.put(kTableCacheFormatVersion);
+      putKey(header, key);
+      header.put<uint64_t>(payload.size());
+      putKey(header, checksum(payload));
+      std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+      file.write(reinterpret_cast<const char*>(header.bytes().data()),
+                 static_cast<std::streamsize>(header.bytes().size()));
+      file.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
+      file.close();
+      if (!file) throw FileError(path.string(), "error writing " + temporary);
+    });
+  } catch (const FileError& e) {
+    return failed(e.what());
   }
   return true;
 }

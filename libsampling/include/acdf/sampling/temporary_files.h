@@ -2,7 +2,7 @@
 // Temporary files removed when the program is interrupted.
 //
 // Every writer in the tree writes to a temporary file next to its target and renames it into
-// place, so a failure never leaves a partial file under the target's name. A signal that kills the
+// place (write_atomically.h), so a failure never leaves a partial file under the target's name. A signal that kills the
 // program mid-write (Ctrl-C's SIGINT, SIGTERM, SIGHUP, or SIGXFSZ past a file-size limit) would
 // still leave the partial temporary behind (found by scripts/bad-input-report: a 12 MB
 // "sky.exr.tmp-…" after Ctrl-C). A writer therefore holds a TemporaryFileGuard on its temporary
