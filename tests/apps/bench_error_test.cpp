@@ -451,7 +451,8 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   // Over ssh, as across machines: two hosts of an ssh login file, reached through a stand-in
   // for ssh that runs the remote command here as ssh would (its arguments joined, given to a
   // shell), so the quoting GNU parallel adds for the remote side is exercised (the output
-  // directory's name has a space).
+  // directory's name has a space). sshd sets SHELL to the login shell, and GNU parallel's remote
+  // side runs the command with $SHELL: without it, nothing runs and parallel still exits 0.
   if (std::system("command -v parallel >/dev/null 2>&1") == 0) {
     apptest::writeFile(
         path("fake-ssh"),
@@ -461,6 +462,7 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
             path("ssh-hosts") +
             "\n"
             "shift; [[ ${1-} == -- ]] && shift\n"
+            "SHELL=$(getent passwd \"$(id -u)\" | cut -d: -f7) && export SHELL=${SHELL:-/bin/sh}\n"
             "exec bash -c \"$*\"\n");
     fs::permissions(path("fake-ssh"), fs::perms::owner_all);
     apptest::writeFile(path("logins"), path("fake-ssh") + " host-a\n" + path("fake-ssh") + " host-b\n");
