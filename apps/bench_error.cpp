@@ -107,6 +107,14 @@ std::optional<Strategy> strategyOf(const Json& row) {
   }
 }
 
+// The strategy's four names, as rows, curves and skipped entries carry them (strategyOf reads them).
+Json strategyJson(const Strategy& s) {
+  return {{"bsdf_sampling", toString(s.bsdf)},
+          {"env_sampling", toString(s.env)},
+          {"mis", toString(s.mis)},
+          {"sampler", toString(s.sampler)}};
+}
+
 // Row key for resuming: the strategy and the budget.
 std::string rowKey(const Strategy& s, double budget) { return fmt::format("{}|{:a}", s.id(), budget); }
 std::optional<std::string> rowKey(const Json& row) {
@@ -184,13 +192,11 @@ Json curves(const Json& rows, double target) {
     std::sort(points.begin(), points.end(),
               [](const ErrorAtTime& a, const ErrorAtTime& b) { return a.seconds < b.seconds; });
     const TimeToTarget t = timeToReach(points, target);
-    out.push_back({{"bsdf_sampling", toString(s.bsdf)},
-                   {"env_sampling", toString(s.env)},
-                   {"mis", toString(s.mis)},
-                   {"sampler", toString(s.sampler)},
-                   {"time_to_target", std::isfinite(t.seconds) ? Json(t.seconds) : Json()},
-                   {"time_to_target_stderr", std::isfinite(t.standardError) ? Json(t.standardError) : Json()},
-                   {"time_to_target_extrapolated", t.extrapolated}});
+    Json curve = strategyJson(s);
+    curve.update(Json{{"time_to_target", std::isfinite(t.seconds) ? Json(t.seconds) : Json()},
+                      {"time_to_target_stderr", std::isfinite(t.standardError) ? Json(t.standardError) : Json()},
+                      {"time_to_target_extrapolated", t.extrapolated}});
+    out.push_back(std::move(curve));
   }
   return out;
 }
@@ -653,32 +659,29 @@ class BenchError {
         }
         const SeedAggregate a = aggregateSeeds(renders);
         const uint64_t spp = (sppSum + args_.seeds / 2) / args_.seeds;
-        Json row{{"row", indexOf.at(rowKey(s, budget))},
-                 {"bsdf_sampling", toString(s.bsdf)},
-                 {"env_sampling", toString(s.env)},
-                 {"mis", toString(s.mis)},
-                 {"sampler", toString(s.sampler)},
-                 {"budget_kind", budgetKind()},
-                 {"budget", budget},
-                 {"seeds", args_.seeds},
-                 {"seconds", a.seconds.mean},
-                 {"seconds_stderr", a.seconds.standardError},
-                 {"spp", spp},
-                 {"relmse", a.relMse.mean},
-                 {"relmse_stderr", a.relMse.standardError},
-                 {"relmse_trimmed", a.relMseTrimmed.mean},
-                 {"relmse_trimmed_stderr", a.relMseTrimmed.standardError},
-                 {"rmse", a.rmse.mean},
-                 {"rmse_stderr", a.rmse.standardError},
-                 {"efficiency", a.efficiency.mean},
-                 {"efficiency_stderr", a.efficiency.standardError},
-                 {"brdf_table_bytes", memory.brdf},
-                 {"env_table_bytes", memory.environment},
-                 {"table_bytes", memory.brdf + memory.environment},
-                 {"table_ms", tableMs},
-                 {"tables_built", tables_->tablesBuilt().size() - builtBefore},
-                 {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore},
-                 {"per_seed", perSeed}};
+        Json row{{"row", indexOf.at(rowKey(s, budget))}};
+        row.update(strategyJson(s));
+        row.update(Json{{"budget_kind", budgetKind()},
+                        {"budget", budget},
+                        {"seeds", args_.seeds},
+                        {"seconds", a.seconds.mean},
+                        {"seconds_stderr", a.seconds.standardError},
+                        {"spp", spp},
+                        {"relmse", a.relMse.mean},
+                        {"relmse_stderr", a.relMse.standardError},
+                        {"relmse_trimmed", a.relMseTrimmed.mean},
+                        {"relmse_trimmed_stderr", a.relMseTrimmed.standardError},
+                        {"rmse", a.rmse.mean},
+                        {"rmse_stderr", a.rmse.standardError},
+                        {"efficiency", a.efficiency.mean},
+                        {"efficiency_stderr", a.efficiency.standardError},
+                        {"brdf_table_bytes", memory.brdf},
+                        {"env_table_bytes", memory.environment},
+                        {"table_bytes", memory.brdf + memory.environment},
+                        {"table_ms", tableMs},
+                        {"tables_built", tables_->tablesBuilt().size() - builtBefore},
+                        {"tables_from_cache", tables_->tablesFromCache().size() - cachedBefore},
+                        {"per_seed", perSeed}});
         done_.insert(rowKey(s, budget));
         rows_.push_back(std::move(row));
         ++rendered_;
@@ -693,12 +696,11 @@ class BenchError {
 
   void writeResults() const {
     Json skipped = Json::array();
-    for (const SkippedStrategy& s : skipped_)
-      skipped.push_back({{"bsdf_sampling", toString(s.strategy.bsdf)},
-                         {"env_sampling", toString(s.strategy.env)},
-                         {"mis", toString(s.strategy.mis)},
-                         {"sampler", toString(s.strategy.sampler)},
-                         {"reason", s.reason}});
+    for (const SkippedStrategy& s : skipped_) {
+      Json entry = strategyJson(s.strategy);
+      entry["reason"] = s.reason;
+      skipped.push_back(std::move(entry));
+    }
     Json rows = Json::array();
     for (const Json& r : rows_) rows.push_back(r);
     writeResultFiles(dir_, settings(), skipped, rows, args_.targetRelMse);
