@@ -511,7 +511,7 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   };
   expectOneLineFailure(mergeOf({"sharded/shard-1", "other"}), "acdf: " + path("other/results.json") + ": ",
                        "its seeds (1) differs from that of " + path("sharded/shard-1") + " (2)");
-  expectOneLineFailure(mergeOf({"sharded/shard-1"}), "acdf: ", "shard 2/2 is missing");
+  expectOneLineFailure(mergeOf({"sharded/shard-1"}), "acdf: ", "--merge misses shard 2/2");
   expectOneLineFailure(mergeOf({"sharded/shard-1", "sharded/shard-1"}), "acdf: ", "shard 1/2 is given twice");
   expectOneLineFailure(mergeOf({"whole"}), "acdf: ", "not a shard");
   expectOneLineFailure(mergeOf({"nothing"}), "acdf: " + path("nothing/results.json") + ": ", "no results");

@@ -1,0 +1,123 @@
+// The error-against-time benchmark as a library (acdf/integrator/error_benchmark.h): its option
+// checks, its shard syntax, and a run in process that renders exactly the matrix it reports
+// through the renderer it is given, logging a line per row. The command line's behaviour (resume,
+// the reference, merging, plots, bad input) is tested in tests/apps/bench_error_test.cpp.
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acdf/integrator/error_benchmark.h"
+#include "acdf/sampling/option_error.h"
+#include "app_test_util.h"
+
+namespace acdf {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string optionRejected(const ErrorBenchmarkOptions& options) {
+  try {
+    validate(options);
+  } catch (const OptionError& e) {
+    return e.option();
+  }
+  return "";
+}
+
+TEST(ErrorBenchmark, OptionsAreChecked) {
+  ErrorBenchmarkOptions options;
+  EXPECT_EQ(optionRejected(options), "");
+  for (double bad : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    options.budgets = {1, bad};
+    EXPECT_EQ(optionRejected(options), "budgets") << bad;
+  }
+  options.sppBudgets = true;
+  options.budgets = {4, 1.5};
+  EXPECT_EQ(optionRejected(options), "spp_budgets");
+  options.budgets = {4, 64};
+  EXPECT_EQ(optionRejected(options), "");
+  options.seeds = 0;
+  EXPECT_EQ(optionRejected(options), "seeds");
+  options.seeds = 1;
+  options.referenceSpp = 0;
+  EXPECT_EQ(optionRejected(options), "reference_spp");
+  options.referenceSpp = 1;
+  options.shard = ErrorBenchmarkShard{3, 2};
+  EXPECT_EQ(optionRejected(options), "shard");
+}
+
+TEST(ErrorBenchmark, ShardsSplitTheRows) {
+  const ErrorBenchmarkShard second = parseErrorBenchmarkShard("2/3");
+  EXPECT_EQ(second.k, 2u);
+  EXPECT_EQ(second.n, 3u);
+  EXPECT_FALSE(second.has(0));
+  EXPECT_TRUE(second.has(1));
+  EXPECT_TRUE(second.has(4));
+  for (const char* bad : {"", "0/2", "3/2", "2", "1/0", "a/b", "1/2x", "-1/2", "1/2/3"})
+    EXPECT_THROW(parseErrorBenchmarkShard(bad), OptionError) << bad;
+}
+
+class ErrorBenchmarkRun : public apptest::TempDirTest {};
+
+TEST_F(ErrorBenchmarkRun, RendersTheMatrixItReportsThroughTheGivenRenderer) {
+  const nlohmann::json scene = {
+      {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", 16}, {"height", 8}}},
+      {"render", {{"spp", 2}, {"seed", 3}, {"max_depth", 2}}},
+      {"environment", {{"type", "constant"}, {"radiance", 1.0}}},
+      {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "grey"}}}},
+  };
+  apptest::writeFile(path("scene.json"), scene.dump(2));
+
+  ErrorBenchmarkOptions options;
+  options.scene = path("scene.json");
+  options.out = path("out");
+  options.sppBudgets = true;
+  options.budgets = {2, 1, 2};  // sorted, repeats dropped
+  options.mis = {MisMode::Power, MisMode::BsdfOnly};
+  options.seeds = 2;
+  options.referenceSpp = 8;
+  std::vector<std::string> lines;
+  options.log = [&](const std::string& line) { lines.push_back(line); };
+  std::vector<uint32_t> spp;
+  options.render = [&](const Scene& s, Film& film, std::optional<double> seconds) {
+    EXPECT_FALSE(seconds) << "spp budgets: no time limit";
+    spp.push_back(s.settings.spp);
+    return render(s, film);
+  };
+  const ErrorBenchmarkReport report = runErrorBenchmark(options, TableCache::disabled());
+
+  // No measured material: one BRDF strategy; bsdf-only with the first environment strategy only.
+  const std::size_t envs = std::size(kEnvironmentSamplings);
+  EXPECT_EQ(report.strategies, envs + 1);
+  EXPECT_EQ(report.budgets, 2u);
+  EXPECT_EQ(report.rendered, report.strategies * report.budgets);
+  EXPECT_EQ(report.kept, 0u);
+  EXPECT_EQ(report.referenceOrigin.find("8 spp, rendered"), 0u) << report.referenceOrigin;
+
+  // The reference, then each row's seeds at the row's budget.
+  ASSERT_EQ(spp.size(), 1 + report.rendered * options.seeds);
+  EXPECT_EQ(spp[0], 8u);
+  for (std::size_t i = 1; i < spp.size(); ++i) EXPECT_TRUE(spp[i] == 1 || spp[i] == 2) << spp[i];
+
+  std::ifstream in(fs::path(path("out")) / "results.json");
+  const nlohmann::json results = nlohmann::json::parse(in);
+  ASSERT_EQ(results["rows"].size(), report.rendered);
+  std::size_t rowLines = 0;
+  for (const std::string& line : lines) rowLines += line.find(" seeds: ") != std::string::npos;
+  EXPECT_EQ(rowLines, report.rendered);
+  for (const auto& row : results["rows"]) {
+    EXPECT_EQ(row["seeds"], 2);
+    EXPECT_GT(row["relmse"].get<double>(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace acdf
