@@ -6,12 +6,10 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "acdf/brdf/coordinates.h"
 #include "acdf/brdf/merl.h"
-#include "acdf/brdf/nbrdf.h"
+#include "acdf/brdf/merl_tabulation.h"
 
 namespace acdf {
 
@@ -122,27 +120,8 @@ std::string AnalyticBrdf::addToKey(ContentHash&) const {
 }
 
 std::vector<double> AnalyticBrdf::merlTable() const {
-  constexpr std::size_t kCells = MerlBrdf::kCells;
-  std::vector<double> table(3 * kCells);
-  tbb::parallel_for(tbb::blocked_range<int>(0, MerlBrdf::kThetaHalfCells), [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) {
-      const double s = i / 90.0;
-      const double th = s * s * (kPi / 2);
-      for (int j = 0; j < MerlBrdf::kThetaDiffCells; ++j) {
-        const double td = j / 90.0 * (kPi / 2);
-        for (int k = 0; k < MerlBrdf::kPhiDiffCells; ++k) {
-          const std::size_t index = MerlBrdf::flatIndex(i, j, k);
-          if (NeuralBrdf::merlCellBelowHorizon(i, j, k)) {
-            for (int c = 0; c < 3; ++c) table[c * kCells + index] = -1.0;
-            continue;
-          }
-          const std::array<double, 3> f = closedForm(th, td, k / 180.0 * kPi);
-          for (int c = 0; c < 3; ++c) table[c * kCells + index] = f[c] / MerlBrdf::kChannelScale[c];
-        }
-      }
-    }
-  });
-  return table;
+  return tabulateMerl(
+      [this](const MerlCellCoordinates& cell) { return closedForm(cell.thetaHalf, cell.thetaDiff, cell.phiDiff); });
 }
 
 std::vector<std::string> AnalyticBrdf::presetNames() {

@@ -5,13 +5,11 @@
 #include <cstddef>
 #include <fstream>
 #include <iterator>
-#include <numbers>
 #include <system_error>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/merl_tabulation.h"
 #include "acdf/sampling/regular_file.h"
 
 namespace acdf {
@@ -20,8 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-constexpr double kHalfPi = std::numbers::pi / 2;
 
 json readJson(const fs::path& path) {
   const std::string name = path.string();
@@ -148,57 +144,10 @@ Rgb NeuralBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   return {static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2])};
 }
 
-namespace {
-
-// The tool's cell coordinates, written in its order of operations.
-double cellThetaHalf(int i) {
-  const double s = i / 90.0;
-  return s * s * kHalfPi;
-}
-double cellThetaDiff(int j) { return j / 90.0 * kHalfPi; }
-double cellPhiDiff(int k) { return k / 180.0 * std::numbers::pi; }
-
-// wi = R_y(θh) d, wo = reflect(wi, h), h = (sin θh, 0, cos θh): below if either z ≤ 0.
-bool belowHorizon(double c, double s, double d0, double d2) {
-  const double wiZ = -s * d0 + c * d2;
-  const double wiX = c * d0 + s * d2;
-  const double hDotWi = s * wiX + c * wiZ;
-  const double woZ = 2 * hDotWi * c - wiZ;
-  return wiZ <= 0 || woZ <= 0;
-}
-
-}  // namespace
-
-bool NeuralBrdf::merlCellBelowHorizon(int i, int j, int k) {
-  const double th = cellThetaHalf(i), td = cellThetaDiff(j), pd = cellPhiDiff(k);
-  return belowHorizon(std::cos(th), std::sin(th), std::sin(td) * std::cos(pd), std::cos(td));
-}
-
 std::vector<double> NeuralBrdf::merlTable() const {
-  constexpr std::size_t kCells = MerlBrdf::kCells;
-  std::vector<double> table(3 * kCells);
-  tbb::parallel_for(tbb::blocked_range<int>(0, MerlBrdf::kThetaHalfCells), [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) {
-      const double th = cellThetaHalf(i);
-      const double c = std::cos(th), s = std::sin(th);
-      for (int j = 0; j < MerlBrdf::kThetaDiffCells; ++j) {
-        const double td = cellThetaDiff(j);
-        const double sinTd = std::sin(td), cosTd = std::cos(td);
-        for (int k = 0; k < MerlBrdf::kPhiDiffCells; ++k) {
-          const double pd = cellPhiDiff(k);
-          const double d0 = sinTd * std::cos(pd), d1 = sinTd * std::sin(pd), d2 = cosTd;
-          const std::size_t index = MerlBrdf::flatIndex(i, j, k);
-          if (belowHorizon(c, s, d0, d2)) {
-            for (int ch = 0; ch < 3; ++ch) table[ch * kCells + index] = -1.0;
-            continue;
-          }
-          const std::array<double, 3> f = evalInput({s, 0.0, c, d0, d1, d2});
-          for (int ch = 0; ch < 3; ++ch) table[ch * kCells + index] = f[ch] / MerlBrdf::kChannelScale[ch];
-        }
-      }
-    }
+  return tabulateMerl([this](const MerlCellCoordinates& cell) {
+    return evalInput({cell.half.x, cell.half.y, cell.half.z, cell.diff.x, cell.diff.y, cell.diff.z});
   });
-  return table;
 }
 
 }  // namespace acdf

@@ -14,6 +14,7 @@
 #include "acdf/brdf/analytic.h"
 #include "acdf/brdf/coordinates.h"
 #include "acdf/brdf/merl.h"
+#include "acdf/brdf/merl_tabulation.h"
 #include "acdf/brdf/nbrdf.h"
 
 namespace {
@@ -105,7 +106,7 @@ TEST(AnalyticBrdf, MerlTable) {
     for (int j = 0; j < 90; ++j)
       for (int k = 0; k < 180; ++k) {
         const std::size_t index = MerlBrdf::flatIndex(i, j, k);
-        if (NeuralBrdf::merlCellBelowHorizon(i, j, k)) {
+        if (merlCellBelowHorizon(i, j, k)) {
           for (int c = 0; c < 3; ++c) ASSERT_EQ(table[c * kN + index], -1.0);
           continue;
         }

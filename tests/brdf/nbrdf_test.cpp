@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/merl.h"
+#include "acdf/brdf/merl_tabulation.h"
 #include "acdf/brdf/nbrdf.h"
 
 namespace {
@@ -187,7 +188,7 @@ TEST_F(NeuralBrdfTest, MerlTableMaskCoordinatesAndScales) {
         const double phiDiff = k / 180.0 * kPi;
         // The geometry: both directions above the horizon, up to rounding right at it.
         const DirectionPair p = fromHalfDiff({thetaHalf, 0.0, thetaDiff, phiDiff});
-        const bool marked = NeuralBrdf::merlCellBelowHorizon(i, jj, k);
+        const bool marked = merlCellBelowHorizon(i, jj, k);
         if (std::min(p.wi.z, p.wo.z) > 1e-12) {
           ASSERT_FALSE(marked) << i << " " << jj << " " << k;
         }
@@ -211,8 +212,8 @@ TEST_F(NeuralBrdfTest, MerlTableMaskCoordinatesAndScales) {
   // Roughly the part of (θh, θd, φd) space with θh + θd beyond π/2 in some φd.
   EXPECT_GT(below, kN / 10);
   EXPECT_LT(below, kN / 2);
-  EXPECT_FALSE(NeuralBrdf::merlCellBelowHorizon(0, 89, 0));  // θh = 0: only θd matters
-  EXPECT_TRUE(NeuralBrdf::merlCellBelowHorizon(89, 89, 0));
+  EXPECT_FALSE(merlCellBelowHorizon(0, 89, 0));  // θh = 0: only θd matters
+  EXPECT_TRUE(merlCellBelowHorizon(89, 89, 0));
 }
 
 TEST_F(NeuralBrdfTest, SaveRawKeepsMinusOneAndDoubles) {

@@ -48,8 +48,7 @@ class AnalyticBrdf final : public BrdfModel {
   // No data; the kind and its parameters: "analytic-ggx conductor alpha=... f0=...".
   std::string addToKey(ContentHash& content) const override;
 
-  // The MERL table as NeuralBrdf::merlTable() builds it: cell corner coordinates, divided by
-  // the channel scales, −1 in the cells NeuralBrdf::merlCellBelowHorizon marks. Parallel.
+  // The MERL table as NeuralBrdf::merlTable() builds it (tabulateMerl, merl_tabulation.h).
   std::vector<double> merlTable() const;
 
   // The named presets, and one line describing each ("name: model, parameters").

@@ -53,15 +53,8 @@ class NeuralBrdf {
   // horizon, else the network at their half/difference angles.
   Rgb eval(const Vec3d& wo, const Vec3d& wi) const;
 
-  // The full MERL table as nbrdf_to_merl.py builds it: the network at cell (i, j, k)'s corner
-  // coordinates θh = (i/90)²·π/2, θd = j/90·π/2, φd = k/180·π, divided by MerlBrdf's channel
-  // scales; cells where ωi or ωo is at or below the horizon hold −1 (MERL's "no data" mark).
-  // 3 · MerlBrdf::kCells values, in file order: red block, green block, blue block. Parallel
-  // (oneTBB); the result does not depend on the number of threads.
+  // The full MERL table as nbrdf_to_merl.py builds it (tabulateMerl, merl_tabulation.h).
   std::vector<double> merlTable() const;
-
-  // Whether the tool marks cell (i, j, k) as below the horizon (its wi_z / wo_z test).
-  static bool merlCellBelowHorizon(int thetaHalfIdx, int thetaDiffIdx, int phiDiffIdx);
 
  private:
   NeuralBrdf() = default;
