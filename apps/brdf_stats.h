@@ -1,8 +1,9 @@
 #pragma once
 // `acdf brdf-stats FILE [--table 4d|isotropic] [--res R] [--epsilon E] [--interpolation M]
-// [--samples N] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary or RGL .bsdf,
-// told apart by content) — the uniform and adaptive tables' resolution, bytes and compression,
-// and each sampler's variance, speed and efficiency, with the file's own warps for an RGL file.
+// [--samples N] [--quadrature] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary
+// or RGL .bsdf, told apart by content) — the uniform and adaptive tables' resolution, bytes and
+// compression, and each sampler's variance, speed and efficiency, with the file's own warps for an
+// RGL file; with --quadrature, each sampler's mean and variance also by quadrature.
 //
 // The BRDF table options are shared with `acdf chi2 --brdf`, so both commands test the same
 // samplers from the same flags.

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/brdf/reflectance_estimator.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "app_test_util.h"
 
@@ -122,6 +123,33 @@ TEST_F(BrdfCli, StatsJsonKeysAreConsistent) {
   EXPECT_LT(j["adaptive"]["variance"].get<double>(), j["cosine"]["variance"].get<double>()) << j.dump(2);
 }
 
+// --quadrature adds each sampler's figures by quadrature, labelled as such: one mean for every
+// sampler (the same integral of f cos), variances ranked as the sampled ones are, and nothing left
+// unsampled by tables with a cosine mixture. Without the flag there is no "quadrature" key.
+TEST_F(BrdfCli, StatsQuadratureFigures) {
+  std::vector<std::string> args = stats(gold(), kSmallIso);
+  args.push_back("--json");
+  EXPECT_FALSE(runJson(args).contains("quadrature"));
+  args.push_back("--quadrature");
+  const json j = runJson(args);
+  ASSERT_TRUE(j.contains("quadrature")) << j.dump(2);
+  EXPECT_EQ(j["quadrature"]["theta_half_points"], ReflectanceQuadratureOptions{}.thetaHalfPoints);
+  EXPECT_EQ(j["quadrature"]["phi_half_points"], ReflectanceQuadratureOptions{}.phiHalfPoints);
+  const double mean = j["cosine"]["quadrature"]["mean"].get<double>();
+  EXPECT_NEAR(mean, j["cosine"]["mean"].get<double>(), 0.05 * mean);
+  for (const char* sampler : {"cosine", "uniform", "adaptive"}) {
+    const json& q = j[sampler]["quadrature"];
+    SCOPED_TRACE(sampler);
+    EXPECT_EQ(q["mean"].get<double>(), mean) << q;
+    EXPECT_GT(q["variance"].get<double>(), 0) << q;
+    EXPECT_EQ(q["unsampled"].get<double>(), 0) << q;
+    EXPECT_NEAR(q["variance_vs_uniform"].get<double>(),
+                q["variance"].get<double>() / j["uniform"]["quadrature"]["variance"].get<double>(), 1e-12)
+        << q;
+  }
+  EXPECT_LT(j["uniform"]["quadrature"]["variance"].get<double>(), j["cosine"]["quadrature"]["variance"].get<double>());
+}
+
 TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
   // No --res: TabulatedBrdfOptions' resolution, whatever the library's defaults are today. The
   // isotropic table, because the 4D one takes seconds to tabulate (minutes under ASan).
@@ -144,6 +172,7 @@ TEST_F(BrdfCli, StatsPrintsATable) {
   for (const char* text : {"isotropic table", "trilinear interpolation", "epsilon 0.01", "16 x 64 x 8", "compression",
                            "cosine", "uniform", "adaptive", "efficiency"})
     EXPECT_NE(r.out.find(text), std::string::npos) << text << " not in:\n" << r.out;
+  EXPECT_EQ(r.out.find("quadrature"), std::string::npos) << r.out;
 }
 
 TEST_F(BrdfCli, StatsBadInput) {
