@@ -226,6 +226,13 @@ std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args
           ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(MerlBrdf::Interpolation::Nearest)),
                                                          std::string(toString(MerlBrdf::Interpolation::Trilinear))}))
           ->capture_default_str(),
+      app.add_option("--cosine-weight", args.cosineWeight,
+                     "Defensive mixture: the probability of drawing cosine-weighted instead of from the table")
+          ->capture_default_str(),
+      app.add_option("--slice-grouping", args.sliceGrouping,
+                     "Neighbouring outgoing slices share a distribution when that adds at most this chi2-divergence "
+                     "(0: one per slice)")
+          ->capture_default_str(),
   };
 }
 
@@ -234,6 +241,8 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
   o.method = method;
   o.layout = parseTableLayout(args.table);
   o.simplify.epsilon = args.epsilon;
+  o.cosineWeight = args.cosineWeight;
+  o.sliceGrouping = args.sliceGrouping;
   if (!args.resolution.empty()) {
     if (o.layout == Layout::Full4D) {
       const auto r = parseResolution(args.resolution, 4, std::string(toString(o.layout)));
@@ -247,7 +256,8 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
     validate(o);
   } catch (const OptionError& e) {
     // The cell counts come from --res.
-    throw UsageError(e.option() == "epsilon" ? flagError(e) : "--res: " + std::string(e.what()));
+    const bool flag = e.option() == "epsilon" || e.option() == "cosine_weight" || e.option() == "slice_grouping";
+    throw UsageError(flag ? flagError(e) : "--res: " + std::string(e.what()));
   }
   return o;
 }

@@ -32,10 +32,12 @@ struct BrdfTableArgs {
   std::string resolution;    // e.g. 32x16x256x32 (4d) or 32x256x32 (isotropic)
   double epsilon = TabulatedBrdfOptions{}.simplify.epsilon;
   std::string interpolation = "nearest";  // nearest | trilinear
+  double cosineWeight = TabulatedBrdfOptions{}.cosineWeight;
+  double sliceGrouping = TabulatedBrdfOptions{}.sliceGrouping;
 };
 
-// Adds --table, --res, --epsilon and --interpolation to `app`, bound to `args`; returns them (so
-// a command can make them depend on its BRDF option).
+// Adds --table, --res, --epsilon, --interpolation, --cosine-weight and --slice-grouping to `app`, bound to `args`;
+// returns them (so a command can make them depend on its BRDF option).
 std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args);
 
 // The table options the flags describe, with `method`. Throws UsageError for a malformed --res

@@ -241,6 +241,7 @@ CascadeOptions cascadeOptions(const TabulatedBrdfOptions& o) {
   cascade.methods = {o.method, o.method};
   cascade.simplify = o.simplify;
   cascade.tolerance = o.tolerance;
+  cascade.sliceGroupingTolerance = o.sliceGrouping;
   return cascade;
 }
 
@@ -285,6 +286,8 @@ void validate(const TabulatedBrdfOptions& o) {
   if (o.supersampling == 0) fail("supersampling", "must be at least 1");
   if (!(o.cosineWeight >= 0.0 && o.cosineWeight <= 1.0))
     fail("cosine_weight", "must be in [0, 1], got " + OptionError::number(o.cosineWeight));
+  if (!(o.sliceGrouping >= 0.0 && std::isfinite(o.sliceGrouping)))
+    fail("slice_grouping", "must be finite and >= 0, got " + OptionError::number(o.sliceGrouping));
   validate(o.simplify);
 }
 

@@ -150,6 +150,27 @@ TEST_F(BrdfCli, StatsQuadratureFigures) {
   EXPECT_LT(j["uniform"]["quadrature"]["variance"].get<double>(), j["cosine"]["quadrature"]["variance"].get<double>());
 }
 
+// --cosine-weight and --slice-grouping reach the tables: a weight of 1 is cosine sampling (the same
+// variance by quadrature, to rounding), and grouping the 4D table's outgoing slices stores fewer
+// bytes.
+TEST_F(BrdfCli, StatsTableLeversReachTheTables) {
+  std::vector<std::string> args = stats(gold(), kSmallIso);
+  args.insert(args.end(), {"--quadrature", "--json", "--cosine-weight", "1"});
+  const json allCosine = runJson(args);
+  const double cosine = allCosine["cosine"]["quadrature"]["variance"].get<double>();
+  for (const char* table : {"uniform", "adaptive"})
+    EXPECT_NEAR(allCosine[table]["quadrature"]["variance"].get<double>(), cosine, 1e-9 * cosine) << table;
+
+  const std::vector<std::string> small4d = {"brdf-stats", gold(),      "--table", "4d",    "--res",
+                                            "8x8x64x16",  "--samples", "1",       "--json"};
+  std::vector<std::string> grouped = small4d;
+  grouped.insert(grouped.end(), {"--slice-grouping", "1e-2"});
+  EXPECT_LT(runJson(grouped)["adaptive"]["bytes"].get<double>(), runJson(small4d)["adaptive"]["bytes"].get<double>());
+
+  expectFailure({"brdf-stats", gold(), "--cosine-weight", "2"}, "", "--cosine-weight");
+  expectFailure({"brdf-stats", gold(), "--slice-grouping", "-1"}, "", "--slice-grouping");
+}
+
 TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
   // No --res: TabulatedBrdfOptions' resolution, whatever the library's defaults are today. The
   // isotropic table, because the 4D one takes seconds to tabulate (minutes under ASan).

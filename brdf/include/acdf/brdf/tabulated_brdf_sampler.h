@@ -75,6 +75,10 @@ struct TabulatedBrdfOptions {
   // it is small: 0.05 gave the lowest variances of the adaptive table over the three materials
   // among 0.02, 0.05, 0.1 and 0.25, and keeps pdf > 0 wherever cosθi > 0.
   double cosineWeight = 0.05;
+  // Slice grouping (CascadeOptions::sliceGroupingTolerance): neighbouring outgoing slices share
+  // one distribution where that raises a slice's χ²-divergence by at most this; 0 keeps one per
+  // slice. Adaptive tables only gain from it (a uniform slice costs the same either way).
+  double sliceGrouping = 0.0;
 
   // The table's name, e.g. "adaptive-4d", "uniform-iso".
   std::string name() const;
