@@ -71,12 +71,28 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
   const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
-  if (local_ && context.normal) return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), mapDirection);
+  if (const std::optional<double> local = localPdf(context, mapDirection)) return *local;
   return table(context).pdf(mapDirection);
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
-  const Rgb L = map_->radiance(options_.worldFromMap.applyInverse(w));
+  return scaled(map_->radiance(options_.worldFromMap.applyInverse(w)));
+}
+
+RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {
+  const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
+  const PixelIndex p = map_->mapping().pixelOf(mapDirection);
+  const std::optional<double> local = localPdf(context, mapDirection);
+  // The light's tables are of its map's size, so this pixel is theirs too.
+  return {scaled(map_->radiance(p)), local ? *local : table(context).pdf(p)};
+}
+
+std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, const Vec3d& mapDirection) const {
+  if (!local_ || !context.normal) return std::nullopt;
+  return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), mapDirection);
+}
+
+Rgb EnvironmentLight::scaled(const Rgb& L) const {
   const float k = options_.scale;
   return {k * L.r, k * L.g, k * L.b};
 }

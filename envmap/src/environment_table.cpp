@@ -190,10 +190,12 @@ EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
   return {map_->mapping().directionInPixel(p, fractionDown, fractionRight), p, pdf};
 }
 
-double EnvironmentTable::pdf(const Vec3d& w) const {
+double EnvironmentTable::pdf(const Vec3d& w) const { return pdf(map_->mapping().pixelOf(w)); }
+
+double EnvironmentTable::pdf(PixelIndex p) const {
   if (emitsNothing_) return 0.0;
   if (strategy_ == EnvironmentSampling::UniformSphere) return kUniformSpherePdf;
-  return pixelPdf(map_->mapping().pixelOf(w));
+  return pixelPdf(p);
 }
 
 std::size_t EnvironmentTable::bytes() const {

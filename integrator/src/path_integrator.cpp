@@ -35,9 +35,11 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     if (!hit) {
       if (depth == 0) {
         result += throughput * env.eval(ray.direction);
+      } else if (bsdfSeesLight && sampleLight) {
+        const RadianceAndPdf light = env.evalWithPdf(lightContext, ray.direction);
+        result += throughput * light.radiance * misWeight(bsdfPdf, light.pdf);
       } else if (bsdfSeesLight) {
-        const double weight = sampleLight ? misWeight(bsdfPdf, env.pdf(lightContext, ray.direction)) : 1.0;
-        result += throughput * env.eval(ray.direction) * weight;
+        result += throughput * env.eval(ray.direction);
       }
       break;
     }

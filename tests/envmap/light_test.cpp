@@ -156,6 +156,28 @@ TEST(Sampling, PdfAndEvalAgreeWithEverySample) {
     }
 }
 
+// evalWithPdf is eval and pdf in one call, bit for bit, for every strategy and kind of call (Local's
+// with a normal too), on lit, one-pixel and black maps turned into the world.
+TEST(Sampling, EvalWithPdfIsEvalAndPdf) {
+  const Rotation r = Rotation::aboutAxis({1, 2, 3}, 0.7);
+  for (const auto& map : {smoothMap(64, 32), onePixelMap(3, 2, 1, 2), constantMap(8, 4, 0.0f)})
+    for (EnvironmentSampling strategy : kEnvironmentSamplings) {
+      const EnvironmentLight light(map, {.strategy = strategy, .worldFromMap = r, .scale = 1.5f});
+      std::vector<LightSampleContext> contexts(std::begin(kLightContexts), std::end(kLightContexts));
+      contexts.push_back({.allowIncompletePdf = true, .normal = Vec3d{0.3, -0.5, 0.8}});
+      for (const LightSampleContext& context : contexts) {
+        SCOPED_TRACE(std::string(toString(strategy)) + ", " + describe(context) + (context.normal ? ", normal" : ""));
+        Pcg32 rng(4);
+        for (int i = 0; i < 2000; ++i) {
+          const Vec3d w = sampleUniformSphere(rng.nextDouble(), rng.nextDouble()) * 3.0;
+          const RadianceAndPdf both = light.evalWithPdf(context, w);
+          ASSERT_EQ(both.radiance, light.eval(w));
+          ASSERT_EQ(both.pdf, light.pdf(context, w));
+        }
+      }
+    }
+}
+
 TEST(Sampling, RotationTurnsSamplesAndScaleMultipliesRadiance) {
   const auto map = smoothMap(64, 32);
   const Rotation r = Rotation::aboutAxis({1, 2, 3}, 0.7);

@@ -58,6 +58,12 @@ struct LightSample {
   double pdf = 0;   // per steradian; 0 only for a light that emits nothing
 };
 
+// What arrives from a direction, and the density sample() gives it.
+struct RadianceAndPdf {
+  Rgb radiance;
+  double pdf = 0;
+};
+
 // The calls a light will serve: with LightSampleContext::allowIncompletePdf false, true, or
 // either. A light gets only the tables those calls use.
 enum class LightPdfs { Complete, Incomplete, Either };
@@ -84,6 +90,8 @@ class EnvironmentLight {
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
+  // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
+  RadianceAndPdf evalWithPdf(const LightSampleContext& context, const Vec3d& w) const;
 
   // The table sample() and pdf() use in `context` (for Local, the Adaptive one of calls without a
   // normal). Throws std::logic_error for a context the light was not made for (a complete pdf
@@ -100,6 +108,10 @@ class EnvironmentLight {
   std::size_t tableBytes() const;
 
  private:
+  Rgb scaled(const Rgb& L) const;
+  // Local's density in a call with a normal (which the map's pixel alone does not give), else none.
+  std::optional<double> localPdf(const LightSampleContext& context, const Vec3d& mapDirection) const;
+
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;
   // complete_ serves calls that need a complete pdf; incomplete_, when set (Compensated), those

@@ -116,6 +116,9 @@ class EnvironmentTable {
   Sample sample(float u0, float u1) const;
   // Density per steradian of sample() at the map-frame direction w (non-zero).
   double pdf(const Vec3d& w) const;
+  // The same, for every direction of the map's pixel p (the pdf is constant on a pixel): for a
+  // caller that has the pixel already.
+  double pdf(PixelIndex p) const;
 
   EnvironmentSampling strategy() const { return strategy_; }
   const EnvironmentMap& map() const { return *map_; }
