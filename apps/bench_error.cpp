@@ -105,7 +105,7 @@ int merge(const BenchErrorArgs& args) {
   const ErrorBenchmarkReport report = mergeErrorBenchmark(shards, args.out, args.targetRelMse);
   return finish(
       args,
-      fmt::format("bench-error --merge: {} shards of {}, {} rows\n", report.shardsMerged, args.merge[0], report.rows),
+      fmt::format("bench-error --merge: {} shards of {}, {} rows\n", report.shardsMerged, report.scene, report.rows),
       report.differenceImages);
 }
 

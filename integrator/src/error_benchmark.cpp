@@ -310,6 +310,7 @@ class ErrorBenchmark {
     writeResultFiles(dir_, settings, shards[0]["skipped"], rowsJson, options_.targetRelMse);
     ErrorBenchmarkReport report;
     report.shardsMerged = shards.size();
+    report.scene = first.value("scene", "");
     report.rows = rows.size();
     report.strategies = plan_.size();
     report.reference = referenceFile;

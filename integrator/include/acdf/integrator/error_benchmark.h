@@ -77,6 +77,7 @@ struct ErrorBenchmarkReport {
   std::string reference, referenceOrigin;   // its file; "given", "1024 spp, reused", ...
   std::size_t rendered = 0, kept = 0;       // rows rendered now, rows kept from an earlier run
   std::size_t shardsMerged = 0, rows = 0;   // a merge's
+  std::string scene;                        // a merge's: the scene the shards rendered
   std::size_t differenceImages = 0;
 };
 
