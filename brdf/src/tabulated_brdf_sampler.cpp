@@ -116,15 +116,87 @@ double targetIntegrand(const Vec3d& wo, const Vec3d& wh, double jacobian, const 
   return f * wi.z * 4.0 * cosOutHalf * jacobian;
 }
 
+// Where f·cosθi > 0 in only a sliver of a cell, every stratified point of the cell can miss it: near
+// the horizon a half vector reflects one ωo of a θo cell above it and another ωo below. For a model
+// whose f·cosθi does not vanish there (RGL's ρD / (4σ) at the horizon), such a zero cell leaves the
+// region to the cosine mixture alone, and the variance grows as 1 / cosineWeight. The cell's
+// corners find that support. With φo = 0 and Δφ = φh − φo,
+//     ωi.z = 2(ωo·ωh) cosθh − cosθo = sinθo sin2θh cosΔφ + cosθo cos2θh,
+// a sinusoid in θo (period 2π) and in θh (period π), whose cells are far shorter than half a
+// period, so where it is positive somewhere on a cell's range it is positive at one of its ends;
+// and over the cell's Δφ range [φh_a − φo_b, φh_b − φo_a], a + b cosΔφ (b >= 0) is largest at
+// an end or at Δφ = 0 when that lies inside. Moving along each axis in turn to where ωi.z is
+// largest keeps it positive, so wherever ωi.z > 0 in a cell it is > 0 at one of the points
+//     θo ∈ {θo_a, θo_b} × s ∈ {s_a, s_b} × (φo, φh) ∈ {(φo_b, φh_a), (φo_a, φh_b)} [∪ {(t, t)}],
+// t a common azimuth of both cells when Δφ = 0 lies inside; and ωi.z > 0 implies ωo·ωh > 0
+// (ωo.z, ωh.z >= 0). Azimuths count steps of the lattice of both cells' boundaries: 2π / lcm(P, Q)
+// for a 4D table, the Δφ cells' for an isotropic one (φo = 0).
+struct CornerLattice {
+  uint32_t thetaOutCells, sCells;
+  int64_t stepPerHalf, stepPerOut;  // lattice steps per φh cell, per φo cell (0: isotropic)
+  double phiStep;
+
+  uint32_t steps;                   // lattice steps over the azimuth range
+
+  explicit CornerLattice(const TabulatedBrdfOptions& o) : thetaOutCells(o.thetaOutCells), sCells(o.thetaHalfCells) {
+    const bool full = o.layout == Layout::Full4D;
+    const uint32_t halfCells = phiCells(o);
+    steps = full ? std::lcm(halfCells, o.phiOutCells) : halfCells;
+    stepPerHalf = steps / halfCells;
+    stepPerOut = full ? steps / o.phiOutCells : 0;
+    phiStep = phiRange(o) / steps;
+  }
+  // The mean of integrand(θo corner, s corner, φo step, φh step), f·cosθi · 4(ωo·ωh) without the
+  // Jacobian, over the cell's corner points, times the Jacobian π s sinθh at the cell's centre.
+  template <class Integrand>
+  double mean(uint32_t thetaCell, uint32_t outCell, uint32_t sCell, uint32_t halfCell, const Integrand& integrand) const {
+    const int64_t outA = outCell * stepPerOut, outB = (outCell + 1) * stepPerOut;
+    const int64_t halfA = halfCell * stepPerHalf, halfB = (halfCell + 1) * stepPerHalf;
+    double sum = 0.0;
+    int count = 0;
+    for (uint32_t k = thetaCell; k <= thetaCell + 1; ++k)
+      for (uint32_t b = sCell; b <= sCell + 1; ++b) {
+        sum += integrand(k, b, outB, halfA) + integrand(k, b, outA, halfB);
+        count += 2;
+        if (halfA < outB && outA < halfB) {
+          const int64_t common = std::max(outA, halfA);
+          sum += integrand(k, b, common, common);
+          ++count;
+        }
+      }
+    const double s = (sCell + 0.5) / sCells;
+    return sum / count * kPi * s * std::sin(s * s * kHalfPi);
+  }
+  // θo at corner k; the last is the largest θo condition() gives (a float below π/2), where f·cosθi
+  // of a model like GGX is still finite to rounding, not 0/0 as at the horizon itself.
+  double thetaOut(uint32_t k) const {
+    return k < thetaOutCells ? k * kHalfPi / thetaOutCells : std::nextafter(static_cast<float>(kHalfPi), 0.0f);
+  }
+  double thetaHalf(uint32_t b) const {
+    const double s = static_cast<double>(b) / sCells;
+    return s * s * kHalfPi;
+  }
+};
+
+// The luminance of an isotropic model's f at ωi, for the half vector of `frame`.
+double luminanceAt(const BrdfModel& model, const HalfVectorFrame& frame, const Vec3d& wi) {
+  double thetaDiff, phiDiff;
+  frame.diffAngles(wi, thetaDiff, phiDiff);
+  return model.evalHalfDiff(frame.thetaHalf(), thetaDiff, phiDiff).luminance();
+}
+
 // f·cosθi · 4(ωo·ωh) · π s sinθh averaged over each cell's sub-points: the target density in
 // (s, φh), row-major over (θo[, φo], s, φh). θo cells in parallel; each cell's sum in double in a
-// fixed order. An isotropic model, on the azimuth lattice.
+// fixed order. An isotropic model, on the azimuth lattice. A cell whose sub-points all give 0 but
+// whose corners (CornerLattice) do not gets the mean of f·cosθi · 4(ωo·ωh) over its corners times
+// the Jacobian at its centre, so the table covers f·cosθi wherever a corner sees it.
 std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdfOptions& o) {
   const uint32_t per = o.supersampling;
   const uint32_t sCells = o.thetaHalfCells, pCells = phiCells(o);
   const bool full = o.layout == Layout::Full4D;
   const uint32_t phiOutCells = full ? o.phiOutCells : 1, phiOutPer = full ? per : 1;
   const AzimuthLattice lattice(o);
+  const CornerLattice corners(o);
 
   // The half vectors of the lattice: direction, frame and Jacobian π s sinθh.
   const std::vector<double> sValues = subPoints(sCells, per, 1.0);
@@ -144,6 +216,26 @@ std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdf
     }
   }
 
+  // The integrand without its Jacobian at every corner point, row-major over (θo, s, Δφ): φo = 0,
+  // Δφ = φh − φo in lattice steps, from 0 to the whole range (negative ones wrap around).
+  const uint32_t deltas = corners.steps + 1;
+  const std::size_t cornerRow = std::size_t{sCells + 1} * deltas;
+  std::vector<double> cornerValues((o.thetaOutCells + 1) * cornerRow);
+  tbb::parallel_for(uint32_t{0}, o.thetaOutCells + 1, [&](uint32_t k) {
+    const Vec3d wo = sphericalDirection(corners.thetaOut(k), 0.0);
+    for (uint32_t b = 0; b <= sCells; ++b)
+      for (uint32_t d = 0; d < deltas; ++d) {
+        const HalfVectorFrame frame(corners.thetaHalf(b), d * corners.phiStep);
+        cornerValues[k * cornerRow + b * deltas + d] =
+            targetIntegrand(wo, sphericalDirection(corners.thetaHalf(b), d * corners.phiStep), 1.0,
+                            [&](const Vec3d& wi) { return luminanceAt(model, frame, wi); });
+      }
+  });
+  const auto cornerIntegrand = [&](uint32_t k, uint32_t b, int64_t phiOut, int64_t phiHalf) {
+    const int64_t delta = phiHalf - phiOut;
+    return cornerValues[k * cornerRow + b * deltas + (delta < 0 ? delta + corners.steps : delta)];
+  };
+
   const std::vector<double> thetaOut = subPoints(o.thetaOutCells, per, kHalfPi);
   const std::size_t sliceCells = std::size_t{sCells} * pCells;
   const uint32_t phiSubPoints = pCells * per;
@@ -158,11 +250,8 @@ std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdf
       double* row = target.data() + std::size_t{a} * halfVectors.size();
       for (std::size_t k = 0; k < halfVectors.size(); ++k) {
         const HalfVectorPoint& h = halfVectors[k];
-        row[k] = targetIntegrand(wo, h.direction, h.jacobian, [&](const Vec3d& wi) {
-          double thetaDiff, phiDiff;
-          h.frame.diffAngles(wi, thetaDiff, phiDiff);
-          return model.evalHalfDiff(h.frame.thetaHalf(), thetaDiff, phiDiff).luminance();
-        });
+        row[k] = targetIntegrand(wo, h.direction, h.jacobian,
+                                 [&](const Vec3d& wi) { return luminanceAt(model, h.frame, wi); });
       }
     }
     std::vector<double> sums(sliceCells);
@@ -179,13 +268,17 @@ std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdf
           }
         }
       float* out = values.data() + (std::size_t{thetaCell} * phiOutCells + phiCell) * sliceCells;
-      for (std::size_t c = 0; c < sliceCells; ++c) out[c] = static_cast<float>(sums[c] / subPointsPerCell);
+      for (std::size_t c = 0; c < sliceCells; ++c)
+        out[c] = static_cast<float>(sums[c] > 0.0 ? sums[c] / subPointsPerCell
+                                                  : corners.mean(thetaCell, phiCell, static_cast<uint32_t>(c / pCells),
+                                                                 static_cast<uint32_t>(c % pCells), cornerIntegrand));
     }
   });
   return values;
 }
 
-// The same for a model that is not isotropic (a Full4D table): f at every 4D sub-point.
+// The same for a model that is not isotropic (a Full4D table): f at every 4D sub-point, and a zero
+// cell's corners at their own azimuths.
 std::vector<float> tabulateEveryPoint(const BrdfModel& model, const TabulatedBrdfOptions& o) {
   const uint32_t per = o.supersampling;
   const uint32_t sCells = o.thetaHalfCells, pCells = o.phiHalfCells;
@@ -207,6 +300,12 @@ std::vector<float> tabulateEveryPoint(const BrdfModel& model, const TabulatedBrd
   const std::size_t sliceCells = std::size_t{sCells} * pCells;
   std::vector<float> values(std::size_t{o.thetaOutCells} * o.phiOutCells * sliceCells);
   const double subPointsPerCell = std::pow(static_cast<double>(per), 4);
+  const CornerLattice corners(o);
+  const auto cornerIntegrand = [&](uint32_t k, uint32_t b, int64_t phiOut, int64_t phiHalf) {
+    const Vec3d wo = sphericalDirection(corners.thetaOut(k), phiOut * corners.phiStep);
+    const Vec3d wh = sphericalDirection(corners.thetaHalf(b), phiHalf * corners.phiStep);
+    return targetIntegrand(wo, wh, 1.0, [&](const Vec3d& wi) { return model.luminance(wo, wi); });
+  };
 
   tbb::parallel_for(uint32_t{0}, o.thetaOutCells, [&](uint32_t thetaCell) {
     std::vector<double> sums(sliceCells);
@@ -222,7 +321,10 @@ std::vector<float> tabulateEveryPoint(const BrdfModel& model, const TabulatedBrd
           }
         }
       float* out = values.data() + (std::size_t{thetaCell} * o.phiOutCells + phiCell) * sliceCells;
-      for (std::size_t c = 0; c < sliceCells; ++c) out[c] = static_cast<float>(sums[c] / subPointsPerCell);
+      for (std::size_t c = 0; c < sliceCells; ++c)
+        out[c] = static_cast<float>(sums[c] > 0.0 ? sums[c] / subPointsPerCell
+                                                  : corners.mean(thetaCell, phiCell, static_cast<uint32_t>(c / pCells),
+                                                                 static_cast<uint32_t>(c % pCells), cornerIntegrand));
     }
   });
   return values;
@@ -233,7 +335,7 @@ std::vector<float> tabulate(const BrdfModel& model, const TabulatedBrdfOptions& 
 }
 
 // Bump when tabulate() changes its values: cached tables of the old ones must not be used.
-constexpr int kTabulationVersion = 2;  // 2: 4D tables rotated from the isotropic target
+constexpr int kTabulationVersion = 3;  // 3: zero cells take their corners' support
 
 CascadeOptions cascadeOptions(const TabulatedBrdfOptions& o) {
   CascadeOptions cascade;
