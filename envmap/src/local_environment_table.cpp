@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -31,6 +32,30 @@ double angleBetween(const Vec3d& a, const Vec3d& b) {
 
 // The slice's and the pixel table's lookup coordinate of cell `index` of `cells`: its centre.
 float centreOf(uint32_t index, uint32_t cells) { return static_cast<float>((index + 0.5) / cells); }
+
+// sliceOf() trusts comparisons with its cell edges when the normal is this far inside a cell (in
+// −cos θ, or in pseudoAngle(), neither of which moves faster than the angle itself): the angles'
+// own rounding (atan2, hypot, the scaling to cells: under 1e-14) cannot carry it across an edge.
+constexpr double kEdgeMargin = 1e-9;
+// sliceOf()'s squared lengths whose sum neither underflows nor overflows.
+constexpr double kMinSquaredLength = 1e-300, kMaxSquaredLength = 1e300;
+
+// A strictly increasing function on [0, 4) of φ = atan2(a, b) taken in [0, 2π) (0 at φ = 0, 1 at
+// π/2, 2 at π, 3 at 3π/2), by one division. Its slope in φ is 1 / (|sin φ| + |cos φ|)², in
+// [1/2, 1], so it never moves faster than φ. a, b not both zero.
+double pseudoAngle(double a, double b) {
+  const double t = b / (std::abs(a) + std::abs(b));
+  return a >= 0 ? 1 - t : 3 + t;
+}
+
+// The cell [edges[i], edges[i + 1]) of v (edges ascending) when v lies more than kEdgeMargin
+// inside it; none when nearer an edge (or v is NaN).
+std::optional<uint32_t> cellWellInside(const std::vector<double>& edges, double v) {
+  const auto above = std::upper_bound(edges.begin() + 1, edges.end() - 1, v);
+  const auto i = static_cast<uint32_t>(above - edges.begin() - 1);
+  if (v - edges[i] > kEdgeMargin && edges[i + 1] - v > kEdgeMargin) return i;
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -65,6 +90,23 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
   validate(options_);
   validate(simplify_);
   slices_ = std::make_unique<Slice[]>(slices());
+  const uint32_t normalRows = options_.normalRows, normalColumns = options_.normalColumns;
+  rowEdges_.resize(normalRows + 1);
+  rowEdges_.front() = -2;
+  rowEdges_.back() = 2;
+  for (uint32_t r = 1; r < normalRows; ++r) rowEdges_[r] = -std::cos(std::numbers::pi * r / normalRows);
+  columnEdges_.resize(normalColumns + 1);
+  columnEdges_.front() = 0;
+  columnEdges_.back() = 4;
+  for (uint32_t c = 1; c < normalColumns; ++c) {
+    const double phi = 2 * std::numbers::pi * c / normalColumns;
+    columnEdges_[c] = pseudoAngle(std::sin(phi), std::cos(phi));
+  }
+  // atan2 gives θ = π/2 for any y = ±0, and φ = 0, π/2, π, 3π/2 for any x = ±0 with −z >= +0,
+  // z = ±0 with x > 0, x = ±0 with −z <= −0, z = ±0 with x < 0.
+  equatorRow_ = static_cast<uint32_t>(sliceByAngles({1, 0, 0}) / normalColumns);
+  const Vec3d axes[4] = {{0, 0, -1}, {1, 0, 0}, {0, 0, 1}, {-1, 0, 0}};
+  for (int k = 0; k < 4; ++k) axisColumns_[k] = static_cast<uint32_t>(sliceByAngles(axes[k]) % normalColumns);
   if (map_->isBlack()) return;
   const std::vector<float> power = map_->pixelPower();
   if (std::all_of(power.begin(), power.end(), [](float v) { return v == 0.0f; })) return;
@@ -120,6 +162,28 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
 }
 
 std::size_t LocalEnvironmentTable::sliceOf(const Vec3d& normal) const {
+  // A zero y, x or z puts θ or φ exactly on an axis (atan2's exact cases), whose cell the
+  // constructor found; elsewhere cos θ = y / |n| and φ = atan2(x, −z), by its pseudo-angle, are
+  // compared with the cell edges.
+  std::optional<uint32_t> row, column;
+  const double squared = normal.x * normal.x + normal.y * normal.y + normal.z * normal.z;
+  const bool lengthOk = squared >= kMinSquaredLength && squared <= kMaxSquaredLength;  // false for NaN
+  if (normal.y == 0)
+    row = equatorRow_;
+  else if (lengthOk)
+    row = cellWellInside(rowEdges_, -normal.y / std::sqrt(squared));
+  const double a = normal.x, b = -normal.z;
+  if (a == 0)
+    column = axisColumns_[std::signbit(b) ? 2 : 0];
+  else if (b == 0)
+    column = axisColumns_[a > 0 ? 1 : 3];
+  else if (lengthOk && std::abs(a) + std::abs(b) >= std::numeric_limits<double>::min())  // not subnormal
+    column = cellWellInside(columnEdges_, pseudoAngle(a, b));
+  if (row && column) return std::size_t{*row} * options_.normalColumns + *column;
+  return sliceByAngles(normal);
+}
+
+std::size_t LocalEnvironmentTable::sliceByAngles(const Vec3d& normal) const {
   const double row = LatLongMapping::theta(normal) * (options_.normalRows * std::numbers::inv_pi);
   const double column = LatLongMapping::phi(normal) * (options_.normalColumns * 0.5 * std::numbers::inv_pi);
   const uint32_t r = std::min(static_cast<uint32_t>(row), options_.normalRows - 1);
@@ -185,8 +249,11 @@ LocalEnvironmentTable::Sample LocalEnvironmentTable::sample(const Vec3d& normal,
 }
 
 double LocalEnvironmentTable::pdf(const Vec3d& normal, const Vec3d& w) const {
+  return pdf(normal, map_->mapping().pixelOf(w));
+}
+
+double LocalEnvironmentTable::pdf(const Vec3d& normal, PixelIndex p) const {
   if (emitsNothing_) return 0.0;
-  const PixelIndex p = map_->mapping().pixelOf(w);
   const uint32_t br = p.row / blockHeight_, bc = p.column / blockWidth_;
   const float block[2] = {centreOf(br, blockRows_), centreOf(bc, blockColumns_)};
   const float inBlock[2] = {centreOf(p.row - br * blockHeight_, blockHeight_),

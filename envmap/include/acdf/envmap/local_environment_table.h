@@ -80,6 +80,9 @@ class LocalEnvironmentTable {
   Sample sample(const Vec3d& normal, float u0, float u1) const;
   // Density per steradian of sample(normal, ·) at the map-frame direction w (non-zero).
   double pdf(const Vec3d& normal, const Vec3d& w) const;
+  // The same at any direction of map pixel p (the density is constant per pixel), for a caller
+  // that already knows w's pixel.
+  double pdf(const Vec3d& normal, PixelIndex p) const;
 
   // Builds every slice not built yet, in parallel.
   void buildAll() const;
@@ -89,7 +92,9 @@ class LocalEnvironmentTable {
   const SimplifyOptions& simplify() const { return simplify_; }
   bool emitsNothing() const { return emitsNothing_; }
 
-  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero).
+  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero): the cell of
+  // the normal's LatLongMapping::theta and ::phi, exactly as those angles put it, found without
+  // them unless the normal lies within 1e-9 of a cell's edge (an axis aside).
   std::size_t slices() const { return std::size_t{options_.normalRows} * options_.normalColumns; }
   std::size_t sliceOf(const Vec3d& normal) const;
   std::size_t slicesBuilt() const { return built_.load(std::memory_order_acquire); }
@@ -117,6 +122,8 @@ class LocalEnvironmentTable {
     std::optional<Cascade> blocks;  // P(block | normal cell)
   };
   const Cascade& slice(std::size_t index) const;
+  // sliceOf() by the angles themselves (atan2): the definition, for normals near a cell's edge.
+  std::size_t sliceByAngles(const Vec3d& normal) const;
   PixelIndex pixelOf(uint32_t blockRow, uint32_t blockColumn, uint32_t row, uint32_t column) const {
     return {blockRow * blockHeight_ + row, blockColumn * blockWidth_ + column};
   }
@@ -132,6 +139,11 @@ class LocalEnvironmentTable {
   std::optional<Cascade> pixels_;  // P(pixel | block)
   std::vector<double> pdfScale_;   // per map row: 1 / (blocks × block pixels × ΔΩ_row)
   std::unique_ptr<Slice[]> slices_;
+  // sliceOf()'s cell edges, ascending: −cos θ of the normal rows' edges (±2 past the poles, where
+  // the row is the first or the last whatever the rounding) and pseudoAngle() of the columns'.
+  std::vector<double> rowEdges_, columnEdges_;
+  uint32_t equatorRow_ = 0;          // the row of θ = π/2
+  uint32_t axisColumns_[4] = {};      // the columns of φ = 0, π/2, π, 3π/2
   mutable std::atomic<std::size_t> built_{0};
 };
 
