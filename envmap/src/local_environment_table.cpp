@@ -79,6 +79,11 @@ LocalEnvironmentTable::Cap LocalEnvironmentTable::capOf(double thetaA, double th
 
 double LocalEnvironmentTable::cosBound(const Vec3d& cellCentre, double cellRadius, const Vec3d& blockCentre,
                                        double blockRadius) {
+  // cos ∠ <= −s implies ∠ >= π/2 + s (as sin s <= s): with s the radii and the margin widened
+  // past the rounding of both ways, the angle below is >= π/2 too. Most blocks of a cell lie this
+  // far below its horizon; this skips their atan2.
+  const double reach = cellRadius + blockRadius + kAngleMargin + 1e-12;
+  if (dot(cellCentre, blockCentre) <= -reach) return 0.0;
   const double angle = std::max(0.0, angleBetween(cellCentre, blockCentre) - cellRadius - blockRadius - kAngleMargin);
   return angle >= std::numbers::pi / 2 ? 0.0 : std::cos(angle);
 }

@@ -192,6 +192,40 @@ TEST(LocalCosBound, BoundsTheCosineOverBothCells) {
   EXPECT_GT(tight, 1000u);  // not trivially loose
 }
 
+// cosBound is the formula of the header comment, bit for bit (its shortcut for blocks far below
+// the horizon included), on random caps of every size and on caps facing away from each other.
+TEST(LocalCosBound, IsTheAngleFormulaExactly) {
+  auto formula = [](const Vec3d& a, double ra, const Vec3d& b, double rb) {
+    const Vec3d c = cross(a, b);
+    const double angle = std::max(0.0, std::atan2(length(c), dot(a, b)) - ra - rb - 1e-9);
+    return angle >= kPi / 2 ? 0.0 : std::cos(angle);
+  };
+  Pcg32 rng(23);
+  uint64_t zeros = 0, positives = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const Vec3d a = randomDirection(rng);
+    // Half the trials near the antipode of a, where the shortcut's threshold lies.
+    const Vec3d b = trial % 2 ? randomDirection(rng) : normalize(-a + randomDirection(rng) * (0.3 * rng.nextDouble()));
+    const double ra = rng.nextDouble() * 0.5 * (trial % 3), rb = rng.nextDouble() * 0.2 * (trial % 5 != 0);
+    const double bound = LocalEnvironmentTable::cosBound(a, ra, b, rb);
+    ASSERT_EQ(bound, formula(a, ra, b, rb)) << "trial " << trial;
+    (bound == 0 ? zeros : positives) += 1;
+  }
+  // Straddling the horizon of the widened bound: ∠ = π/2 + radii + 1e-9 + δ.
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double theta = rng.nextDouble() * kPi, phi = rng.nextDouble() * 2 * kPi;
+    const double ra = rng.nextDouble() * 0.3, rb = rng.nextDouble() * 0.3;
+    for (double delta : {-1e-10, -1e-12, 0.0, 1e-12, 1e-10}) {
+      const double angle = kPi / 2 + ra + rb + 1e-9 + delta;
+      const Vec3d a = LatLongMapping::direction(theta, phi);
+      const Vec3d b = LatLongMapping::direction(theta + angle, phi);  // along the meridian, past the pole
+      ASSERT_EQ(LocalEnvironmentTable::cosBound(a, ra, b, rb), formula(a, ra, b, rb)) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(zeros, 50000u);
+  EXPECT_GT(positives, 50000u);
+}
+
 // sliceOf is the cell of LatLongMapping's θ and φ, exactly: on random normals of any length,
 // normals on and a hair off every cell edge (seam and poles included), axes with zeros of either
 // sign, subnormal and huge components, at several normal grids.
