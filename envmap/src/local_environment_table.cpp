@@ -33,28 +33,19 @@ double angleBetween(const Vec3d& a, const Vec3d& b) {
 // The slice's and the pixel table's lookup coordinate of cell `index` of `cells`: its centre.
 float centreOf(uint32_t index, uint32_t cells) { return static_cast<float>((index + 0.5) / cells); }
 
-// sliceOf() trusts comparisons with its cell edges when the normal is this far inside a cell (in
-// −cos θ, or in pseudoAngle(), neither of which moves faster than the angle itself): the angles'
-// own rounding (atan2, hypot, the scaling to cells: under 1e-14) cannot carry it across an edge.
+// sliceOf() trusts comparisons with its cell edges when the normal's pseudo-angle lies this far
+// inside a cell (a pseudo-angle never moves faster than the angle itself): the angles' own
+// rounding (atan2, hypot, the scaling to cells: under 1e-14) cannot carry it across an edge.
 constexpr double kEdgeMargin = 1e-9;
 // sliceOf()'s squared lengths whose sum neither underflows nor overflows.
 constexpr double kMinSquaredLength = 1e-300, kMaxSquaredLength = 1e300;
 
-// A strictly increasing function on [0, 4) of φ = atan2(a, b) taken in [0, 2π) (0 at φ = 0, 1 at
-// π/2, 2 at π, 3 at 3π/2), by one division. Its slope in φ is 1 / (|sin φ| + |cos φ|)², in
-// [1/2, 1], so it never moves faster than φ. a, b not both zero.
+// A strictly increasing function on [0, 4] of the angle α = atan2(a, b) taken in [0, 2π] (0 at
+// α = 0, 1 at π/2, 2 at π, 3 at 3π/2), by one division. Its slope in α is
+// 1 / (|sin α| + |cos α|)², in [1/2, 1], so it never moves faster than α. a, b not both zero.
 double pseudoAngle(double a, double b) {
   const double t = b / (std::abs(a) + std::abs(b));
   return a >= 0 ? 1 - t : 3 + t;
-}
-
-// The cell [edges[i], edges[i + 1]) of v (edges ascending) when v lies more than kEdgeMargin
-// inside it; none when nearer an edge (or v is NaN).
-std::optional<uint32_t> cellWellInside(const std::vector<double>& edges, double v) {
-  const auto above = std::upper_bound(edges.begin() + 1, edges.end() - 1, v);
-  const auto i = static_cast<uint32_t>(above - edges.begin() - 1);
-  if (v - edges[i] > kEdgeMargin && edges[i + 1] - v > kEdgeMargin) return i;
-  return std::nullopt;
 }
 
 }  // namespace
@@ -95,18 +86,9 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
   validate(options_);
   validate(simplify_);
   slices_ = std::make_unique<Slice[]>(slices());
-  const uint32_t normalRows = options_.normalRows, normalColumns = options_.normalColumns;
-  rowEdges_.resize(normalRows + 1);
-  rowEdges_.front() = -2;
-  rowEdges_.back() = 2;
-  for (uint32_t r = 1; r < normalRows; ++r) rowEdges_[r] = -std::cos(std::numbers::pi * r / normalRows);
-  columnEdges_.resize(normalColumns + 1);
-  columnEdges_.front() = 0;
-  columnEdges_.back() = 4;
-  for (uint32_t c = 1; c < normalColumns; ++c) {
-    const double phi = 2 * std::numbers::pi * c / normalColumns;
-    columnEdges_[c] = pseudoAngle(std::sin(phi), std::cos(phi));
-  }
+  const uint32_t normalColumns = options_.normalColumns;
+  rowCells_ = AngleCells(options_.normalRows, false);
+  columnCells_ = AngleCells(normalColumns, true);
   // atan2 gives θ = π/2 for any y = ±0, and φ = 0, π/2, π, 3π/2 for any x = ±0 with −z >= +0,
   // z = ±0 with x > 0, x = ±0 with −z <= −0, z = ±0 with x < 0.
   equatorRow_ = static_cast<uint32_t>(sliceByAngles({1, 0, 0}) / normalColumns);
@@ -166,24 +148,54 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
     pdfScale_[r] = 1.0 / (static_cast<double>(blocks) * blockPixels * map_->mapping().pixelSolidAngle(r));
 }
 
+LocalEnvironmentTable::AngleCells::AngleCells(uint32_t cells, bool wholeTurn) : edges(cells + 1) {
+  const double turn = wholeTurn ? 2 * std::numbers::pi : std::numbers::pi, range = wholeTurn ? 4 : 2;
+  edges.front() = wholeTurn ? 0 : -1;
+  edges.back() = wholeTurn ? range : range + 1;
+  for (uint32_t k = 1; k < cells; ++k) {
+    const double angle = turn * k / cells;
+    edges[k] = pseudoAngle(std::sin(angle), std::cos(angle));
+  }
+  const uint32_t buckets = 2 * cells;
+  bucketsPerUnit = buckets / range;
+  bucketCell.resize(buckets);
+  for (uint32_t j = 0; j < buckets; ++j) {
+    const auto above = std::upper_bound(edges.begin() + 1, edges.end() - 1, j / bucketsPerUnit);
+    bucketCell[j] = static_cast<uint32_t>(above - edges.begin() - 1);
+  }
+}
+
+std::optional<uint32_t> LocalEnvironmentTable::AngleCells::wellInside(double v) const {
+  // Past the end (the seam at φ = 2π), or NaN: the steps below would leave the edges. (A
+  // pseudo-angle is >= 0.)
+  if (!(v >= edges.front() && v < edges.back())) return std::nullopt;
+  uint32_t i = bucketCell[std::min(static_cast<std::size_t>(v * bucketsPerUnit), bucketCell.size() - 1)];
+  // Steps down only when rounding put v's bucket past it.
+  while (v >= edges[i + 1]) ++i;
+  while (v < edges[i]) --i;
+  if (v - edges[i] > kEdgeMargin && edges[i + 1] - v > kEdgeMargin) return i;
+  return std::nullopt;
+}
+
 std::size_t LocalEnvironmentTable::sliceOf(const Vec3d& normal) const {
   // A zero y, x or z puts θ or φ exactly on an axis (atan2's exact cases), whose cell the
-  // constructor found; elsewhere cos θ = y / |n| and φ = atan2(x, −z), by its pseudo-angle, are
-  // compared with the cell edges.
+  // constructor found; elsewhere the pseudo-angles of θ = atan2(hypot(x, z), y) and
+  // φ = atan2(x, −z) are compared with the cell edges.
   std::optional<uint32_t> row, column;
-  const double squared = normal.x * normal.x + normal.y * normal.y + normal.z * normal.z;
+  const double horizontal = normal.x * normal.x + normal.z * normal.z;
+  const double squared = horizontal + normal.y * normal.y;
   const bool lengthOk = squared >= kMinSquaredLength && squared <= kMaxSquaredLength;  // false for NaN
   if (normal.y == 0)
     row = equatorRow_;
   else if (lengthOk)
-    row = cellWellInside(rowEdges_, -normal.y / std::sqrt(squared));
+    row = rowCells_.wellInside(pseudoAngle(std::sqrt(horizontal), normal.y));
   const double a = normal.x, b = -normal.z;
   if (a == 0)
     column = axisColumns_[std::signbit(b) ? 2 : 0];
   else if (b == 0)
     column = axisColumns_[a > 0 ? 1 : 3];
   else if (lengthOk && std::abs(a) + std::abs(b) >= std::numeric_limits<double>::min())  // not subnormal
-    column = cellWellInside(columnEdges_, pseudoAngle(a, b));
+    column = columnCells_.wellInside(pseudoAngle(a, b));
   if (row && column) return std::size_t{*row} * options_.normalColumns + *column;
   return sliceByAngles(normal);
 }

@@ -139,9 +139,22 @@ class LocalEnvironmentTable {
   std::optional<Cascade> pixels_;  // P(pixel | block)
   std::vector<double> pdfScale_;   // per map row: 1 / (blocks × block pixels × ΔΩ_row)
   std::unique_ptr<Slice[]> slices_;
-  // sliceOf()'s cell edges, ascending: −cos θ of the normal rows' edges (±2 past the poles, where
-  // the row is the first or the last whatever the rounding) and pseudoAngle() of the columns'.
-  std::vector<double> rowEdges_, columnEdges_;
+  // sliceOf()'s normal rows or columns by a pseudo-angle of θ or φ (monotone, no faster than the
+  // angle): the ascending cell edges, and the cell where each of a uniform partition of the
+  // pseudo-angles into buckets (no wider on average than a cell) starts, so that finding a cell
+  // takes a step or two from its bucket's.
+  struct AngleCells {
+    AngleCells() = default;
+    // cells over θ ∈ [0, π] (wholeTurn false) or φ ∈ [0, 2π).
+    AngleCells(uint32_t cells, bool wholeTurn);
+    // The cell of pseudo-angle v when v lies more than 1e-9 inside it; none nearer an edge, or NaN.
+    std::optional<uint32_t> wellInside(double v) const;
+
+    std::vector<double> edges;  // past the poles (θ) ±1 beyond the range, where no rounding matters
+    std::vector<uint32_t> bucketCell;
+    double bucketsPerUnit = 0;
+  };
+  AngleCells rowCells_, columnCells_;
   uint32_t equatorRow_ = 0;          // the row of θ = π/2
   uint32_t axisColumns_[4] = {};      // the columns of φ = 0, π/2, π, 3π/2
   mutable std::atomic<std::size_t> built_{0};
