@@ -235,7 +235,8 @@ TEST(LocalTable, SliceOfIsTheCellOfTheNormalsAngles) {
            {32, 64}, {5, 7}, {1, 1}, {1, 2}, {2, 3}, {4, 4}, {3, 4096}, {4096, 5}}) {
     const LocalEnvironmentTable table(map, {.normalRows = rows, .normalColumns = columns});
     auto expected = [&](const Vec3d& n) {
-      const uint32_t r = std::min(static_cast<uint32_t>(LatLongMapping::theta(n) * (rows * std::numbers::inv_pi)), rows - 1);
+      const uint32_t r =
+          std::min(static_cast<uint32_t>(LatLongMapping::theta(n) * (rows * std::numbers::inv_pi)), rows - 1);
       const uint32_t c =
           std::min(static_cast<uint32_t>(LatLongMapping::phi(n) * (columns * 0.5 * std::numbers::inv_pi)), columns - 1);
       return std::size_t{r} * columns + c;

@@ -150,13 +150,15 @@ class LocalEnvironmentTable {
     // The cell of pseudo-angle v when v lies more than 1e-9 inside it; none nearer an edge, or NaN.
     std::optional<uint32_t> wellInside(double v) const;
 
-    std::vector<double> edges;  // past the poles (θ) ±1 beyond the range, where no rounding matters
+    // cells + 1; for θ the first and last lie 1 outside the pseudo-angles' [0, 2]: by a pole the
+    // row is the first or the last whatever the rounding.
+    std::vector<double> edges;
     std::vector<uint32_t> bucketCell;
     double bucketsPerUnit = 0;
   };
   AngleCells rowCells_, columnCells_;
-  uint32_t equatorRow_ = 0;          // the row of θ = π/2
-  uint32_t axisColumns_[4] = {};      // the columns of φ = 0, π/2, π, 3π/2
+  uint32_t equatorRow_ = 0;       // the row of θ = π/2
+  uint32_t axisColumns_[4] = {};  // the columns of φ = 0, π/2, π, 3π/2
   mutable std::atomic<std::size_t> built_{0};
 };
 
