@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -30,23 +29,13 @@ double angleBetween(const Vec3d& a, const Vec3d& b) {
   return std::atan2(std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
+const LocalEnvironmentOptions& validated(const LocalEnvironmentOptions& options) {
+  validate(options);
+  return options;
+}
+
 // The slice's and the pixel table's lookup coordinate of cell `index` of `cells`: its centre.
 float centreOf(uint32_t index, uint32_t cells) { return static_cast<float>((index + 0.5) / cells); }
-
-// sliceOf() trusts comparisons with its cell edges when the normal's pseudo-angle lies this far
-// inside a cell (a pseudo-angle never moves faster than the angle itself): the angles' own
-// rounding (atan2, hypot, the scaling to cells: under 1e-14) cannot carry it across an edge.
-constexpr double kEdgeMargin = 1e-9;
-// sliceOf()'s squared lengths whose sum neither underflows nor overflows.
-constexpr double kMinSquaredLength = 1e-300, kMaxSquaredLength = 1e300;
-
-// A strictly increasing function on [0, 4] of the angle α = atan2(a, b) taken in [0, 2π] (0 at
-// α = 0, 1 at π/2, 2 at π, 3 at 3π/2), by one division. Its slope in α is
-// 1 / (|sin α| + |cos α|)², in [1/2, 1], so it never moves faster than α. a, b not both zero.
-double pseudoAngle(double a, double b) {
-  const double t = b / (std::abs(a) + std::abs(b));
-  return a >= 0 ? 1 - t : 3 + t;
-}
 
 }  // namespace
 
@@ -81,19 +70,13 @@ double LocalEnvironmentTable::cosBound(const Vec3d& cellCentre, double cellRadiu
 
 LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMap> map,
                                              const LocalEnvironmentOptions& options, const SimplifyOptions& simplify)
-    : map_(std::move(map)), options_(options), simplify_(simplify) {
+    : map_(std::move(map)),
+      options_(validated(options)),
+      normalCells_(options_.normalColumns, options_.normalRows),
+      simplify_(simplify) {
   if (!map_) throw std::invalid_argument("LocalEnvironmentTable: no map");
-  validate(options_);
   validate(simplify_);
   slices_ = std::make_unique<Slice[]>(slices());
-  const uint32_t normalColumns = options_.normalColumns;
-  rowCells_ = AngleCells(options_.normalRows, false);
-  columnCells_ = AngleCells(normalColumns, true);
-  // atan2 gives θ = π/2 for any y = ±0, and φ = 0, π/2, π, 3π/2 for any x = ±0 with −z >= +0,
-  // z = ±0 with x > 0, x = ±0 with −z <= −0, z = ±0 with x < 0.
-  equatorRow_ = static_cast<uint32_t>(sliceByAngles({1, 0, 0}) / normalColumns);
-  const Vec3d axes[4] = {{0, 0, -1}, {1, 0, 0}, {0, 0, 1}, {-1, 0, 0}};
-  for (int k = 0; k < 4; ++k) axisColumns_[k] = static_cast<uint32_t>(sliceByAngles(axes[k]) % normalColumns);
   if (map_->isBlack()) return;
   const std::vector<float> power = map_->pixelPower();
   if (std::all_of(power.begin(), power.end(), [](float v) { return v == 0.0f; })) return;
@@ -148,64 +131,9 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
     pdfScale_[r] = 1.0 / (static_cast<double>(blocks) * blockPixels * map_->mapping().pixelSolidAngle(r));
 }
 
-LocalEnvironmentTable::AngleCells::AngleCells(uint32_t cells, bool wholeTurn) : edges(cells + 1) {
-  const double turn = wholeTurn ? 2 * std::numbers::pi : std::numbers::pi, range = wholeTurn ? 4 : 2;
-  edges.front() = wholeTurn ? 0 : -1;
-  edges.back() = wholeTurn ? range : range + 1;
-  for (uint32_t k = 1; k < cells; ++k) {
-    const double angle = turn * k / cells;
-    edges[k] = pseudoAngle(std::sin(angle), std::cos(angle));
-  }
-  const uint32_t buckets = 2 * cells;
-  bucketsPerUnit = buckets / range;
-  bucketCell.resize(buckets);
-  for (uint32_t j = 0; j < buckets; ++j) {
-    const auto above = std::upper_bound(edges.begin() + 1, edges.end() - 1, j / bucketsPerUnit);
-    bucketCell[j] = static_cast<uint32_t>(above - edges.begin() - 1);
-  }
-}
-
-std::optional<uint32_t> LocalEnvironmentTable::AngleCells::wellInside(double v) const {
-  // Past the end (the seam at φ = 2π), or NaN: the steps below would leave the edges. (A
-  // pseudo-angle is >= 0.)
-  if (!(v >= edges.front() && v < edges.back())) return std::nullopt;
-  uint32_t i = bucketCell[std::min(static_cast<std::size_t>(v * bucketsPerUnit), bucketCell.size() - 1)];
-  // Steps down only when rounding put v's bucket past it.
-  while (v >= edges[i + 1]) ++i;
-  while (v < edges[i]) --i;
-  if (v - edges[i] > kEdgeMargin && edges[i + 1] - v > kEdgeMargin) return i;
-  return std::nullopt;
-}
-
 std::size_t LocalEnvironmentTable::sliceOf(const Vec3d& normal) const {
-  // A zero y, x or z puts θ or φ exactly on an axis (atan2's exact cases), whose cell the
-  // constructor found; elsewhere the pseudo-angles of θ = atan2(hypot(x, z), y) and
-  // φ = atan2(x, −z) are compared with the cell edges.
-  std::optional<uint32_t> row, column;
-  const double horizontal = normal.x * normal.x + normal.z * normal.z;
-  const double squared = horizontal + normal.y * normal.y;
-  const bool lengthOk = squared >= kMinSquaredLength && squared <= kMaxSquaredLength;  // false for NaN
-  if (normal.y == 0)
-    row = equatorRow_;
-  else if (lengthOk)
-    row = rowCells_.wellInside(pseudoAngle(std::sqrt(horizontal), normal.y));
-  const double a = normal.x, b = -normal.z;
-  if (a == 0)
-    column = axisColumns_[std::signbit(b) ? 2 : 0];
-  else if (b == 0)
-    column = axisColumns_[a > 0 ? 1 : 3];
-  else if (lengthOk && std::abs(a) + std::abs(b) >= std::numeric_limits<double>::min())  // not subnormal
-    column = columnCells_.wellInside(pseudoAngle(a, b));
-  if (row && column) return std::size_t{*row} * options_.normalColumns + *column;
-  return sliceByAngles(normal);
-}
-
-std::size_t LocalEnvironmentTable::sliceByAngles(const Vec3d& normal) const {
-  const double row = LatLongMapping::theta(normal) * (options_.normalRows * std::numbers::inv_pi);
-  const double column = LatLongMapping::phi(normal) * (options_.normalColumns * 0.5 * std::numbers::inv_pi);
-  const uint32_t r = std::min(static_cast<uint32_t>(row), options_.normalRows - 1);
-  const uint32_t c = std::min(static_cast<uint32_t>(column), options_.normalColumns - 1);
-  return std::size_t{r} * options_.normalColumns + c;
+  const PixelIndex cell = normalCells_.pixelOf(normal);
+  return std::size_t{cell.row} * options_.normalColumns + cell.column;
 }
 
 const Cascade& LocalEnvironmentTable::slice(std::size_t index) const {

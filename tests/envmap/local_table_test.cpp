@@ -226,63 +226,21 @@ TEST(LocalCosBound, IsTheAngleFormulaExactly) {
   EXPECT_GT(positives, 50000u);
 }
 
-// sliceOf is the cell of LatLongMapping's θ and φ, exactly: on random normals of any length,
-// normals on and a hair off every cell edge (seam and poles included), axes with zeros of either
-// sign, subnormal and huge components, at several normal grids.
+// sliceOf is the cell of LatLongMapping's θ and φ in the normal grid (pixelOf's own exactness is
+// LatLong.PixelOfIsThePixelOfTheAngles').
 TEST(LocalTable, SliceOfIsTheCellOfTheNormalsAngles) {
   const std::shared_ptr<const EnvironmentMap> map = smoothMap(16, 8);
-  for (const auto& [rows, columns] : std::vector<std::pair<uint32_t, uint32_t>>{
-           {32, 64}, {5, 7}, {1, 1}, {1, 2}, {2, 3}, {4, 4}, {3, 4096}, {4096, 5}}) {
+  for (const auto& [rows, columns] : std::vector<std::pair<uint32_t, uint32_t>>{{32, 64}, {5, 7}, {1, 1}}) {
     const LocalEnvironmentTable table(map, {.normalRows = rows, .normalColumns = columns});
-    auto expected = [&](const Vec3d& n) {
+    Pcg32 rng(rows * 7919 + columns);
+    for (int i = 0; i < 10000; ++i) {
+      const Vec3d n = randomDirection(rng);
       const uint32_t r =
           std::min(static_cast<uint32_t>(LatLongMapping::theta(n) * (rows * std::numbers::inv_pi)), rows - 1);
       const uint32_t c =
           std::min(static_cast<uint32_t>(LatLongMapping::phi(n) * (columns * 0.5 * std::numbers::inv_pi)), columns - 1);
-      return std::size_t{r} * columns + c;
-    };
-    const std::string grid = std::to_string(rows) + "x" + std::to_string(columns);
-    uint64_t checked = 0;
-    auto check = [&](const Vec3d& n) {
-      ASSERT_EQ(table.sliceOf(n), expected(n)) << grid << " normal " << n.x << " " << n.y << " " << n.z;
-      ++checked;
-    };
-    Pcg32 rng(rows * 7919 + columns);
-    for (int i = 0; i < 100000; ++i) {
-      const double length = std::pow(10.0, -200 + 400 * rng.nextDouble());
-      check(randomDirection(rng) * length);
+      ASSERT_EQ(table.sliceOf(n), std::size_t{r} * columns + c) << rows << "x" << columns;
     }
-    const std::vector<double> offsets = {0, 1e-16, -1e-16, 1e-13, -1e-13, 1e-10, -1e-10, 1e-9, -1e-9, 1e-8, -1e-8};
-    const uint32_t edgeRows = std::min(rows, 64u), edgeColumns = std::min(columns, 128u);
-    for (uint32_t r = 0; r <= edgeRows; ++r)
-      for (uint32_t c = 0; c <= edgeColumns; ++c)
-        for (double dt : offsets)
-          for (double dp : offsets) {
-            const double theta = kPi * r / edgeRows + dt, phi = 2 * kPi * c / edgeColumns + dp;
-            const Vec3d n = LatLongMapping::direction(theta, phi);
-            check(n);
-            check(n * 1e-150);
-            check(n * 1e150);
-          }
-    for (double x : {0.0, -0.0})
-      for (double y : {1.0, -1.0, 1e-300, -1e300})
-        for (double z : {0.0, -0.0}) check({x, y, z});
-    // One zero of either sign among random components.
-    for (int i = 0; i < 3000; ++i) {
-      const Vec3d v = randomDirection(rng) * std::pow(10.0, -150 + 300 * rng.nextDouble());
-      const double zero = i % 2 ? 0.0 : -0.0;
-      check({zero, v.y, v.z});
-      check({v.x, zero, v.z});
-      check({v.x, v.y, zero});
-      check({zero, zero, v.z});
-      check({v.x, zero, zero});
-      check({zero, v.y, zero});
-    }
-    for (double tiny : {5e-324, -5e-324, 1e-310, -1e-310, 1e-160, -1e-160})
-      for (const Vec3d& n : {Vec3d{tiny, 1, 0}, Vec3d{0, 1, tiny}, Vec3d{tiny, -1, -0.0}, Vec3d{tiny, 0, tiny},
-                             Vec3d{1, tiny, 0}, Vec3d{0, tiny, -1}, Vec3d{tiny, tiny, tiny}, Vec3d{1e300, tiny, 1e300}})
-        check(n);
-    EXPECT_GT(checked, 100000u);
   }
 }
 

@@ -92,9 +92,8 @@ class LocalEnvironmentTable {
   const SimplifyOptions& simplify() const { return simplify_; }
   bool emitsNothing() const { return emitsNothing_; }
 
-  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero): the cell of
-  // the normal's LatLongMapping::theta and ::phi, exactly as those angles put it, found without
-  // them unless the normal lies within 1e-9 of a cell's edge (an axis aside).
+  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero), as
+  // LatLongMapping::pixelOf puts it in a normalColumns × normalRows grid.
   std::size_t slices() const { return std::size_t{options_.normalRows} * options_.normalColumns; }
   std::size_t sliceOf(const Vec3d& normal) const;
   std::size_t slicesBuilt() const { return built_.load(std::memory_order_acquire); }
@@ -122,14 +121,13 @@ class LocalEnvironmentTable {
     std::optional<Cascade> blocks;  // P(block | normal cell)
   };
   const Cascade& slice(std::size_t index) const;
-  // sliceOf() by the angles themselves (atan2): the definition, for normals near a cell's edge.
-  std::size_t sliceByAngles(const Vec3d& normal) const;
   PixelIndex pixelOf(uint32_t blockRow, uint32_t blockColumn, uint32_t row, uint32_t column) const {
     return {blockRow * blockHeight_ + row, blockColumn * blockWidth_ + column};
   }
 
   std::shared_ptr<const EnvironmentMap> map_;
   LocalEnvironmentOptions options_;
+  LatLongMapping normalCells_;  // the normal cells as the pixels of a lat-long grid
   SimplifyOptions simplify_;
   bool emitsNothing_ = true;
   uint32_t blockHeight_ = 0, blockWidth_ = 0;  // B, or the map's size if smaller
@@ -139,26 +137,6 @@ class LocalEnvironmentTable {
   std::optional<Cascade> pixels_;  // P(pixel | block)
   std::vector<double> pdfScale_;   // per map row: 1 / (blocks × block pixels × ΔΩ_row)
   std::unique_ptr<Slice[]> slices_;
-  // sliceOf()'s normal rows or columns by a pseudo-angle of θ or φ (monotone, no faster than the
-  // angle): the ascending cell edges, and the cell where each of a uniform partition of the
-  // pseudo-angles into buckets (no wider on average than a cell) starts, so that finding a cell
-  // takes a step or two from its bucket's.
-  struct AngleCells {
-    AngleCells() = default;
-    // cells over θ ∈ [0, π] (wholeTurn false) or φ ∈ [0, 2π).
-    AngleCells(uint32_t cells, bool wholeTurn);
-    // The cell of pseudo-angle v when v lies more than 1e-9 inside it; none nearer an edge, or NaN.
-    std::optional<uint32_t> wellInside(double v) const;
-
-    // cells + 1; for θ the first and last lie 1 outside the pseudo-angles' [0, 2]: by a pole the
-    // row is the first or the last whatever the rounding.
-    std::vector<double> edges;
-    std::vector<uint32_t> bucketCell;
-    double bucketsPerUnit = 0;
-  };
-  AngleCells rowCells_, columnCells_;
-  uint32_t equatorRow_ = 0;       // the row of θ = π/2
-  uint32_t axisColumns_[4] = {};  // the columns of φ = 0, π/2, π, 3π/2
   mutable std::atomic<std::size_t> built_{0};
 };
 
