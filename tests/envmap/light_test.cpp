@@ -1,7 +1,7 @@
-// The lat-long mapping and the light's sampling: documented directions, a known map, zero variance
-// with the uniform table, pdf/eval/sample agreement, rotation and scale, uniform-sphere sampling,
-// MIS compensation and the table each call uses, lights sharing tables, the sun-and-sky
-// generator, and the compression quality on the real maps.
+// The lat-long mapping (pixelOf exactly its angle formula) and the light's sampling: documented
+// directions, a known map, zero variance with the uniform table, pdf/eval/sample agreement,
+// rotation and scale, uniform-sphere sampling, MIS compensation and the table each call uses,
+// lights sharing tables, the sun-and-sky generator, and the compression quality on the real maps.
 
 #include <gtest/gtest.h>
 
