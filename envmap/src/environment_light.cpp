@@ -70,9 +70,9 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
-  const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
-  if (const std::optional<double> local = localPdf(context, mapDirection)) return *local;
-  return table(context).pdf(mapDirection);
+  const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  if (const std::optional<double> local = localPdf(context, p)) return *local;
+  return table(context).pdf(p);
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
@@ -82,14 +82,14 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
 RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {
   const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
   const PixelIndex p = map_->mapping().pixelOf(mapDirection);
-  const std::optional<double> local = localPdf(context, mapDirection);
+  const std::optional<double> local = localPdf(context, p);
   // The light's tables are of its map's size, so this pixel is theirs too.
   return {scaled(map_->radiance(p)), local ? *local : table(context).pdf(p)};
 }
 
-std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, const Vec3d& mapDirection) const {
+std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, PixelIndex p) const {
   if (!local_ || !context.normal) return std::nullopt;
-  return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), mapDirection);
+  return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), p);
 }
 
 Rgb EnvironmentLight::scaled(const Rgb& L) const {

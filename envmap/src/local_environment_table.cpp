@@ -29,6 +29,11 @@ double angleBetween(const Vec3d& a, const Vec3d& b) {
   return std::atan2(std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
+const LocalEnvironmentOptions& validated(const LocalEnvironmentOptions& options) {
+  validate(options);
+  return options;
+}
+
 // The slice's and the pixel table's lookup coordinate of cell `index` of `cells`: its centre.
 float centreOf(uint32_t index, uint32_t cells) { return static_cast<float>((index + 0.5) / cells); }
 
@@ -54,15 +59,22 @@ LocalEnvironmentTable::Cap LocalEnvironmentTable::capOf(double thetaA, double th
 
 double LocalEnvironmentTable::cosBound(const Vec3d& cellCentre, double cellRadius, const Vec3d& blockCentre,
                                        double blockRadius) {
+  // cos ∠ <= −s implies ∠ >= π/2 + s (as sin s <= s): with s the radii and the margin widened
+  // past the rounding of both ways, the angle below is >= π/2 too. Most blocks of a cell lie this
+  // far below its horizon; this skips their atan2.
+  const double reach = cellRadius + blockRadius + kAngleMargin + 1e-12;
+  if (dot(cellCentre, blockCentre) <= -reach) return 0.0;
   const double angle = std::max(0.0, angleBetween(cellCentre, blockCentre) - cellRadius - blockRadius - kAngleMargin);
   return angle >= std::numbers::pi / 2 ? 0.0 : std::cos(angle);
 }
 
 LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMap> map,
                                              const LocalEnvironmentOptions& options, const SimplifyOptions& simplify)
-    : map_(std::move(map)), options_(options), simplify_(simplify) {
+    : map_(std::move(map)),
+      options_(validated(options)),
+      normalCells_(options_.normalColumns, options_.normalRows),
+      simplify_(simplify) {
   if (!map_) throw std::invalid_argument("LocalEnvironmentTable: no map");
-  validate(options_);
   validate(simplify_);
   slices_ = std::make_unique<Slice[]>(slices());
   if (map_->isBlack()) return;
@@ -120,11 +132,8 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
 }
 
 std::size_t LocalEnvironmentTable::sliceOf(const Vec3d& normal) const {
-  const double row = LatLongMapping::theta(normal) * (options_.normalRows * std::numbers::inv_pi);
-  const double column = LatLongMapping::phi(normal) * (options_.normalColumns * 0.5 * std::numbers::inv_pi);
-  const uint32_t r = std::min(static_cast<uint32_t>(row), options_.normalRows - 1);
-  const uint32_t c = std::min(static_cast<uint32_t>(column), options_.normalColumns - 1);
-  return std::size_t{r} * options_.normalColumns + c;
+  const PixelIndex cell = normalCells_.pixelOf(normal);
+  return std::size_t{cell.row} * options_.normalColumns + cell.column;
 }
 
 const Cascade& LocalEnvironmentTable::slice(std::size_t index) const {
@@ -185,8 +194,11 @@ LocalEnvironmentTable::Sample LocalEnvironmentTable::sample(const Vec3d& normal,
 }
 
 double LocalEnvironmentTable::pdf(const Vec3d& normal, const Vec3d& w) const {
+  return pdf(normal, map_->mapping().pixelOf(w));
+}
+
+double LocalEnvironmentTable::pdf(const Vec3d& normal, PixelIndex p) const {
   if (emitsNothing_) return 0.0;
-  const PixelIndex p = map_->mapping().pixelOf(w);
   const uint32_t br = p.row / blockHeight_, bc = p.column / blockWidth_;
   const float block[2] = {centreOf(br, blockRows_), centreOf(bc, blockColumns_)};
   const float inBlock[2] = {centreOf(p.row - br * blockHeight_, blockHeight_),

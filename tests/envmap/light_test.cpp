@@ -1,7 +1,7 @@
-// The lat-long mapping and the light's sampling: documented directions, a known map, zero variance
-// with the uniform table, pdf/eval/sample agreement, rotation and scale, uniform-sphere sampling,
-// MIS compensation and the table each call uses, lights sharing tables, the sun-and-sky
-// generator, and the compression quality on the real maps.
+// The lat-long mapping (pixelOf exactly its angle formula) and the light's sampling: documented
+// directions, a known map, zero variance with the uniform table, pdf/eval/sample agreement,
+// rotation and scale, uniform-sphere sampling, MIS compensation and the table each call uses,
+// lights sharing tables, the sun-and-sky generator, and the compression quality on the real maps.
 
 #include <gtest/gtest.h>
 
@@ -58,6 +58,55 @@ TEST(LatLong, DocumentedDirections) {
   const Vec3d x = LatLongMapping::toZUp({1, 0, 0}), y = LatLongMapping::toZUp({0, 1, 0}),
               z = LatLongMapping::toZUp({0, 0, 1});
   EXPECT_NEAR(dot(cross(x, y), z), -1.0, 1e-15);  // orthogonal, determinant −1
+}
+
+// pixelOf is pixelByAngles, exactly: on random directions of any length, directions on and a hair
+// off every pixel edge (seam and poles included), axes with zeros of either sign, subnormal and huge
+// components, at several sizes.
+TEST(LatLong, PixelOfIsThePixelOfTheAngles) {
+  for (const auto& [width, height] : std::vector<std::pair<uint32_t, uint32_t>>{
+           {64, 32}, {7, 5}, {1, 1}, {2, 1}, {3, 2}, {4, 4}, {4096, 3}, {5, 4096}, {1024, 512}}) {
+    const LatLongMapping m(width, height);
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    uint64_t checked = 0;
+    auto check = [&](const Vec3d& w) {
+      ASSERT_EQ(m.pixelOf(w), m.pixelByAngles(w)) << size << " direction " << w.x << " " << w.y << " " << w.z;
+      ++checked;
+    };
+    auto randomDirection = [](Pcg32& rng) { return sampleUniformSphere(rng.nextFloat(), rng.nextFloat()); };
+    Pcg32 rng(width * 7919 + height);
+    for (int i = 0; i < 100000; ++i) check(randomDirection(rng) * std::pow(10.0, -200 + 400 * rng.nextDouble()));
+    const std::vector<double> offsets = {0, 1e-16, -1e-16, 1e-13, -1e-13, 1e-10, -1e-10, 1e-9, -1e-9, 1e-8, -1e-8};
+    const uint32_t edgeRows = std::min(height, 64u), edgeColumns = std::min(width, 128u);
+    for (uint32_t r = 0; r <= edgeRows; ++r)
+      for (uint32_t c = 0; c <= edgeColumns; ++c)
+        for (double dt : offsets)
+          for (double dp : offsets) {
+            const Vec3d w = LatLongMapping::direction(kPi * r / edgeRows + dt, 2 * kPi * c / edgeColumns + dp);
+            check(w);
+            check(w * 1e-150);
+            check(w * 1e150);
+          }
+    for (double x : {0.0, -0.0})
+      for (double y : {1.0, -1.0, 1e-300, -1e300})
+        for (double z : {0.0, -0.0}) check({x, y, z});
+    // One zero of either sign among random components.
+    for (int i = 0; i < 3000; ++i) {
+      const Vec3d v = randomDirection(rng) * std::pow(10.0, -150 + 300 * rng.nextDouble());
+      const double zero = i % 2 ? 0.0 : -0.0;
+      check({zero, v.y, v.z});
+      check({v.x, zero, v.z});
+      check({v.x, v.y, zero});
+      check({zero, zero, v.z});
+      check({v.x, zero, zero});
+      check({zero, v.y, zero});
+    }
+    for (double tiny : {5e-324, -5e-324, 1e-310, -1e-310, 1e-160, -1e-160})
+      for (const Vec3d& w : {Vec3d{tiny, 1, 0}, Vec3d{0, 1, tiny}, Vec3d{tiny, -1, -0.0}, Vec3d{tiny, 0, tiny},
+                             Vec3d{1, tiny, 0}, Vec3d{0, tiny, -1}, Vec3d{tiny, tiny, tiny}, Vec3d{1e300, tiny, 1e300}})
+        check(w);
+    EXPECT_GT(checked, 100000u);
+  }
 }
 
 TEST(LatLong, DirectionsInAPixelMapBackToIt) {

@@ -14,6 +14,8 @@
 #include <numbers>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "acdf/envmap/light_chi_square.h"
 #include "acdf/envmap/local_environment_table.h"
@@ -88,6 +90,7 @@ void expectConsistent(const LocalEnvironmentTable& table, const Vec3d& n, const 
       ASSERT_NEAR(length(s.direction), 1.0, 1e-12) << what;
       ASSERT_EQ(mapping.pixelOf(s.direction), s.pixel) << what;
       ASSERT_EQ(table.pdf(n, s.direction), s.pdf) << what << " u " << u0 << " " << u1;
+      ASSERT_EQ(table.pdf(n, s.pixel), s.pdf) << what << " u " << u0 << " " << u1;
     }
   double integral = 0, probability = 0;
   for (uint32_t r = 0; r < mapping.height(); ++r)
@@ -187,6 +190,58 @@ TEST(LocalCosBound, BoundsTheCosineOverBothCells) {
     }
   }
   EXPECT_GT(tight, 1000u);  // not trivially loose
+}
+
+// cosBound is the formula of the header comment, bit for bit (its shortcut for blocks far below
+// the horizon included), on random caps of every size and on caps facing away from each other.
+TEST(LocalCosBound, IsTheAngleFormulaExactly) {
+  auto formula = [](const Vec3d& a, double ra, const Vec3d& b, double rb) {
+    const Vec3d c = cross(a, b);
+    const double angle = std::max(0.0, std::atan2(length(c), dot(a, b)) - ra - rb - 1e-9);
+    return angle >= kPi / 2 ? 0.0 : std::cos(angle);
+  };
+  Pcg32 rng(23);
+  uint64_t zeros = 0, positives = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const Vec3d a = randomDirection(rng);
+    // Half the trials near the antipode of a, where the shortcut's threshold lies.
+    const Vec3d b = trial % 2 ? randomDirection(rng) : normalize(-a + randomDirection(rng) * (0.3 * rng.nextDouble()));
+    const double ra = rng.nextDouble() * 0.5 * (trial % 3), rb = rng.nextDouble() * 0.2 * (trial % 5 != 0);
+    const double bound = LocalEnvironmentTable::cosBound(a, ra, b, rb);
+    ASSERT_EQ(bound, formula(a, ra, b, rb)) << "trial " << trial;
+    (bound == 0 ? zeros : positives) += 1;
+  }
+  // Straddling the horizon of the widened bound: ∠ = π/2 + radii + 1e-9 + δ.
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double theta = rng.nextDouble() * kPi, phi = rng.nextDouble() * 2 * kPi;
+    const double ra = rng.nextDouble() * 0.3, rb = rng.nextDouble() * 0.3;
+    for (double delta : {-1e-10, -1e-12, 0.0, 1e-12, 1e-10}) {
+      const double angle = kPi / 2 + ra + rb + 1e-9 + delta;
+      const Vec3d a = LatLongMapping::direction(theta, phi);
+      const Vec3d b = LatLongMapping::direction(theta + angle, phi);  // along the meridian, past the pole
+      ASSERT_EQ(LocalEnvironmentTable::cosBound(a, ra, b, rb), formula(a, ra, b, rb)) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(zeros, 50000u);
+  EXPECT_GT(positives, 50000u);
+}
+
+// sliceOf is the cell of LatLongMapping's θ and φ in the normal grid (pixelOf's own exactness is
+// LatLong.PixelOfIsThePixelOfTheAngles').
+TEST(LocalTable, SliceOfIsTheCellOfTheNormalsAngles) {
+  const std::shared_ptr<const EnvironmentMap> map = smoothMap(16, 8);
+  for (const auto& [rows, columns] : std::vector<std::pair<uint32_t, uint32_t>>{{32, 64}, {5, 7}, {1, 1}}) {
+    const LocalEnvironmentTable table(map, {.normalRows = rows, .normalColumns = columns});
+    Pcg32 rng(rows * 7919 + columns);
+    for (int i = 0; i < 10000; ++i) {
+      const Vec3d n = randomDirection(rng);
+      const uint32_t r =
+          std::min(static_cast<uint32_t>(LatLongMapping::theta(n) * (rows * std::numbers::inv_pi)), rows - 1);
+      const uint32_t c =
+          std::min(static_cast<uint32_t>(LatLongMapping::phi(n) * (columns * 0.5 * std::numbers::inv_pi)), columns - 1);
+      ASSERT_EQ(table.sliceOf(n), std::size_t{r} * columns + c) << rows << "x" << columns;
+    }
+  }
 }
 
 // pdf > 0 wherever L(ω) max(0, n · ω) > 0, for random normals in a cell and random directions,

@@ -109,8 +109,9 @@ class EnvironmentLight {
 
  private:
   Rgb scaled(const Rgb& L) const;
-  // Local's density in a call with a normal (which the map's pixel alone does not give), else none.
-  std::optional<double> localPdf(const LightSampleContext& context, const Vec3d& mapDirection) const;
+  // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
+  // else none.
+  std::optional<double> localPdf(const LightSampleContext& context, PixelIndex p) const;
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;

@@ -42,6 +42,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "acdf/sampling/sphere.h"
@@ -56,11 +57,7 @@ struct PixelIndex {
 class LatLongMapping {
  public:
   // width, height >= 1.
-  LatLongMapping(uint32_t width, uint32_t height) : width_(width), height_(height), cosEdge_(height + 1) {
-    for (uint32_t r = 0; r <= height; ++r) cosEdge_[r] = std::cos(std::numbers::pi * r / height);
-    cosEdge_.front() = 1.0;  // exact at the poles
-    cosEdge_.back() = -1.0;
-  }
+  LatLongMapping(uint32_t width, uint32_t height);
 
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
@@ -81,8 +78,11 @@ class LatLongMapping {
   static Vec3d toZUp(const Vec3d& w) { return {-w.z, w.x, w.y}; }
   static Vec3d fromZUp(const Vec3d& v) { return {v.y, v.z, -v.x}; }
 
-  // The pixel whose (θ, φ) cell holds w; w must not be zero or NaN.
-  PixelIndex pixelOf(const Vec3d& w) const {
+  // The pixel whose (θ, φ) cell holds w; w must not be zero or NaN. Exactly pixelByAngles(w), found
+  // without atan2 unless w lies within 1e-9 of a pixel's edge (an axis aside).
+  PixelIndex pixelOf(const Vec3d& w) const;
+  // The same by the definition: theta(w) and phi(w) scaled to pixels, floored, clamped.
+  PixelIndex pixelByAngles(const Vec3d& w) const {
     const double row = theta(w) * (height_ * std::numbers::inv_pi);
     const double column = phi(w) * (width_ * 0.5 * std::numbers::inv_pi);
     return {std::min(static_cast<uint32_t>(row), height_ - 1), std::min(static_cast<uint32_t>(column), width_ - 1)};
@@ -110,8 +110,28 @@ class LatLongMapping {
   static constexpr double kPixelMargin = 1e-6;
 
  private:
+  // pixelOf()'s rows or columns by a pseudo-angle of θ or φ (monotone, no faster than the angle):
+  // the ascending cell edges, and the cell where each of a uniform partition of the pseudo-angles
+  // into buckets (two per cell) starts, so that finding a cell takes a step or two from its
+  // bucket's.
+  struct AngleCells {
+    // cells over θ ∈ [0, π] (wholeTurn false) or φ ∈ [0, 2π).
+    AngleCells(uint32_t cells, bool wholeTurn);
+    // The cell of pseudo-angle v when v lies more than 1e-9 inside it; none nearer an edge, or NaN.
+    std::optional<uint32_t> wellInside(double v) const;
+
+    // cells + 1; for θ the first and last lie 1 outside the pseudo-angles' [0, 2]: by a pole the
+    // row is the first or the last whatever the rounding.
+    std::vector<double> edges;
+    std::vector<uint32_t> bucketCell;
+    double bucketsPerUnit = 0;
+  };
+
   uint32_t width_, height_;
   std::vector<double> cosEdge_;  // cos θ at the top edge of each row, and at the bottom (−1)
+  AngleCells rowCells_, columnCells_;
+  uint32_t equatorRow_ = 0;       // the row of θ = π/2
+  uint32_t axisColumns_[4] = {};  // the columns of φ = 0, π/2, π, 3π/2
 };
 
 }  // namespace acdf

@@ -80,6 +80,9 @@ class LocalEnvironmentTable {
   Sample sample(const Vec3d& normal, float u0, float u1) const;
   // Density per steradian of sample(normal, ·) at the map-frame direction w (non-zero).
   double pdf(const Vec3d& normal, const Vec3d& w) const;
+  // The same at any direction of map pixel p (the density is constant per pixel), for a caller
+  // that already knows w's pixel.
+  double pdf(const Vec3d& normal, PixelIndex p) const;
 
   // Builds every slice not built yet, in parallel.
   void buildAll() const;
@@ -89,7 +92,8 @@ class LocalEnvironmentTable {
   const SimplifyOptions& simplify() const { return simplify_; }
   bool emitsNothing() const { return emitsNothing_; }
 
-  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero).
+  // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero), as
+  // LatLongMapping::pixelOf puts it in a normalColumns × normalRows grid.
   std::size_t slices() const { return std::size_t{options_.normalRows} * options_.normalColumns; }
   std::size_t sliceOf(const Vec3d& normal) const;
   std::size_t slicesBuilt() const { return built_.load(std::memory_order_acquire); }
@@ -123,6 +127,7 @@ class LocalEnvironmentTable {
 
   std::shared_ptr<const EnvironmentMap> map_;
   LocalEnvironmentOptions options_;
+  LatLongMapping normalCells_;  // the normal cells as the pixels of a lat-long grid
   SimplifyOptions simplify_;
   bool emitsNothing_ = true;
   uint32_t blockHeight_ = 0, blockWidth_ = 0;  // B, or the map's size if smaller
