@@ -46,14 +46,6 @@ std::vector<GridAxis> tableAxes(const TabulatedBrdfOptions& o) {
   return axes;
 }
 
-// x as a coordinate of the axis: rounded to float and kept inside [lo, hi), since a double just
-// below hi (2π, say) may round up to it.
-float onAxis(const GridAxis& axis, double x) {
-  const float f = static_cast<float>(x);
-  if (f >= axis.hi()) return std::nextafter(axis.hi(), axis.lo());
-  return f < axis.lo() ? axis.lo() : f;
-}
-
 // 1 − cos θ without cancellation near θ = 0: the solid angle of a polar cap over 2π.
 double oneMinusCos(double theta) {
   const double h = std::sin(0.5 * theta);
@@ -409,14 +401,16 @@ TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> mode
     : BrdfSampler(std::move(model)),
       options_(validated(this->model(), options)),
       table_(buildTable(this->model(), options_, tabulationMs_, buildMs_)),
-      capAreas_(capAreasOf(options_)) {}
+      capAreas_(capAreasOf(options_)),
+      outgoingCells_(outgoingCellsOf(table_)) {}
 
 TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options,
                                            Cascade table)
     : BrdfSampler(std::move(model)),
       options_(validated(this->model(), options)),
       table_(checkedTable(std::move(table), options_)),
-      capAreas_(capAreasOf(options_)) {}
+      capAreas_(capAreasOf(options_)),
+      outgoingCells_(outgoingCellsOf(table_)) {}
 
 Cascade TabulatedBrdfSampler::buildCascade(const BrdfModel& model, const TabulatedBrdfOptions& options) {
   double tabulationMs, buildMs;
@@ -435,11 +429,9 @@ CacheKey TabulatedBrdfSampler::tableKey(const BrdfModel& model, const TabulatedB
   return cacheKey(content, parameters);
 }
 
-std::array<float, 2> TabulatedBrdfSampler::condition(const Vec3d& wo) const {
-  const auto& axes = table_.axes();
-  std::array<float, 2> c{onAxis(axes[0], polarAngle(wo)), 0.0f};
-  if (options_.layout == Layout::Full4D) c[1] = onAxis(axes[1], azimuth(wo));
-  return c;
+OutgoingCells TabulatedBrdfSampler::outgoingCellsOf(const Cascade& table) {
+  const auto& axes = table.axes();
+  return OutgoingCells(axes[0], table.conditioningDims() == 2 ? std::optional<GridAxis>(axes[1]) : std::nullopt);
 }
 
 SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
@@ -456,7 +448,7 @@ SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0
   const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))), negative ? 2.0f * u1 - 1.0f
                                                                                     : mirrored(options_) ? 2.0f * u1
                                                                                                          : u1};
-  const std::array<float, 2> c = condition(wo);
+  const std::array<float, 2> c = outgoingCells_.coordinatesOf(wo);
   const std::size_t k = table_.conditioningDims();
   const SampleND x = table_.sample(std::span<const float>(c.data(), k), u);
   // x[0] is uniform in s within its cell; move it to the same fraction of the cell's solid angle.
@@ -497,7 +489,7 @@ double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) con
   // The cascade's density is constant in s over the cell: ask at its centre, so a θh that
   // rounds across a cell boundary in float still reads the cell the solid-angle mapping used.
   const std::array<float, 2> x{sAxis.place(cell, cell + 1, 0.5), onAxis(table_.axes()[k + 1], phi)};
-  const std::array<float, 2> c = condition(wo);
+  const std::array<float, 2> c = outgoingCells_.coordinatesOf(wo);
   return perSteradian(table_.pdf(std::span<const float>(c.data(), k), x), cell);
 }
 

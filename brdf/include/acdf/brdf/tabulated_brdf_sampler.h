@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/outgoing_cells.h"
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/simplify.h"
 #include "acdf/sampling/table_cache.h"
@@ -136,8 +137,8 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override;
 
  private:
-  // The conditioning coordinates of ωo (θo, and φo for Full4D).
-  std::array<float, 2> condition(const Vec3d& wo) const;
+  // The cells of the table's outgoing axes: θo, and φo for a Full4D table.
+  static OutgoingCells outgoingCellsOf(const Cascade& table);
   // The table's density in (s, φ) on s-cell `cell`, per steradian of the half vector.
   double perSteradian(double density, uint32_t cell) const;
 
@@ -145,6 +146,7 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   double tabulationMs_ = 0, buildMs_ = 0;
   Cascade table_;
   std::vector<double> capAreas_;  // 1 − cosθh at the s-cell boundaries
+  OutgoingCells outgoingCells_;   // the conditioning cells of ωo (θo, and φo for Full4D)
 };
 
 }  // namespace acdf

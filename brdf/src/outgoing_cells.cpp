@@ -1,0 +1,115 @@
+#include "acdf/brdf/outgoing_cells.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace acdf {
+
+namespace {
+
+// How near a threshold a quantity must be for cellsOf to defer to the angles. The quantities and
+// the thresholds are each within a few double ulps of exact, and so are atan2 and hypot: 1e-9
+// leaves a factor of 10^5 and sends well under 1e-6 of the directions down the slow path.
+constexpr double kMargin = 1e-9;
+
+// A monotone stand-in for the azimuth: 0 at φ = 0, 1, 2, 3 at π/2, π, 3π/2, towards 4 at 2π;
+// its slope in φ lies in [1/2, 1], so a margin in it is at most twice that in φ.
+double pseudoAngle(double x, double y) {
+  const double r = x / (std::abs(x) + std::abs(y));
+  return y >= 0.0 ? 1.0 - r : 3.0 + r;
+}
+
+// The smallest angle in [0, axis.hi()] whose float coordinate lies in cell k or above, for each
+// k in [1, cells): the cell of an angle a is the number of these at or below it, since
+// axis.cellOf(onAxis(axis, a)) is non-decreasing in a. Bisection over the doubles' bit patterns
+// (ordered like the values for a >= 0).
+std::vector<double> angleThresholds(const GridAxis& axis) {
+  std::vector<double> thresholds;
+  for (uint32_t k = 1; k < axis.cells(); ++k) {
+    uint64_t below = 0, atOrAbove = std::bit_cast<uint64_t>(static_cast<double>(axis.hi()));
+    while (atOrAbove - below > 1) {
+      const uint64_t mid = below + (atOrAbove - below) / 2;
+      (axis.cellOf(onAxis(axis, std::bit_cast<double>(mid))) >= k ? atOrAbove : below) = mid;
+    }
+    thresholds.push_back(std::bit_cast<double>(atOrAbove));
+  }
+  return thresholds;
+}
+
+std::vector<double> halfAngleTangentsOf(const GridAxis& thetaAxis) {
+  std::vector<double> tangents;
+  for (double theta : angleThresholds(thetaAxis)) tangents.push_back(std::tan(0.5 * theta));
+  return tangents;
+}
+
+std::vector<double> pseudoAnglesOf(const GridAxis& phiAxis) {
+  std::vector<double> angles;
+  for (double phi : angleThresholds(phiAxis)) angles.push_back(pseudoAngle(std::cos(phi), std::sin(phi)));
+  return angles;
+}
+
+}  // namespace
+
+float onAxis(const GridAxis& axis, double x) {
+  const float f = static_cast<float>(x);
+  if (f >= axis.hi()) return std::nextafter(axis.hi(), axis.lo());
+  return f < axis.lo() ? axis.lo() : f;
+}
+
+OutgoingCells::Thresholds::Thresholds(std::vector<double> at, double range) : at_(std::move(at)) {
+  // Bins no wider than half the closest two thresholds (or the range, for fewer than two).
+  double closest = range;
+  for (std::size_t k = 1; k < at_.size(); ++k) closest = std::min(closest, at_[k] - at_[k - 1]);
+  const auto bins = static_cast<std::size_t>(std::ceil(2.0 * range / closest));
+  binsPerUnit_ = bins / range;
+  below_.resize(bins);
+  for (std::size_t b = 0; b < bins; ++b)
+    below_[b] = static_cast<uint32_t>(std::lower_bound(at_.begin(), at_.end(), b / binsPerUnit_) - at_.begin());
+}
+
+OutgoingCells::OutgoingCells(const GridAxis& thetaAxis, const std::optional<GridAxis>& phiAxis)
+    : thetaAxis_(thetaAxis),
+      phiAxis_(phiAxis),
+      halfAngleTangents_(halfAngleTangentsOf(thetaAxis), 1.0),
+      pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0) {
+  const auto centres = [](const GridAxis& axis) {
+    std::vector<float> c(axis.cells());
+    for (uint32_t k = 0; k < axis.cells(); ++k) c[k] = axis.place(k, k + 1, 0.5);
+    return c;
+  };
+  thetaCentres_ = centres(thetaAxis);
+  if (phiAxis) phiCentres_ = centres(*phiAxis);
+}
+
+std::array<uint32_t, 2> OutgoingCells::cellsFromAngles(const Vec3d& wo) const {
+  return {thetaAxis_.cellOf(onAxis(thetaAxis_, polarAngle(wo))),
+          phiAxis_ ? phiAxis_->cellOf(onAxis(*phiAxis_, azimuth(wo))) : 0u};
+}
+
+std::array<uint32_t, 2> OutgoingCells::cellsOf(const Vec3d& wo) const {
+  const double rho2 = wo.x * wo.x + wo.y * wo.y, norm2 = rho2 + wo.z * wo.z;
+  // Squares neither overflow nor lose precision to underflow where it could matter (a ρ² that
+  // underflows then leaves tan(θo/2) far below every threshold), and |ωo| + z does not cancel.
+  if (!(wo.z > 0.0 && norm2 >= 0x1p-900 && norm2 <= 0x1p900)) return cellsFromAngles(wo);
+  const std::optional<uint32_t> theta = halfAngleTangents_.cellOf(std::sqrt(rho2) / (std::sqrt(norm2) + wo.z), kMargin);
+  if (!theta) return cellsFromAngles(wo);
+  uint32_t phi = 0;
+  if (phiAxis_) {
+    // The seam φo = 0 = 2π needs no care: there the pseudo-angle and the azimuth alike wrap from
+    // the last cell to cell 0, by the sign of y. The pole (x = y = 0) gives NaN, near no threshold.
+    const std::optional<uint32_t> cell = pseudoAngles_.cellOf(pseudoAngle(wo.x, wo.y), kMargin);
+    if (!cell) return cellsFromAngles(wo);
+    phi = *cell;
+  }
+  return {*theta, phi};
+}
+
+std::array<float, 2> OutgoingCells::coordinatesOf(const Vec3d& wo) const {
+  const std::array<uint32_t, 2> cells = cellsOf(wo);
+  return {thetaCentres_[cells[0]], phiAxis_ ? phiCentres_[cells[1]] : 0.0f};
+}
+
+}  // namespace acdf
