@@ -15,12 +15,6 @@ namespace {
 // leaves a factor of 10^5 and sends well under 1e-6 of the directions down the slow path.
 constexpr double kMargin = 1e-9;
 
-// A monotone stand-in for the azimuth: 0 at φ = 0, 1, 2, 3 at π/2, π, 3π/2, towards 4 at 2π;
-// its slope in φ lies in [1/2, 1], so a margin in it is at most twice that in φ.
-double pseudoAngle(double x, double y) {
-  const double r = x / (std::abs(x) + std::abs(y));
-  return y >= 0.0 ? 1.0 - r : 3.0 + r;
-}
 
 // The smallest angle in [0, axis.hi()] whose float coordinate lies in cell k or above, for each
 // k in [1, cells): the cell of an angle a is the number of these at or below it, since
@@ -47,7 +41,7 @@ std::vector<double> halfAngleTangentsOf(const GridAxis& thetaAxis) {
 
 std::vector<double> pseudoAnglesOf(const GridAxis& phiAxis) {
   std::vector<double> angles;
-  for (double phi : angleThresholds(phiAxis)) angles.push_back(pseudoAngle(std::cos(phi), std::sin(phi)));
+  for (double phi : angleThresholds(phiAxis)) angles.push_back(pseudoAngle(std::sin(phi), std::cos(phi)));
   return angles;
 }
 
@@ -100,7 +94,7 @@ std::array<uint32_t, 2> OutgoingCells::cellsOf(const Vec3d& wo) const {
   if (phiAxis_) {
     // The seam φo = 0 = 2π needs no care: there the pseudo-angle and the azimuth alike wrap from
     // the last cell to cell 0, by the sign of y. The pole (x = y = 0) gives NaN, near no threshold.
-    const std::optional<uint32_t> cell = pseudoAngles_.cellOf(pseudoAngle(wo.x, wo.y), kMargin);
+    const std::optional<uint32_t> cell = pseudoAngles_.cellOf(pseudoAngle(wo.y, wo.x), kMargin);
     if (!cell) return cellsFromAngles(wo);
     phi = *cell;
   }

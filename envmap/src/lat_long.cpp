@@ -16,13 +16,6 @@ constexpr double kEdgeMargin = 1e-9;
 // pixelOf()'s squared lengths whose sum neither underflows nor overflows.
 constexpr double kMinSquaredLength = 1e-300, kMaxSquaredLength = 1e300;
 
-// A strictly increasing function on [0, 4] of the angle α = atan2(a, b) taken in [0, 2π] (0 at
-// α = 0, 1 at π/2, 2 at π, 3 at 3π/2), by one division. Its slope in α is
-// 1 / (|sin α| + |cos α|)², in [1/2, 1], so it never moves faster than α. a, b not both zero.
-double pseudoAngle(double a, double b) {
-  const double t = b / (std::abs(a) + std::abs(b));
-  return a >= 0 ? 1 - t : 3 + t;
-}
 
 }  // namespace
 

@@ -43,6 +43,16 @@ inline double azimuth(const Vec3d& v) {
   return phi < 0.0 ? phi + 2.0 * std::numbers::pi : phi;
 }
 
+// A stand-in for atan2(y, x) taken in [0, 2π], by one division: strictly increasing in the angle
+// α, 0 at α = 0 and 1, 2, 3 at π/2, π, 3π/2, towards 4 at 2π. Its slope in α is
+// 1 / (|sin α| + |cos α|)², in [1/2, 1], so it never moves faster than α: a margin of m in it is a
+// margin of at least m in the angle. Cell lookups compare it with precomputed cell edges instead
+// of calling atan2. x, y not both zero (NaN otherwise).
+inline double pseudoAngle(double y, double x) {
+  const double t = x / (std::abs(x) + std::abs(y));
+  return y >= 0.0 ? 1.0 - t : 3.0 + t;
+}
+
 // ωi = 2(ωo·n)n − ωo: the mirror image of ωo about the unit vector n.
 inline Vec3d reflect(const Vec3d& wo, const Vec3d& n) { return n * (2.0 * dot(wo, n)) - wo; }
 
