@@ -124,15 +124,14 @@ double targetIntegrand(const Vec3d& wo, const Vec3d& wh, double jacobian, const 
 // (ωo.z, ωh.z >= 0). Azimuths count steps of the lattice of both cells' boundaries: 2π / lcm(P, Q)
 // for a 4D table, the Δφ cells' for an isotropic one (φo = 0).
 struct CornerLattice {
-  uint32_t thetaOutCells, sCells;
-  int64_t stepPerHalf, stepPerOut;  // lattice steps per φh cell, per φo cell (0: isotropic)
+  uint32_t thetaOutCells, sCells, halfCells;  // halfCells: φh (or Δφ) cells
+  uint32_t steps;                             // lattice steps over the azimuth range
+  int64_t stepPerHalf, stepPerOut;            // lattice steps per φh cell, per φo cell (0: isotropic)
   double phiStep;
 
-  uint32_t steps;                   // lattice steps over the azimuth range
-
-  explicit CornerLattice(const TabulatedBrdfOptions& o) : thetaOutCells(o.thetaOutCells), sCells(o.thetaHalfCells) {
+  explicit CornerLattice(const TabulatedBrdfOptions& o)
+      : thetaOutCells(o.thetaOutCells), sCells(o.thetaHalfCells), halfCells(phiCells(o)) {
     const bool full = o.layout == Layout::Full4D;
-    const uint32_t halfCells = phiCells(o);
     steps = full ? std::lcm(halfCells, o.phiOutCells) : halfCells;
     stepPerHalf = steps / halfCells;
     stepPerOut = full ? steps / o.phiOutCells : 0;
@@ -159,8 +158,17 @@ struct CornerLattice {
     const double s = (sCell + 0.5) / sCells;
     return sum / count * kPi * s * std::sin(s * s * kHalfPi);
   }
-  // θo at corner k; the last is the largest θo condition() gives (a float below π/2), where f·cosθi
-  // of a model like GGX is still finite to rounding, not 0/0 as at the horizon itself.
+  // A cell's table value: the mean of its `subPoints` stratified points (their sum `sum`), or
+  // where they all gave 0, the mean over its corners. `cell` counts (s, φh) cells of one slice.
+  template <class Integrand>
+  float cellValue(double sum, double subPoints, uint32_t thetaCell, uint32_t outCell, std::size_t cell,
+                  const Integrand& integrand) const {
+    if (sum > 0.0) return static_cast<float>(sum / subPoints);
+    return static_cast<float>(mean(thetaCell, outCell, static_cast<uint32_t>(cell / halfCells),
+                                   static_cast<uint32_t>(cell % halfCells), integrand));
+  }
+  // θo at corner k; the last is the largest θo a table is conditioned on (onAxis: the float below
+  // π/2), where f·cosθi of a model like GGX is still finite to rounding, not 0/0 as at the horizon.
   double thetaOut(uint32_t k) const {
     return k < thetaOutCells ? k * kHalfPi / thetaOutCells : std::nextafter(static_cast<float>(kHalfPi), 0.0f);
   }
@@ -261,9 +269,7 @@ std::vector<float> tabulateOnLattice(const BrdfModel& model, const TabulatedBrdf
         }
       float* out = values.data() + (std::size_t{thetaCell} * phiOutCells + phiCell) * sliceCells;
       for (std::size_t c = 0; c < sliceCells; ++c)
-        out[c] = static_cast<float>(sums[c] > 0.0 ? sums[c] / subPointsPerCell
-                                                  : corners.mean(thetaCell, phiCell, static_cast<uint32_t>(c / pCells),
-                                                                 static_cast<uint32_t>(c % pCells), cornerIntegrand));
+        out[c] = corners.cellValue(sums[c], subPointsPerCell, thetaCell, phiCell, c, cornerIntegrand);
     }
   });
   return values;
@@ -314,9 +320,7 @@ std::vector<float> tabulateEveryPoint(const BrdfModel& model, const TabulatedBrd
         }
       float* out = values.data() + (std::size_t{thetaCell} * o.phiOutCells + phiCell) * sliceCells;
       for (std::size_t c = 0; c < sliceCells; ++c)
-        out[c] = static_cast<float>(sums[c] > 0.0 ? sums[c] / subPointsPerCell
-                                                  : corners.mean(thetaCell, phiCell, static_cast<uint32_t>(c / pCells),
-                                                                 static_cast<uint32_t>(c % pCells), cornerIntegrand));
+        out[c] = corners.cellValue(sums[c], subPointsPerCell, thetaCell, phiCell, c, cornerIntegrand);
     }
   });
   return values;
