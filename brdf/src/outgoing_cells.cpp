@@ -68,15 +68,7 @@ OutgoingCells::OutgoingCells(const GridAxis& thetaAxis, const std::optional<Grid
     : thetaAxis_(thetaAxis),
       phiAxis_(phiAxis),
       halfAngleTangents_(halfAngleTangentsOf(thetaAxis), 1.0),
-      pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0) {
-  const auto centres = [](const GridAxis& axis) {
-    std::vector<float> c(axis.cells());
-    for (uint32_t k = 0; k < axis.cells(); ++k) c[k] = axis.place(k, k + 1, 0.5);
-    return c;
-  };
-  thetaCentres_ = centres(thetaAxis);
-  if (phiAxis) phiCentres_ = centres(*phiAxis);
-}
+      pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0) {}
 
 std::array<uint32_t, 2> OutgoingCells::cellsFromAngles(const Vec3d& wo) const {
   return {thetaAxis_.cellOf(onAxis(thetaAxis_, polarAngle(wo))),
@@ -99,11 +91,6 @@ std::array<uint32_t, 2> OutgoingCells::cellsOf(const Vec3d& wo) const {
     phi = *cell;
   }
   return {*theta, phi};
-}
-
-std::array<float, 2> OutgoingCells::coordinatesOf(const Vec3d& wo) const {
-  const std::array<uint32_t, 2> cells = cellsOf(wo);
-  return {thetaCentres_[cells[0]], phiAxis_ ? phiCentres_[cells[1]] : 0.0f};
 }
 
 }  // namespace acdf

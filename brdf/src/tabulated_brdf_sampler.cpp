@@ -452,9 +452,8 @@ SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0
   const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))), negative ? 2.0f * u1 - 1.0f
                                                                                     : mirrored(options_) ? 2.0f * u1
                                                                                                          : u1};
-  const std::array<float, 2> c = outgoingCells_.coordinatesOf(wo);
+  const SampleND x = table_.sampleInSlice(outgoingCells_.sliceOf(wo), u);
   const std::size_t k = table_.conditioningDims();
-  const SampleND x = table_.sample(std::span<const float>(c.data(), k), u);
   // x[0] is uniform in s within its cell; move it to the same fraction of the cell's solid angle.
   const GridAxis& sAxis = table_.axes()[k];
   const uint32_t cell = sAxis.cellOf(x.x[0]);
@@ -493,8 +492,7 @@ double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) con
   // The cascade's density is constant in s over the cell: ask at its centre, so a θh that
   // rounds across a cell boundary in float still reads the cell the solid-angle mapping used.
   const std::array<float, 2> x{sAxis.place(cell, cell + 1, 0.5), onAxis(table_.axes()[k + 1], phi)};
-  const std::array<float, 2> c = outgoingCells_.coordinatesOf(wo);
-  return perSteradian(table_.pdf(std::span<const float>(c.data(), k), x), cell);
+  return perSteradian(table_.pdfInSlice(outgoingCells_.sliceOf(wo), x), cell);
 }
 
 double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

@@ -480,9 +480,23 @@ void requireArity(std::size_t given, std::size_t needed, const char* what) {
 }
 }  // namespace
 
+void Cascade::requireSlice(std::size_t slice) const {
+  if (slice >= slices())
+    throw std::out_of_range("cascade: slice " + std::to_string(slice) + " of " + std::to_string(slices()));
+}
+
 SampleND Cascade::sample(std::span<const float> condition, std::span<const float> u) const {
+  return sampleInSlice(sliceOf(condition), u);
+}
+
+float Cascade::pdf(std::span<const float> condition, std::span<const float> x) const {
+  return pdfInSlice(sliceOf(condition), x);
+}
+
+SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) const {
+  requireSlice(slice);
   requireArity(u.size(), sampledDims(), "variates");
-  std::size_t index = rootOf(sliceOf(condition));
+  std::size_t index = rootOf(slice);
   SampleND result;
   result.dims = static_cast<uint8_t>(levels_.size());
   double density = 1.0;
@@ -497,9 +511,10 @@ SampleND Cascade::sample(std::span<const float> condition, std::span<const float
   return result;
 }
 
-float Cascade::pdf(std::span<const float> condition, std::span<const float> x) const {
+float Cascade::pdfInSlice(std::size_t slice, std::span<const float> x) const {
+  requireSlice(slice);
   requireArity(x.size(), sampledDims(), "coordinates");
-  std::size_t index = rootOf(sliceOf(condition));
+  std::size_t index = rootOf(slice);
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];

@@ -1,5 +1,5 @@
-// OutgoingCells: the cells it finds without trigonometry are those of the angles (cellsFromAngles)
-// for every direction, in particular at a few ulps around every cell boundary, at the poles, on
+// OutgoingCells: the cells (and the slice) it finds without trigonometry are those of the angles
+// (cellsFromAngles) for every direction, in particular at a few ulps around every cell boundary, at the poles, on
 // and below the horizon, on the seam φ = 0 = 2π, and for directions that are not unit vectors.
 
 #include <gtest/gtest.h>
@@ -22,14 +22,18 @@ constexpr double kPi = std::numbers::pi;
 
 struct Checker {
   const OutgoingCells& cells;
+  uint32_t phiCells;  // 1 without a φo axis
   int mismatches = 0;
 
   void check(const Vec3d& wo) {
     const std::array<uint32_t, 2> fast = cells.cellsOf(wo), exact = cells.cellsFromAngles(wo);
-    if (fast == exact) return;
+    // The slice a Cascade with these conditioning axes would find: row-major, φo fastest.
+    const std::size_t slice = cells.sliceOf(wo), exactSlice = std::size_t{exact[0]} * phiCells + exact[1];
+    if (fast == exact && slice == exactSlice) return;
     if (++mismatches <= 10)
       ADD_FAILURE() << std::hexfloat << "wo = (" << wo.x << ", " << wo.y << ", " << wo.z << "): cells " << fast[0]
-                    << ", " << fast[1] << " instead of " << exact[0] << ", " << exact[1];
+                    << ", " << fast[1] << ", slice " << slice << " instead of " << exact[0] << ", " << exact[1]
+                    << ", slice " << exactSlice;
   }
   // wo and its neighbours one ulp away in each component.
   void checkAround(const Vec3d& wo) {
@@ -68,7 +72,7 @@ void checkAxes(uint32_t thetaCells, std::optional<uint32_t> phiCells) {
   const std::optional<GridAxis> phiAxis =
       phiCells ? std::optional<GridAxis>(GridAxis(*phiCells, 0.0f, static_cast<float>(2.0 * kPi))) : std::nullopt;
   const OutgoingCells cells(thetaAxis, phiAxis);
-  Checker checker{cells};
+  Checker checker{cells, phiCells.value_or(1)};
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 

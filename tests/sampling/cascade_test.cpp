@@ -17,6 +17,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -225,6 +226,15 @@ TEST(CascadeConditioning, SliceLookupIsTheNearestCell) {
     }
   const float outside[] = {-5.0f, 99.0f};
   EXPECT_EQ(c.sliceOf(outside), 3u);  // clamped to cell (0, 3)
+  // A slice given directly is the slice of its condition.
+  const float cond[] = {0.7f, 0.3f}, u[] = {0.35f, 0.8f};
+  const SampleND bySlice = c.sampleInSlice(5 * 4 + 1, u), byCondition = c.sample(cond, u);
+  EXPECT_EQ(bySlice.x[0], byCondition.x[0]);
+  EXPECT_EQ(bySlice.x[1], byCondition.x[1]);
+  EXPECT_EQ(bySlice.pdf, byCondition.pdf);
+  EXPECT_EQ(c.pdfInSlice(5 * 4 + 1, bySlice.point()), c.pdf(cond, bySlice.point()));
+  EXPECT_THROW(c.sampleInSlice(c.slices(), u), std::out_of_range);
+  EXPECT_THROW(c.pdfInSlice(c.slices(), u), std::out_of_range);
   // Different slices are different distributions.
   const float a[] = {0.1f, 0.1f}, b[] = {0.9f, 0.9f}, x[] = {0.3f, 0.3f};
   EXPECT_NE(c.pdf(a, x), c.pdf(b, x));

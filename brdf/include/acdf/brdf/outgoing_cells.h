@@ -33,9 +33,12 @@ class OutgoingCells {
   std::array<uint32_t, 2> cellsOf(const Vec3d& wo) const;
   // The same from the angles themselves: the definition, and cellsOf's answer near thresholds.
   std::array<uint32_t, 2> cellsFromAngles(const Vec3d& wo) const;
-  // Coordinates on the axes inside ωo's cells (their centres), for a table that looks up only
-  // the cells of the coordinates it is given (Cascade's conditioning axes).
-  std::array<float, 2> coordinatesOf(const Vec3d& wo) const;
+  // The row-major index of ωo's cells, θo cell · φo cells + φo cell: the slice of a Cascade
+  // whose conditioning axes are these (Cascade::sliceOf of ωo's angles on the axes).
+  std::size_t sliceOf(const Vec3d& wo) const {
+    const std::array<uint32_t, 2> cells = cellsOf(wo);
+    return phiAxis_ ? std::size_t{cells[0]} * phiAxis_->cells() + cells[1] : cells[0];
+  }
 
  private:
   // Sorted values in [0, range] of a monotone quantity at which the cell steps up by one, and
@@ -66,7 +69,6 @@ class OutgoingCells {
   std::optional<GridAxis> phiAxis_;
   Thresholds halfAngleTangents_;  // tan(θ/2) at the θo thresholds
   Thresholds pseudoAngles_;       // pseudoAngle at the φo thresholds
-  std::vector<float> thetaCentres_, phiCentres_;
 };
 
 }  // namespace acdf

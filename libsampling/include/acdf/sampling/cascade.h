@@ -111,6 +111,11 @@ class Cascade {
   // Distributions stored: slices() unless slice grouping merged some.
   std::size_t distinctSlices() const;
   std::size_t sliceOf(std::span<const float> condition) const;
+  // sample() and pdf() in a slice the caller found itself (sliceOf's row-major index of the
+  // conditioning cells), for callers that know their condition's cells without coordinates.
+  // Throws std::out_of_range for slice >= slices().
+  SampleND sampleInSlice(std::size_t slice, std::span<const float> u) const;
+  float pdfInSlice(std::size_t slice, std::span<const float> x) const;
   // ∫ f over the sampled axes of a slice (double sum); 0 means the slice samples uniformly.
   double integral(std::size_t slice) const { return sliceIntegral_[slice]; }
   bool isUniformFallback(std::size_t slice) const { return sliceIntegral_[slice] == 0.0; }
@@ -157,6 +162,7 @@ class Cascade {
   std::vector<std::size_t> groupSlices(std::span<const float> values, std::size_t sliceSize);
   std::vector<double> cellProbabilitiesOfRoot(std::size_t root) const;
   std::size_t rootOf(std::size_t slice) const { return sliceRoot_.empty() ? slice : sliceRoot_[slice]; }
+  void requireSlice(std::size_t slice) const;
   std::vector<std::size_t> cdfsPerLevel() const;
 
   std::vector<GridAxis> axes_;
