@@ -1,10 +1,8 @@
 #include "acdf/brdf/outgoing_cells.h"
 
-#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <numbers>
-#include <utility>
 
 namespace acdf {
 
@@ -53,22 +51,11 @@ float onAxis(const GridAxis& axis, double x) {
   return f < axis.lo() ? axis.lo() : f;
 }
 
-OutgoingCells::Thresholds::Thresholds(std::vector<double> at, double range) : at_(std::move(at)) {
-  // Bins no wider than half the closest two thresholds (or the range, for fewer than two).
-  double closest = range;
-  for (std::size_t k = 1; k < at_.size(); ++k) closest = std::min(closest, at_[k] - at_[k - 1]);
-  const auto bins = static_cast<std::size_t>(std::ceil(2.0 * range / closest));
-  binsPerUnit_ = bins / range;
-  below_.resize(bins);
-  for (std::size_t b = 0; b < bins; ++b)
-    below_[b] = static_cast<uint32_t>(std::lower_bound(at_.begin(), at_.end(), b / binsPerUnit_) - at_.begin());
-}
-
 OutgoingCells::OutgoingCells(const GridAxis& thetaAxis, const std::optional<GridAxis>& phiAxis)
     : thetaAxis_(thetaAxis),
       phiAxis_(phiAxis),
-      halfAngleTangents_(halfAngleTangentsOf(thetaAxis), 1.0),
-      pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0) {}
+      halfAngleTangents_(halfAngleTangentsOf(thetaAxis), 1.0, kMargin),
+      pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0, kMargin) {}
 
 std::array<uint32_t, 2> OutgoingCells::cellsFromAngles(const Vec3d& wo) const {
   return {thetaAxis_.cellOf(onAxis(thetaAxis_, polarAngle(wo))),
@@ -80,13 +67,13 @@ std::array<uint32_t, 2> OutgoingCells::cellsOf(const Vec3d& wo) const {
   // Squares neither overflow nor lose precision to underflow where it could matter (a ρ² that
   // underflows then leaves tan(θo/2) far below every threshold), and |ωo| + z does not cancel.
   if (!(wo.z > 0.0 && norm2 >= 0x1p-900 && norm2 <= 0x1p900)) return cellsFromAngles(wo);
-  const std::optional<uint32_t> theta = halfAngleTangents_.cellOf(std::sqrt(rho2) / (std::sqrt(norm2) + wo.z), kMargin);
+  const std::optional<uint32_t> theta = halfAngleTangents_.cellOf(std::sqrt(rho2) / (std::sqrt(norm2) + wo.z));
   if (!theta) return cellsFromAngles(wo);
   uint32_t phi = 0;
   if (phiAxis_) {
     // The seam φo = 0 = 2π needs no care: there the pseudo-angle and the azimuth alike wrap from
     // the last cell to cell 0, by the sign of y. The pole (x = y = 0) gives NaN, near no threshold.
-    const std::optional<uint32_t> cell = pseudoAngles_.cellOf(pseudoAngle(wo.y, wo.x), kMargin);
+    const std::optional<uint32_t> cell = pseudoAngles_.cellOf(pseudoAngle(wo.y, wo.x));
     if (!cell) return cellsFromAngles(wo);
     phi = *cell;
   }

@@ -1,9 +1,10 @@
 #include "acdf/envmap/lat_long.h"
 
-#include <algorithm>
 #include <cmath>
-#include <cstddef>
 #include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace acdf {
 
@@ -16,11 +17,25 @@ constexpr double kEdgeMargin = 1e-9;
 // pixelOf()'s squared lengths whose sum neither underflows nor overflows.
 constexpr double kMinSquaredLength = 1e-300, kMaxSquaredLength = 1e300;
 
+// The pseudo-angles of the interior cell edges turn · k / cells, 0 < k < cells: where pixelOf()'s
+// rows (θ, turn π, pseudo-angles in [0, 2]) or columns (φ, turn 2π, in [0, 4]) step up.
+ThresholdCells edgeCells(uint32_t cells, double turn, double range) {
+  std::vector<double> edges;
+  for (uint32_t k = 1; k < cells; ++k) {
+    const double angle = turn * k / cells;
+    edges.push_back(pseudoAngle(std::sin(angle), std::cos(angle)));
+  }
+  return ThresholdCells(std::move(edges), range, kEdgeMargin);
+}
 
 }  // namespace
 
 LatLongMapping::LatLongMapping(uint32_t width, uint32_t height)
-    : width_(width), height_(height), cosEdge_(height + 1), rowCells_(height, false), columnCells_(width, true) {
+    : width_(width),
+      height_(height),
+      cosEdge_(height + 1),
+      rowCells_(edgeCells(height, std::numbers::pi, 2)),
+      columnCells_(edgeCells(width, 2 * std::numbers::pi, 4)) {
   for (uint32_t r = 0; r <= height; ++r) cosEdge_[r] = std::cos(std::numbers::pi * r / height);
   cosEdge_.front() = 1.0;  // exact at the poles
   cosEdge_.back() = -1.0;
@@ -29,35 +44,6 @@ LatLongMapping::LatLongMapping(uint32_t width, uint32_t height)
   equatorRow_ = pixelByAngles({1, 0, 0}).row;
   const Vec3d axes[4] = {{0, 0, -1}, {1, 0, 0}, {0, 0, 1}, {-1, 0, 0}};
   for (int k = 0; k < 4; ++k) axisColumns_[k] = pixelByAngles(axes[k]).column;
-}
-
-LatLongMapping::AngleCells::AngleCells(uint32_t cells, bool wholeTurn) : edges(cells + 1) {
-  const double turn = wholeTurn ? 2 * std::numbers::pi : std::numbers::pi, range = wholeTurn ? 4 : 2;
-  edges.front() = wholeTurn ? 0 : -1;
-  edges.back() = wholeTurn ? range : range + 1;
-  for (uint32_t k = 1; k < cells; ++k) {
-    const double angle = turn * k / cells;
-    edges[k] = pseudoAngle(std::sin(angle), std::cos(angle));
-  }
-  const uint32_t buckets = 2 * cells;
-  bucketsPerUnit = buckets / range;
-  bucketCell.resize(buckets);
-  for (uint32_t j = 0; j < buckets; ++j) {
-    const auto above = std::upper_bound(edges.begin() + 1, edges.end() - 1, j / bucketsPerUnit);
-    bucketCell[j] = static_cast<uint32_t>(above - edges.begin() - 1);
-  }
-}
-
-std::optional<uint32_t> LatLongMapping::AngleCells::wellInside(double v) const {
-  // Past the end (the seam at φ = 2π), or NaN: the steps below would leave the edges. (A
-  // pseudo-angle is >= 0.)
-  if (!(v >= edges.front() && v < edges.back())) return std::nullopt;
-  uint32_t i = bucketCell[std::min(static_cast<std::size_t>(v * bucketsPerUnit), bucketCell.size() - 1)];
-  // Steps down only when rounding put v's bucket past it.
-  while (v >= edges[i + 1]) ++i;
-  while (v < edges[i]) --i;
-  if (v - edges[i] > kEdgeMargin && edges[i + 1] - v > kEdgeMargin) return i;
-  return std::nullopt;
 }
 
 PixelIndex LatLongMapping::pixelOf(const Vec3d& w) const {
@@ -71,14 +57,14 @@ PixelIndex LatLongMapping::pixelOf(const Vec3d& w) const {
   if (w.y == 0)
     row = equatorRow_;
   else if (lengthOk)
-    row = rowCells_.wellInside(pseudoAngle(std::sqrt(horizontal), w.y));
+    row = rowCells_.cellOf(pseudoAngle(std::sqrt(horizontal), w.y));
   const double a = w.x, b = -w.z;
   if (a == 0)
     column = axisColumns_[std::signbit(b) ? 2 : 0];
   else if (b == 0)
     column = axisColumns_[a > 0 ? 1 : 3];
   else if (lengthOk)  // |a| + |b| cannot overflow
-    column = columnCells_.wellInside(pseudoAngle(a, b));
+    column = columnCells_.cellOf(pseudoAngle(a, b));
   if (row && column) return {*row, *column};
   return pixelByAngles(w);
 }

@@ -10,13 +10,13 @@
 // finite, too large or small to square), the formula itself decides.
 
 #include <array>
-#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include "acdf/sampling/grid_axis.h"
 #include "acdf/sampling/sphere.h"
+#include "acdf/sampling/threshold_cells.h"
 
 namespace acdf {
 
@@ -41,34 +41,10 @@ class OutgoingCells {
   }
 
  private:
-  // Sorted values in [0, range] of a monotone quantity at which the cell steps up by one, and
-  // for equal bins of [0, range], each holding at most one of them, the number below each bin.
-  class Thresholds {
-   public:
-    Thresholds(std::vector<double> at, double range);
-    // The number of thresholds <= v, unless v is within `margin` of one that brackets it (or NaN).
-    // The bracket is checked, so the bins only make the answer fast, never wrong.
-    std::optional<uint32_t> cellOf(double v, double margin) const {
-      const double bin = v * binsPerUnit_;
-      if (!(bin >= 0.0 && bin < static_cast<double>(below_.size()))) return std::nullopt;
-      uint32_t cell = below_[static_cast<std::size_t>(bin)];
-      if (cell < at_.size() && v >= at_[cell]) ++cell;
-      const bool clearBelow = cell == 0 || v - at_[cell - 1] > margin;
-      const bool clearAbove = cell == at_.size() || at_[cell] - v > margin;
-      if (clearBelow && clearAbove) return cell;
-      return std::nullopt;
-    }
-
-   private:
-    std::vector<double> at_;
-    std::vector<uint32_t> below_;
-    double binsPerUnit_;
-  };
-
   GridAxis thetaAxis_;
   std::optional<GridAxis> phiAxis_;
-  Thresholds halfAngleTangents_;  // tan(θ/2) at the θo thresholds
-  Thresholds pseudoAngles_;       // pseudoAngle at the φo thresholds
+  ThresholdCells halfAngleTangents_;  // tan(θ/2) in [0, 1], stepping up at the θo thresholds
+  ThresholdCells pseudoAngles_;       // pseudoAngle in [0, 4], stepping up at the φo thresholds
 };
 
 }  // namespace acdf

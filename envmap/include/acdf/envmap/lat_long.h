@@ -42,10 +42,10 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
-#include <optional>
 #include <vector>
 
 #include "acdf/sampling/sphere.h"
+#include "acdf/sampling/threshold_cells.h"
 
 namespace acdf {
 
@@ -79,7 +79,8 @@ class LatLongMapping {
   static Vec3d fromZUp(const Vec3d& v) { return {v.y, v.z, -v.x}; }
 
   // The pixel whose (θ, φ) cell holds w; w must not be zero or NaN. Exactly pixelByAngles(w), found
-  // without atan2 unless w lies within 1e-9 of a pixel's edge (an axis aside).
+  // without atan2 unless w lies within 1e-9 of a pixel's edge (the seam φ = 0 = 2π and the
+  // axes aside).
   PixelIndex pixelOf(const Vec3d& w) const;
   // The same by the definition: theta(w) and phi(w) scaled to pixels, floored, clamped.
   PixelIndex pixelByAngles(const Vec3d& w) const {
@@ -110,26 +111,11 @@ class LatLongMapping {
   static constexpr double kPixelMargin = 1e-6;
 
  private:
-  // pixelOf()'s rows or columns by a pseudo-angle of θ or φ (monotone, no faster than the angle):
-  // the ascending cell edges, and the cell where each of a uniform partition of the pseudo-angles
-  // into buckets (two per cell) starts, so that finding a cell takes a step or two from its
-  // bucket's.
-  struct AngleCells {
-    // cells over θ ∈ [0, π] (wholeTurn false) or φ ∈ [0, 2π).
-    AngleCells(uint32_t cells, bool wholeTurn);
-    // The cell of pseudo-angle v when v lies more than 1e-9 inside it; none nearer an edge, or NaN.
-    std::optional<uint32_t> wellInside(double v) const;
-
-    // cells + 1; for θ the first and last lie 1 outside the pseudo-angles' [0, 2]: by a pole the
-    // row is the first or the last whatever the rounding.
-    std::vector<double> edges;
-    std::vector<uint32_t> bucketCell;
-    double bucketsPerUnit = 0;
-  };
-
   uint32_t width_, height_;
   std::vector<double> cosEdge_;  // cos θ at the top edge of each row, and at the bottom (−1)
-  AngleCells rowCells_, columnCells_;
+  // pixelOf()'s rows and columns by pseudo-angles of θ (in [0, 2]) and φ (in [0, 4]), stepping
+  // up at the pseudo-angles of the edges θ = π k / H and φ = 2π k / W.
+  ThresholdCells rowCells_, columnCells_;
   uint32_t equatorRow_ = 0;       // the row of θ = π/2
   uint32_t axisColumns_[4] = {};  // the columns of φ = 0, π/2, π, 3π/2
 };

@@ -1,0 +1,55 @@
+#pragma once
+// The cell a monotone quantity falls in, given the values at which the cell steps up: how the
+// pseudo-angle (pseudoAngle in sphere.h) and tan(θ/2) replace atan2 and hypot in cell lookups. A
+// caller whose cells are a function of an angle (a lat-long pixel, a grid axis of the angle) maps
+// the angle of each cell boundary to the quantity once; the cell of a direction is then the
+// number of these thresholds at or below its quantity, found with one table step.
+//
+// Exactness. The caller's quantity and thresholds are each within rounding of exact, and so is
+// its definition of the cell (atan2, hypot, the scaling to cells). cellOf() answers only when the
+// quantity lies more than a margin (above those errors) from every threshold: then no threshold
+// lies between it and the exact value, nor between the definition's angle and the exact angle
+// (the quantity never moves faster than the angle), so all three count the same thresholds.
+// Otherwise it answers nothing and the caller falls back to its definition. The ends 0 and range
+// need no margin: the count does not step there, and a definition clamps (atan2 + 2π may round
+// up to 2π) so that it too gives the first cell at one end and the last at the other.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace acdf {
+
+class ThresholdCells {
+ public:
+  // The cells of a quantity in [0, range] that steps up at each of `thresholds`: strictly
+  // increasing, inside (0, range); range finite and > 0; margin finite and >= range · 2^-50
+  // (below that, rounding in the bins could defer a v the margin clears). Throws
+  // std::invalid_argument otherwise. The margin is fixed here, with the thresholds it keeps
+  // away from: it is one rounding bound of the caller's, the same for every lookup.
+  ThresholdCells(std::vector<double> thresholds, double range, double margin);
+
+  // The number of thresholds <= v when v lies in [0, range] and more than the margin from every
+  // threshold; nothing otherwise (NaN included). The thresholds bracketing the answer are
+  // compared, so the bins only make it fast, never wrong.
+  std::optional<uint32_t> cellOf(double v) const {
+    if (!(v >= 0.0 && v <= range_)) return std::nullopt;
+    uint32_t cell = below_[static_cast<std::ptrdiff_t>(v * binsPerUnit_)];
+    if (v >= edges_[cell + 1]) ++cell;
+    if (v - edges_[cell] > margin_ && edges_[cell + 1] - v > margin_) return cell;
+    return std::nullopt;
+  }
+
+ private:
+  // −∞, the thresholds, +∞: cell k lies between edges k and k + 1, and the first and the last
+  // cells keep no margin from the ends.
+  std::vector<double> edges_;
+  // For equal bins of [0, range] no wider than half the closest two thresholds, so that each
+  // holds at most one, the number of thresholds below each bin's start; one more bin for
+  // v = range.
+  std::vector<uint32_t> below_;
+  double binsPerUnit_ = 0, range_, margin_;
+};
+
+}  // namespace acdf
