@@ -56,11 +56,13 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       const LightSample light = env.sample(lightContext, u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
       if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
-        const Rgb f = material.eval(wo, wi);
-        if (!f.isBlack()) {
-          ++rays;
-          if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
-                                         std::numeric_limits<double>::infinity())) {
+        // The shadow ray first: a measured BRDF's eval costs about as much as the ray, and a
+        // fifth of the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0).
+        ++rays;
+        if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
+                                       std::numeric_limits<double>::infinity())) {
+          const Rgb f = material.eval(wo, wi);
+          if (!f.isBlack()) {
             const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wo, wi)) : 1.0;
             result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
           }
