@@ -39,34 +39,37 @@ void HalfVectorFrame::diffAngles(const Vec3d& wi, double& thetaDiff, double& phi
 
 HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi) { return toHalfDiff(wo, wi, true); }
 
-HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi, bool withPhiHalf) {
+HalfDiffVectors halfDiffVectors(const Vec3d& wo, const Vec3d& wi) {
   // h need not be normalised: its angles are atan2's, which are scale-free, and the rotation's
   // cosines and sines are ratios of its components, cos φh = x/ρ, sin φh = y/ρ, cos θh = z/|h|,
-  // sin θh = ρ/|h| with ρ = √(x² + y²), without evaluating the angles' trigonometric functions.
-  // On the normal (ρ = 0) φh is 0; the degenerate ωi = −ωo has no half vector at all: take the
-  // normal, so the result stays finite.
-  // ρ as a plain square root, not hypot: sum has no components near overflow or underflow, and
-  // hypot's last-bit rounding costs three times as much.
-  const Vec3d sum = wi + wo;
-  const double rho = std::sqrt(sum.x * sum.x + sum.y * sum.y);
-  const double length = std::sqrt(rho * rho + sum.z * sum.z);
-  HalfDiffAngles a;
+  // sin θh = ρ/|h|, without evaluating the angles' trigonometric functions. On the normal (ρ = 0)
+  // φh is 0; the degenerate ωi = −ωo has no half vector at all: take the normal, so the result
+  // stays finite.
+  // ρ as a plain square root, not hypot: the sum has no components near overflow or underflow,
+  // and hypot's last-bit rounding costs three times as much.
+  HalfDiffVectors v;
+  v.half = wi + wo;
+  v.rho = std::sqrt(v.half.x * v.half.x + v.half.y * v.half.y);
+  v.length = std::sqrt(v.rho * v.rho + v.half.z * v.half.z);
   double cosPhi = 1, sinPhi = 0, cosTheta = 1, sinTheta = 0;
-  if (rho > 0) {
-    cosPhi = sum.x / rho, sinPhi = sum.y / rho;
-    if (withPhiHalf) a.phiHalf = signedAzimuth(sum);
-  }
-  if (length > 0) {
-    cosTheta = sum.z / length, sinTheta = rho / length;
-    a.thetaHalf = std::atan2(rho, sum.z);
-  }
+  if (v.rho > 0) cosPhi = v.half.x / v.rho, sinPhi = v.half.y / v.rho;
+  if (v.length > 0) cosTheta = v.half.z / v.length, sinTheta = v.rho / v.length;
   // d = Ry(−θh) · Rz(−φh) · ωi.
-  Vec3d d = rotateY(rotateZ(wi, cosPhi, -sinPhi), cosTheta, -sinTheta);
+  v.diff = rotateY(rotateZ(wi, cosPhi, -sinPhi), cosTheta, -sinTheta);
   // With either direction on the normal (θo = 0 or θi = 0), ωi, ωo and h lie in one plane with
   // the normal, so d has no binormal component and φd is 0 or π exactly, MERL's φd cell 0 (as
   // BRDFRead.cpp gives in exact arithmetic). The rotation leaves a rounding residue of either
   // sign there instead, which picked cell 0 or 179 (12% apart on nickel) for the same directions.
-  if ((wo.x == 0.0 && wo.y == 0.0) || (wi.x == 0.0 && wi.y == 0.0)) d.y = 0.0;
+  if ((wo.x == 0.0 && wo.y == 0.0) || (wi.x == 0.0 && wi.y == 0.0)) v.diff.y = 0.0;
+  return v;
+}
+
+HalfDiffAngles toHalfDiff(const Vec3d& wo, const Vec3d& wi, bool withPhiHalf) {
+  const HalfDiffVectors v = halfDiffVectors(wo, wi);
+  HalfDiffAngles a;
+  if (v.rho > 0 && withPhiHalf) a.phiHalf = signedAzimuth(v.half);
+  if (v.length > 0) a.thetaHalf = std::atan2(v.rho, v.half.z);
+  const Vec3d& d = v.diff;
   a.thetaDiff = std::atan2(std::sqrt(d.x * d.x + d.y * d.y), d.z);
   a.phiDiff = signedAzimuth(d);
   return a;

@@ -10,9 +10,11 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <system_error>
 
 #include "acdf/sampling/regular_file.h"
+#include "acdf/sampling/threshold_cells.h"
 #include "acdf/sampling/write_atomically.h"
 
 namespace acdf {
@@ -292,8 +294,78 @@ double MerlBrdf::thetaHalfCentre(int k) {
 double MerlBrdf::thetaDiffCentre(int k) { return (k + 0.5) / kThetaDiffCells * kHalfPi; }
 double MerlBrdf::phiDiffCentre(int k) { return (k + 0.5) / kPhiDiffCells * std::numbers::pi; }
 
+namespace {
+
+// How near a cell boundary a quantity must be for MerlBrdf::cellOf to defer to the angles: the
+// quantities, the thresholds and atan2 are each within a few double ulps of exact, so 1e-9
+// leaves a factor of 10^5 and sends well under 1e-6 of the pairs down the slow path.
+constexpr double kCellMargin = 1e-9;
+
+// φd's cells over the whole turn of d's azimuth, by the pseudo-angle of (dx, dy) in [0, 4): the
+// index steps up at the same angles in [0, π) and in [π, 2π) (the fold by reciprocity), and
+// returns to 0 at π (pseudo-angle 2) and at 2π (4). The counts 180 and 360 at those two are 0
+// again; a threshold at 4 keeps the margin from it, where atan2's −0-ish angles fold to 0.
+std::vector<double> phiDiffPseudoAngles() {
+  const std::vector<double> angles = firstOfEachCell(MerlBrdf::kPhiDiffCells, std::nextafter(std::numbers::pi, 0.0),
+                                                     [](double a) { return MerlBrdf::phiDiffIndex(a); });
+  std::vector<double> thresholds;
+  for (double a : angles) thresholds.push_back(pseudoAngle(std::sin(a), std::cos(a)));
+  thresholds.push_back(2.0);
+  for (double a : angles) thresholds.push_back(pseudoAngle(-std::sin(a), -std::cos(a)));
+  thresholds.push_back(4.0);
+  return thresholds;
+}
+
+// tan(θ/2) = ρ / (|v| + z) of a vector v at polar angle θ = atan2(ρ, z), for z > −|v|; the
+// lengths are kept where their squares neither overflow nor lose the angle to underflow.
+double halfAngleTangent(double rho, double length, double z) {
+  return length >= 0x1p-450 && length <= 0x1p450 ? rho / (length + z) : std::numeric_limits<double>::quiet_NaN();
+}
+
+class MerlCells {
+ public:
+  MerlCells()
+      : thetaHalf_(halfAngleTangents(firstOfEachCell(MerlBrdf::kThetaHalfCells, kHalfPi,
+                                                     [](double a) { return MerlBrdf::thetaHalfIndex(a); })),
+                   1.0, kCellMargin),
+        thetaDiff_(halfAngleTangents(firstOfEachCell(MerlBrdf::kThetaDiffCells, kHalfPi,
+                                                     [](double a) { return MerlBrdf::thetaDiffIndex(a); })),
+                   1.0, kCellMargin),
+        phiDiff_(phiDiffPseudoAngles(), 4.5, kCellMargin) {}
+
+  std::optional<std::size_t> cellOf(const HalfDiffVectors& v) const {
+    const std::optional<uint32_t> h = thetaHalf_.cellOf(halfAngleTangent(v.rho, v.length, v.half.z));
+    const Vec3d& d = v.diff;
+    const double rhoDiff = std::sqrt(d.x * d.x + d.y * d.y);
+    const std::optional<uint32_t> t =
+        thetaDiff_.cellOf(halfAngleTangent(rhoDiff, std::sqrt(rhoDiff * rhoDiff + d.z * d.z), d.z));
+    // d = 0 gives NaN, which has no cell.
+    const std::optional<uint32_t> p = phiDiff_.cellOf(pseudoAngle(d.y, d.x));
+    if (!(h && t && p)) return std::nullopt;
+    const int phi = static_cast<int>(*p) % MerlBrdf::kPhiDiffCells;
+    return MerlBrdf::flatIndex(static_cast<int>(*h), static_cast<int>(*t), phi);
+  }
+
+ private:
+  ThresholdCells thetaHalf_, thetaDiff_, phiDiff_;
+};
+
+}  // namespace
+
+std::size_t MerlBrdf::cellByAngles(const Vec3d& wo, const Vec3d& wi) {
+  const HalfDiffAngles a = toHalfDiff(wo, wi, false);
+  return flatIndex(thetaHalfIndex(a.thetaHalf), thetaDiffIndex(a.thetaDiff), phiDiffIndex(a.phiDiff));
+}
+
+std::size_t MerlBrdf::cellOf(const Vec3d& wo, const Vec3d& wi) {
+  static const MerlCells cells;
+  if (const std::optional<std::size_t> cell = cells.cellOf(halfDiffVectors(wo, wi))) return *cell;
+  return cellByAngles(wo, wi);
+}
+
 Rgb MerlBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wi.z > 0 && wo.z > 0)) return {};
+  if (interpolation_ == Interpolation::Nearest) return cell(cellOf(wo, wi));
   const HalfDiffAngles a = toHalfDiff(wo, wi, false);
   return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
 }

@@ -1,6 +1,5 @@
 #include "acdf/brdf/outgoing_cells.h"
 
-#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -13,28 +12,11 @@ namespace {
 // leaves a factor of 10^5 and sends well under 1e-6 of the directions down the slow path.
 constexpr double kMargin = 1e-9;
 
-
 // The smallest angle in [0, axis.hi()] whose float coordinate lies in cell k or above, for each
 // k in [1, cells): the cell of an angle a is the number of these at or below it, since
-// axis.cellOf(onAxis(axis, a)) is non-decreasing in a. Bisection over the doubles' bit patterns
-// (ordered like the values for a >= 0).
+// axis.cellOf(onAxis(axis, a)) is non-decreasing in a.
 std::vector<double> angleThresholds(const GridAxis& axis) {
-  std::vector<double> thresholds;
-  for (uint32_t k = 1; k < axis.cells(); ++k) {
-    uint64_t below = 0, atOrAbove = std::bit_cast<uint64_t>(static_cast<double>(axis.hi()));
-    while (atOrAbove - below > 1) {
-      const uint64_t mid = below + (atOrAbove - below) / 2;
-      (axis.cellOf(onAxis(axis, std::bit_cast<double>(mid))) >= k ? atOrAbove : below) = mid;
-    }
-    thresholds.push_back(std::bit_cast<double>(atOrAbove));
-  }
-  return thresholds;
-}
-
-std::vector<double> halfAngleTangentsOf(const GridAxis& thetaAxis) {
-  std::vector<double> tangents;
-  for (double theta : angleThresholds(thetaAxis)) tangents.push_back(std::tan(0.5 * theta));
-  return tangents;
+  return firstOfEachCell(axis.cells(), axis.hi(), [&](double a) { return axis.cellOf(onAxis(axis, a)); });
 }
 
 std::vector<double> pseudoAnglesOf(const GridAxis& phiAxis) {
@@ -54,7 +36,7 @@ float onAxis(const GridAxis& axis, double x) {
 OutgoingCells::OutgoingCells(const GridAxis& thetaAxis, const std::optional<GridAxis>& phiAxis)
     : thetaAxis_(thetaAxis),
       phiAxis_(phiAxis),
-      halfAngleTangents_(halfAngleTangentsOf(thetaAxis), 1.0, kMargin),
+      halfAngleTangents_(halfAngleTangents(angleThresholds(thetaAxis)), 1.0, kMargin),
       pseudoAngles_(phiAxis ? pseudoAnglesOf(*phiAxis) : std::vector<double>{}, 4.0, kMargin) {}
 
 std::array<uint32_t, 2> OutgoingCells::cellsFromAngles(const Vec3d& wo) const {

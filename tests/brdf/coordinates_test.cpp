@@ -181,7 +181,9 @@ TEST(Coordinates, ComponentRotationLooksUpTheSameMerlCells) {
     const HalfDiffAngles a = toHalfDiff(wo, wi), r = rotatedByAngles(wo, wi);
     ASSERT_NEAR(a.thetaHalf, r.thetaHalf, 1e-15) << n;
     ASSERT_NEAR(a.thetaDiff, r.thetaDiff, 1e-12) << n;
-    if (a.thetaDiff > 1e-6) ASSERT_NEAR(angleDistance(a.phiDiff, r.phiDiff), 0.0, 1e-9) << n;
+    if (a.thetaDiff > 1e-6) {
+      ASSERT_NEAR(angleDistance(a.phiDiff, r.phiDiff), 0.0, 1e-9) << n;
+    }
     differentCells += MerlBrdf::thetaHalfIndex(a.thetaHalf) != MerlBrdf::thetaHalfIndex(r.thetaHalf) ||
                       MerlBrdf::thetaDiffIndex(a.thetaDiff) != MerlBrdf::thetaDiffIndex(r.thetaDiff) ||
                       MerlBrdf::phiDiffIndex(a.phiDiff) != MerlBrdf::phiDiffIndex(r.phiDiff);

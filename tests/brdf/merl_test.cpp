@@ -525,6 +525,81 @@ TEST_F(MerlEval, NormalIncidenceLooksUpThePhiDiffZeroCell) {
   }
 }
 
+// MerlBrdf::cellOf (no atan2) is the cell of the angles for every pair above the horizon: at
+// random, at and a few ulps around every cell boundary of θh, θd and φd (the fold at φd = π and
+// the seam at 0 = 2π included), on the normal, and for pairs not of unit length.
+TEST(MerlBrdf, CellOfIsTheCellOfTheAngles) {
+  int mismatches = 0, checked = 0;
+  const auto check = [&](const Vec3d& wo, const Vec3d& wi) {
+    if (!(wo.z > 0 && wi.z > 0)) return;
+    ++checked;
+    const std::size_t fast = MerlBrdf::cellOf(wo, wi), exact = MerlBrdf::cellByAngles(wo, wi);
+    if (fast != exact && ++mismatches <= 10)
+      ADD_FAILURE() << std::hexfloat << "wo = (" << wo.x << ", " << wo.y << ", " << wo.z << "), wi = (" << wi.x
+                    << ", " << wi.y << ", " << wi.z << "): cell " << fast << " instead of " << exact;
+  };
+  // The pair and its neighbours one ulp away in each component of ωi.
+  const auto checkAround = [&](const DirectionPair& p) {
+    for (double dx : {-1.0, 0.0, 1.0})
+      for (double dy : {-1.0, 0.0, 1.0})
+        for (double dz : {-1.0, 0.0, 1.0}) {
+          const auto step = [](double v, double d) { return d == 0 ? v : std::nextafter(v, d * INFINITY); };
+          check(p.wo, {step(p.wi.x, dx), step(p.wi.y, dy), step(p.wi.z, dz)});
+        }
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto hemisphere = [&] { return sphericalDirection(std::acos(unit(rng)), 2 * kPi * unit(rng)); };
+  for (int i = 0; i < 1'000'000; ++i) {
+    const Vec3d wo = hemisphere(), wi = hemisphere();
+    check(wo, wi);
+    if (i % 16 == 0) check(wo * (0.25 + 4 * unit(rng)), wi * (0.25 + 4 * unit(rng)));
+  }
+  // Angles at each boundary, shifted by relative amounts from below one ulp to well past the
+  // lookup's margin, either way.
+  const auto around = [](double boundary) {
+    std::vector<double> angles{boundary};
+    for (double shift : {1e-17, 1e-16, 3e-16, 1e-15, 1e-12, 1e-10, 1e-9, 2e-9, 1e-8})
+      for (double sign : {-1.0, 1.0}) angles.push_back(boundary * (1 + sign * shift));
+    return angles;
+  };
+  const auto pairAt = [](double thetaHalf, double phiHalf, double thetaDiff, double phiDiff) {
+    return fromHalfDiff({thetaHalf, phiHalf, thetaDiff, phiDiff});
+  };
+  for (int k = 1; k < MerlBrdf::kThetaHalfCells; ++k) {
+    const double s = static_cast<double>(k) / MerlBrdf::kThetaHalfCells;
+    for (double thetaHalf : around(s * s * kPi / 2))
+      for (int i = 0; i < 4; ++i)
+        checkAround(pairAt(thetaHalf, 2 * kPi * unit(rng), 0.3 * unit(rng), 2 * kPi * unit(rng)));
+  }
+  for (int k = 1; k < MerlBrdf::kThetaDiffCells; ++k)
+    for (double thetaDiff : around(k * kPi / 2 / MerlBrdf::kThetaDiffCells))
+      for (int i = 0; i < 4; ++i)
+        checkAround(pairAt(0.05 * unit(rng), 2 * kPi * unit(rng), thetaDiff, 2 * kPi * unit(rng)));
+  std::vector<double> phiBoundaries{-kPi, 0.0, kPi, 2 * kPi};
+  for (int k = 1; k < MerlBrdf::kPhiDiffCells; ++k)
+    for (double offset : {0.0, kPi, -kPi}) phiBoundaries.push_back(offset + k * kPi / MerlBrdf::kPhiDiffCells);
+  for (double boundary : phiBoundaries) {
+    std::vector<double> phis = around(boundary);
+    for (double tiny : {1e-300, 1e-17, 1e-16, 1e-12}) phis.insert(phis.end(), {boundary + tiny, boundary - tiny});
+    for (double phiDiff : phis)
+      for (int i = 0; i < 4; ++i)
+        checkAround(pairAt(0.4 * unit(rng), 2 * kPi * unit(rng), 0.05 + 0.7 * unit(rng), phiDiff));
+  }
+  // On the normal, either or both; mirror pairs; grazing.
+  for (int i = 0; i < 10'000; ++i) {
+    const Vec3d w = hemisphere();
+    check({0, 0, 1}, w);
+    check(w, {0, 0, 1});
+    check(w, w);
+    check(w, {-w.x, -w.y, w.z});
+    check(w, {w.x, w.y, 1e-12});
+  }
+  check({0, 0, 1}, {0, 0, 1});
+  EXPECT_EQ(mismatches, 0) << "of " << checked;
+  EXPECT_GT(checked, 2'000'000);
+}
+
 TEST(MerlBrdf, Reciprocity) {
   const MerlBrdf b = analyticTable().brdf();
   const MerlBrdf trilinear = b.withInterpolation(Interp::Trilinear);

@@ -33,6 +33,15 @@ struct DirectionPair {
   Vec3d wo, wi;
 };
 
+// The vectors whose angles toHalfDiff takes: h = ωi + ωo unnormalised (ρ = √(hx² + hy²) and
+// |h| beside it), and d. For a lookup that finds cells from them without the angles.
+struct HalfDiffVectors {
+  Vec3d half;
+  double rho = 0, length = 0;
+  Vec3d diff;
+};
+HalfDiffVectors halfDiffVectors(const Vec3d& wo, const Vec3d& wi);
+
 // (ωo, ωi) → (θh, φh, θd, φd) (pbrt's argument order, as BrdfModel::eval; d is ωi's). Both must
 // be unit vectors. When ωi = −ωo the half vector is undefined; the normal is used (θh = φh = 0),
 // so the result is still finite.

@@ -111,6 +111,11 @@ class MerlBrdf final : public BrdfModel {
   static std::size_t flatIndex(int thetaHalfIdx, int thetaDiffIdx, int phiDiffIdx) {
     return (static_cast<std::size_t>(thetaHalfIdx) * kThetaDiffCells + thetaDiffIdx) * kPhiDiffCells + phiDiffIdx;
   }
+  // The flat index of the cell holding (ωo, ωi), both above the horizon: by definition
+  // flatIndex of the three indices of toHalfDiff(ωo, ωi)'s angles (cellByAngles), found without
+  // atan2 unless a quantity lies within rounding reach of a cell boundary (threshold_cells.h).
+  static std::size_t cellOf(const Vec3d& wo, const Vec3d& wi);
+  static std::size_t cellByAngles(const Vec3d& wo, const Vec3d& wi);
   // The angles at a cell's centre (the centre in √θh for θh).
   static double thetaHalfCentre(int thetaHalfIdx);
   static double thetaDiffCentre(int thetaDiffIdx);

@@ -14,6 +14,8 @@
 // need no margin: the count does not step there, and a definition clamps (atan2 + 2π may round
 // up to 2π) so that it too gives the first cell at one end and the last at the other.
 
+#include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -51,5 +53,30 @@ class ThresholdCells {
   std::vector<uint32_t> below_;
   double binsPerUnit_ = 0, range_, margin_;
 };
+
+// For a cell function of x >= 0 that is non-decreasing on [0, hi] and gives `cells` − 1 or more
+// at hi: for each k in [1, cells), the smallest double x in [0, hi] in cell k or above, found by
+// bisection over the doubles' bit patterns (ordered like the values for x >= 0). The thresholds
+// of a cell function defined by rounded arithmetic, exactly as that arithmetic has them.
+template <class CellOf>
+std::vector<double> firstOfEachCell(uint32_t cells, double hi, CellOf cellOf) {
+  std::vector<double> firsts;
+  for (uint32_t k = 1; k < cells; ++k) {
+    uint64_t below = 0, atOrAbove = std::bit_cast<uint64_t>(hi);
+    while (atOrAbove - below > 1) {
+      const uint64_t mid = below + (atOrAbove - below) / 2;
+      (static_cast<int64_t>(cellOf(std::bit_cast<double>(mid))) >= k ? atOrAbove : below) = mid;
+    }
+    firsts.push_back(std::bit_cast<double>(atOrAbove));
+  }
+  return firsts;
+}
+
+// tan(θ/2) of each polar angle θ: thresholds for the quantity ρ / (|v| + z) = tan(θ/2) of a
+// vector v, which is monotone in θ and needs no atan2.
+inline std::vector<double> halfAngleTangents(std::vector<double> angles) {
+  for (double& a : angles) a = std::tan(0.5 * a);
+  return angles;
+}
 
 }  // namespace acdf
