@@ -406,7 +406,8 @@ TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> mode
       options_(validated(this->model(), options)),
       table_(buildTable(this->model(), options_, tabulationMs_, buildMs_)),
       capAreas_(capAreasOf(options_)),
-      outgoingCells_(outgoingCellsOf(table_)) {}
+      outgoingCells_(outgoingCellsOf(table_)),
+      halfVectorCells_(halfVectorCellsOf(table_, options_)) {}
 
 TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> model, const TabulatedBrdfOptions& options,
                                            Cascade table)
@@ -414,7 +415,8 @@ TabulatedBrdfSampler::TabulatedBrdfSampler(std::shared_ptr<const BrdfModel> mode
       options_(validated(this->model(), options)),
       table_(checkedTable(std::move(table), options_)),
       capAreas_(capAreasOf(options_)),
-      outgoingCells_(outgoingCellsOf(table_)) {}
+      outgoingCells_(outgoingCellsOf(table_)),
+      halfVectorCells_(halfVectorCellsOf(table_, options_)) {}
 
 Cascade TabulatedBrdfSampler::buildCascade(const BrdfModel& model, const TabulatedBrdfOptions& options) {
   double tabulationMs, buildMs;
@@ -436,6 +438,14 @@ CacheKey TabulatedBrdfSampler::tableKey(const BrdfModel& model, const TabulatedB
 OutgoingCells TabulatedBrdfSampler::outgoingCellsOf(const Cascade& table) {
   const auto& axes = table.axes();
   return OutgoingCells(axes[0], table.conditioningDims() == 2 ? std::optional<GridAxis>(axes[1]) : std::nullopt);
+}
+
+HalfVectorCells TabulatedBrdfSampler::halfVectorCellsOf(const Cascade& table, const TabulatedBrdfOptions& options) {
+  const std::size_t k = table.conditioningDims();
+  const HalfAzimuth azimuth = options.layout == Layout::Full4D ? HalfAzimuth::Absolute
+                              : mirrored(options)              ? HalfAzimuth::Folded
+                                                               : HalfAzimuth::Relative;
+  return HalfVectorCells(table.axes()[k], table.axes()[k + 1], azimuth);
 }
 
 SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
@@ -479,20 +489,11 @@ double TabulatedBrdfSampler::perSteradian(double density, uint32_t cell) const {
 
 double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const {
   if (!(wh.z > 0.0)) return 0.0;
-  const std::size_t k = table_.conditioningDims();
-  const GridAxis& sAxis = table_.axes()[k];
-  const double s = std::sqrt(polarAngle(wh) / kHalfPi);
-  const auto cell = static_cast<uint32_t>(std::min<double>(s * sAxis.cells(), sAxis.cells() - 1));
-  double phi = azimuth(wh);
-  if (options_.layout == Layout::Isotropic) {
-    phi -= azimuth(wo);
-    if (phi < 0.0) phi += kTwoPi;
-    if (mirrored(options_) && phi > kPi) phi = kTwoPi - phi;
-  }
-  // The cascade's density is constant in s over the cell: ask at its centre, so a θh that
-  // rounds across a cell boundary in float still reads the cell the solid-angle mapping used.
-  const std::array<float, 2> x{sAxis.place(cell, cell + 1, 0.5), onAxis(table_.axes()[k + 1], phi)};
-  return perSteradian(table_.pdfInSlice(outgoingCells_.sliceOf(wo), x), cell);
+  // The cascade's density is constant over grid cells: asked by the cells themselves, it reads
+  // the s cell of θh in double, the one the solid-angle mapping uses, where a θh rounded to a
+  // float coordinate could fall across a cell boundary.
+  const std::array<uint32_t, 2> cells = halfVectorCells_.cellsOf(wo, wh);
+  return perSteradian(table_.pdfOfCellsInSlice(outgoingCells_.sliceOf(wo), cells), cells[0]);
 }
 
 double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

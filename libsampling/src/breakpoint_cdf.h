@@ -83,10 +83,15 @@ struct Lookup {
   double density;  // 0 where the CDF has no mass
 };
 
-inline Lookup lookup(const BreakpointCdf& c, const GridAxis& axis, float x) {
-  const std::size_t j = c.intervalOfCell(axis.cellOf(x));
+// The interval holding grid cell `cell` of the axis and its density there.
+inline Lookup lookupCell(const BreakpointCdf& c, const GridAxis& axis, uint32_t cell) {
+  const std::size_t j = c.intervalOfCell(cell);
   const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
   return {j, axis.density(c.mass(j), end - first)};
+}
+
+inline Lookup lookup(const BreakpointCdf& c, const GridAxis& axis, float x) {
+  return lookupCell(c, axis, axis.cellOf(x));
 }
 
 inline float invert(const BreakpointCdf& c, const GridAxis& axis, float x) {

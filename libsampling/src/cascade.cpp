@@ -514,13 +514,30 @@ SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) con
 float Cascade::pdfInSlice(std::size_t slice, std::span<const float> x) const {
   requireSlice(slice);
   requireArity(x.size(), sampledDims(), "coordinates");
+  std::array<uint32_t, kMaxDims> cells;
+  for (std::size_t level = 0; level < x.size(); ++level) {
+    const GridAxis& axis = axes_[conditioningDims_ + level];
+    if (!axis.contains(x[level])) return 0.0f;
+    cells[level] = axis.cellOf(x[level]);
+  }
+  return pdfOfCells(slice, std::span(cells.data(), x.size()));
+}
+
+float Cascade::pdfOfCellsInSlice(std::size_t slice, std::span<const uint32_t> cells) const {
+  requireSlice(slice);
+  requireArity(cells.size(), sampledDims(), "cells");
+  for (std::size_t level = 0; level < cells.size(); ++level)
+    if (cells[level] >= axes_[conditioningDims_ + level].cells()) return 0.0f;
+  return pdfOfCells(slice, cells);
+}
+
+float Cascade::pdfOfCells(std::size_t slice, std::span<const uint32_t> cells) const {
   std::size_t index = rootOf(slice);
   double density = 1.0;
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const GridAxis& axis = axes_[conditioningDims_ + level];
-    if (!axis.contains(x[level])) return 0.0f;
-    const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);
-    const detail::Lookup l = detail::lookup(n.cdf, axis, x[level]);
+    const NodeView n = viewOf(levels_[level], axis.cells()).node(index);
+    const detail::Lookup l = detail::lookupCell(n.cdf, axis, cells[level]);
     if (l.density == 0.0) return 0.0f;
     density *= l.density;
     index = n.childBase + l.interval;

@@ -1,6 +1,8 @@
 // OutgoingCells: the cells (and the slice) it finds without trigonometry are those of the angles
 // (cellsFromAngles) for every direction, in particular at a few ulps around every cell boundary, at the poles, on
 // and below the horizon, on the seam φ = 0 = 2π, and for directions that are not unit vectors.
+// HalfVectorCells: the same for half vectors given ωo, in every azimuth layout (φh, Δφ, |Δφ|): random pairs,
+// a few ulps around every θh and azimuth cell boundary, Δφ near 0 and π, and either direction at the normal.
 
 #include <gtest/gtest.h>
 
@@ -124,5 +126,116 @@ void checkAxes(uint32_t thetaCells, std::optional<uint32_t> phiCells) {
 TEST(OutgoingCells, FullLayoutCellsAreThoseOfTheAngles) { checkAxes(32, 16); }
 TEST(OutgoingCells, IsotropicLayoutCellsAreThoseOfTheAngles) { checkAxes(32, std::nullopt); }
 TEST(OutgoingCells, OddCellCountsAreThoseOfTheAngles) { checkAxes(7, 5); }
+
+struct HalfChecker {
+  const HalfVectorCells& cells;
+  int mismatches = 0;
+
+  void check(const Vec3d& wo, const Vec3d& wh) {
+    const std::array<uint32_t, 2> fast = cells.cellsOf(wo, wh), exact = cells.cellsFromAngles(wo, wh);
+    if (fast == exact) return;
+    if (++mismatches <= 10)
+      ADD_FAILURE() << std::hexfloat << "wo = (" << wo.x << ", " << wo.y << ", " << wo.z << "), wh = (" << wh.x << ", "
+                    << wh.y << ", " << wh.z << "): cells " << fast[0] << ", " << fast[1] << " instead of " << exact[0]
+                    << ", " << exact[1];
+  }
+  // wh and its neighbours one ulp away in each component.
+  void checkAround(const Vec3d& wo, const Vec3d& wh) {
+    const auto around = [](double v) {
+      return std::array<double, 3>{std::nextafter(v, -INFINITY), v, std::nextafter(v, INFINITY)};
+    };
+    for (double x : around(wh.x))
+      for (double y : around(wh.y))
+        for (double z : around(wh.z)) check(wo, {x, y, z});
+  }
+};
+
+// θh in double a few ulps either side of each boundary (k / cells)² · π/2 of the s cells.
+std::vector<double> thetaHalvesAroundBoundaries(uint32_t sCells) {
+  std::vector<double> angles;
+  for (uint32_t k = 1; k < sCells; ++k) {
+    const double s = static_cast<double>(k) / sCells, boundary = s * s * 0.5 * kPi;
+    double below = boundary, above = boundary;
+    angles.push_back(boundary);
+    for (int i = 0; i < 8; ++i) {
+      angles.push_back(below = std::nextafter(below, 0.0));
+      angles.push_back(above = std::nextafter(above, INFINITY));
+    }
+  }
+  return angles;
+}
+
+void checkHalfVectorAxes(uint32_t sCells, uint32_t phiCells, HalfAzimuth layout) {
+  const bool folded = layout == HalfAzimuth::Folded;
+  const GridAxis sAxis(sCells, 0.0f, 1.0f);
+  const GridAxis phiAxis(phiCells, 0.0f, static_cast<float>(folded ? kPi : 2.0 * kPi));
+  const HalfVectorCells cells(sAxis, phiAxis, layout);
+  HalfChecker checker{cells};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto upper = [&] { return sphericalDirection(0.5 * kPi * unit(rng), 2.0 * kPi * unit(rng)); };
+  // ωh at θh and at an azimuth φ of the layout's: φh itself, or Δφ (either sign when folded) from ωo's.
+  const auto halfVector = [&](const Vec3d& wo, double thetaHalf, double phi) {
+    if (layout == HalfAzimuth::Absolute) return sphericalDirection(thetaHalf, phi);
+    return sphericalDirection(thetaHalf, azimuth(wo) + (folded && unit(rng) < 0.5 ? -phi : phi));
+  };
+
+  // Random pairs in the upper hemisphere, some not of unit length.
+  for (int i = 0; i < 2'000'000; ++i) {
+    const Vec3d wo = upper(), wh = upper();
+    checker.check(wo, wh);
+    if (i % 16 == 0) checker.check(wo * (0.25 + 4.0 * unit(rng)), wh * (0.25 + 4.0 * unit(rng)));
+  }
+
+  // Around every θh boundary at random azimuths; both sides must be seen.
+  std::set<uint32_t> sSeen, phiSeen;
+  for (double theta : thetaHalvesAroundBoundaries(sCells))
+    for (int i = 0; i < 4; ++i) {
+      const Vec3d wo = upper(), wh = sphericalDirection(theta, 2.0 * kPi * unit(rng));
+      checker.checkAround(wo, wh);
+      sSeen.insert(cells.cellsFromAngles(wo, wh)[0]);
+    }
+  EXPECT_EQ(sSeen.size(), sCells);
+  // Around every azimuth boundary, and around Δφ = 0 and π (the seam and the fold), at random θh.
+  std::vector<double> phis = anglesAroundBoundaries(phiAxis);
+  for (double phi : {0.0, 1e-17, 1e-16, 1e-15, 1e-12, 1e-10, kPi, std::nextafter(kPi, 0.0), kPi + 1e-15}) {
+    phis.push_back(phi);
+    phis.push_back(-phi);
+  }
+  for (double phi : phis)
+    for (int i = 0; i < 8; ++i) {
+      const Vec3d wo = upper(), wh = halfVector(wo, 0.5 * kPi * unit(rng), phi);
+      checker.checkAround(wo, wh);
+      phiSeen.insert(cells.cellsFromAngles(wo, wh)[1]);
+    }
+  EXPECT_EQ(phiSeen.size(), phiCells);
+
+  // Either direction at or near the normal (no azimuth), signed zeros, tiny and huge scales.
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const std::vector<Vec3d> poles = {{0, 0, 1},     {-0.0, 0, 1},        {0, -0.0, 1},     {-0.0, -0.0, 1}, {tiny, 0, 1},
+                                    {0, -tiny, 1}, {1e-160, 1e-160, 1}, {1e-9, -1e-9, 1}, {0, 0, 1e-300}};
+  for (const Vec3d& pole : poles)
+    for (int i = 0; i < 100; ++i) {
+      const Vec3d other = upper();
+      checker.checkAround(other, pole);
+      checker.checkAround(pole, other);
+      checker.check(pole, pole);
+    }
+  for (double scale : {1e-300, 1e-160, 1e-150, 1e150, 1e160, 1e300})
+    for (int i = 0; i < 1000; ++i) {
+      checker.check(upper() * scale, upper());
+      checker.check(upper(), upper() * scale);
+    }
+  EXPECT_EQ(checker.mismatches, 0);
+}
+
+TEST(HalfVectorCells, FullLayoutCellsAreThoseOfTheAngles) { checkHalfVectorAxes(256, 32, HalfAzimuth::Absolute); }
+TEST(HalfVectorCells, IsotropicLayoutCellsAreThoseOfTheAngles) { checkHalfVectorAxes(256, 32, HalfAzimuth::Relative); }
+TEST(HalfVectorCells, MirroredLayoutCellsAreThoseOfTheAngles) { checkHalfVectorAxes(256, 16, HalfAzimuth::Folded); }
+TEST(HalfVectorCells, OddCellCountsAreThoseOfTheAngles) {
+  checkHalfVectorAxes(7, 5, HalfAzimuth::Absolute);
+  checkHalfVectorAxes(7, 5, HalfAzimuth::Relative);
+  checkHalfVectorAxes(7, 5, HalfAzimuth::Folded);
+}
 
 }  // namespace

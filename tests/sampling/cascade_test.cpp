@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -238,6 +239,63 @@ TEST(CascadeConditioning, SliceLookupIsTheNearestCell) {
   // Different slices are different distributions.
   const float a[] = {0.1f, 0.1f}, b[] = {0.9f, 0.9f}, x[] = {0.3f, 0.3f};
   EXPECT_NE(c.pdf(a, x), c.pdf(b, x));
+}
+
+TEST(CascadeConditioning, PdfOfCellsIsThePdfInThoseCells) {
+  // pdfOfCellsInSlice at a cell is pdfInSlice at any point of it (its lowest and highest floats
+  // and its centre) and the cell's probability over its volume, in every slice; uniform, adaptive
+  // and mixed levels, on shifted axes, with zero cells among them (ZerosWithIslands).
+  struct Setup {
+    std::vector<GridAxis> axes;
+    uint32_t conditioning;
+    std::vector<DM> methods;
+    Fixture fixture;
+  };
+  const std::vector<GridAxis> axes4D = {GridAxis(3, 0.0f, 1.0f), GridAxis(2, -1.0f, 1.0f), GridAxis(24, 0.0f, 2.0f),
+                                        GridAxis(10, -3.0f, 5.0f)};
+  const std::vector<GridAxis> axes3D = {GridAxis(4, 0.0f, 1.0f), GridAxis(16, 10.0f, 12.0f),
+                                        GridAxis(12, -1.0f, -0.5f)};
+  const std::vector<Setup> setups = {{axes4D, 2, {DM::Uniform, DM::Uniform}, Fixture::Random},
+                                     {axes4D, 2, {DM::Adaptive, DM::Adaptive}, Fixture::Random},
+                                     {axes4D, 2, {DM::Adaptive, DM::Adaptive}, Fixture::ZerosWithIslands},
+                                     {axes3D, 1, {DM::Adaptive, DM::Uniform}, Fixture::Smooth},
+                                     {axes3D, 1, {DM::Uniform, DM::Adaptive}, Fixture::ZerosWithIslands}};
+  for (const Setup& setup : setups) {
+    std::vector<uint32_t> dims;
+    for (const GridAxis& a : setup.axes) dims.push_back(a.cells());
+    CascadeOptions options = withMethods(setup.methods, setup.conditioning);
+    options.simplify.epsilon = 0.01;
+    const Cascade c(makeFixture(setup.fixture, dims), setup.axes, options);
+    const GridAxis &rows = setup.axes[setup.conditioning], &columns = setup.axes[setup.conditioning + 1];
+    const double volume = rows.cellWidth() * columns.cellWidth();
+    const auto pointsOf = [](const GridAxis& axis, uint32_t cell) {
+      return std::array<float, 3>{axis.place(cell, cell + 1, 0.0), axis.place(cell, cell + 1, 0.5),
+                                  axis.place(cell, cell + 1, 1.0)};
+    };
+    std::size_t zeros = 0;
+    for (std::size_t slice = 0; slice < c.slices(); ++slice) {
+      const std::vector<double> q = c.cellProbabilities(slice);
+      for (uint32_t i = 0; i < rows.cells(); ++i)
+        for (uint32_t j = 0; j < columns.cells(); ++j) {
+          const uint32_t cells[] = {i, j};
+          const float p = c.pdfOfCellsInSlice(slice, cells);
+          const double expected = q[i * columns.cells() + j];
+          zeros += p == 0.0f;
+          ASSERT_NEAR(p * volume, expected, 1e-6 * expected + 1e-30) << "slice " << slice << " cell " << i << ", " << j;
+          for (float x0 : pointsOf(rows, i))
+            for (float x1 : pointsOf(columns, j)) {
+              const float x[] = {x0, x1};
+              ASSERT_EQ(c.pdfInSlice(slice, x), p) << "slice " << slice << " at " << x0 << ", " << x1;
+            }
+        }
+    }
+    if (setup.fixture == Fixture::ZerosWithIslands) EXPECT_GT(zeros, 0u);
+    const uint32_t outside[] = {rows.cells(), 0}, alsoOutside[] = {0, columns.cells()}, tooFew[] = {0};
+    EXPECT_EQ(c.pdfOfCellsInSlice(0, outside), 0.0f);
+    EXPECT_EQ(c.pdfOfCellsInSlice(0, alsoOutside), 0.0f);
+    EXPECT_THROW(c.pdfOfCellsInSlice(c.slices(), tooFew), std::out_of_range);
+    EXPECT_THROW(c.pdfOfCellsInSlice(0, tooFew), std::invalid_argument);
+  }
 }
 
 TEST(CascadeConditioning, AllZeroSliceIsUniform) {

@@ -139,14 +139,17 @@ class TabulatedBrdfSampler final : public BrdfSampler {
  private:
   // The cells of the table's outgoing axes: θo, and φo for a Full4D table.
   static OutgoingCells outgoingCellsOf(const Cascade& table);
+  // The cells of the table's half-vector axes: s, and φh (Full4D) or Δφ.
+  static HalfVectorCells halfVectorCellsOf(const Cascade& table, const TabulatedBrdfOptions& options);
   // The table's density in (s, φ) on s-cell `cell`, per steradian of the half vector.
   double perSteradian(double density, uint32_t cell) const;
 
   TabulatedBrdfOptions options_;
   double tabulationMs_ = 0, buildMs_ = 0;
   Cascade table_;
-  std::vector<double> capAreas_;  // 1 − cosθh at the s-cell boundaries
-  OutgoingCells outgoingCells_;   // the conditioning cells of ωo (θo, and φo for Full4D)
+  std::vector<double> capAreas_;     // 1 − cosθh at the s-cell boundaries
+  OutgoingCells outgoingCells_;      // the conditioning cells of ωo (θo, and φo for Full4D)
+  HalfVectorCells halfVectorCells_;  // the sampled cells of ωh (s, and φh or Δφ)
 };
 
 }  // namespace acdf

@@ -116,6 +116,10 @@ class Cascade {
   // Throws std::out_of_range for slice >= slices().
   SampleND sampleInSlice(std::size_t slice, std::span<const float> u) const;
   float pdfInSlice(std::size_t slice, std::span<const float> x) const;
+  // pdfInSlice at any point of the sampled grid cell `cells` (one cell per sampled axis): the
+  // density is constant on grid cells, so a caller that knows its point's cells needs no
+  // coordinates. 0 for a cell outside its axis, as pdfInSlice outside the domain.
+  float pdfOfCellsInSlice(std::size_t slice, std::span<const uint32_t> cells) const;
   // ∫ f over the sampled axes of a slice (double sum); 0 means the slice samples uniformly.
   double integral(std::size_t slice) const { return sliceIntegral_[slice]; }
   bool isUniformFallback(std::size_t slice) const { return sliceIntegral_[slice] == 0.0; }
@@ -163,6 +167,8 @@ class Cascade {
   std::vector<double> cellProbabilitiesOfRoot(std::size_t root) const;
   std::size_t rootOf(std::size_t slice) const { return sliceRoot_.empty() ? slice : sliceRoot_[slice]; }
   void requireSlice(std::size_t slice) const;
+  // pdfOfCellsInSlice without its checks.
+  float pdfOfCells(std::size_t slice, std::span<const uint32_t> cells) const;
   std::vector<std::size_t> cdfsPerLevel() const;
 
   std::vector<GridAxis> axes_;
