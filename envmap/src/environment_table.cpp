@@ -149,10 +149,9 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
 double EnvironmentTable::pixelPdf(PixelIndex p) const {
   if (alias_) return probabilityPdf(alias_->probability(p), p.row);
   if (warp_) return probabilityPdf(warp_->probability(p.row, p.column), p.row);
-  // The cascade's density is constant on each pixel's grid cell: ask at its centre.
-  const float x[2] = {static_cast<float>((p.row + 0.5) / map_->height()),
-                      static_cast<float>((p.column + 0.5) / map_->width())};
-  return cascade_->pdf(x) * pdfScale_[p.row];
+  // The cascade's grid cells are the pixels.
+  const uint32_t cells[2] = {p.row, p.column};
+  return cascade_->pdfOfCellsInSlice(0, cells) * pdfScale_[p.row];
 }
 
 EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {

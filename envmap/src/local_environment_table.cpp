@@ -34,9 +34,6 @@ const LocalEnvironmentOptions& validated(const LocalEnvironmentOptions& options)
   return options;
 }
 
-// The slice's and the pixel table's lookup coordinate of cell `index` of `cells`: its centre.
-float centreOf(uint32_t index, uint32_t cells) { return static_cast<float>((index + 0.5) / cells); }
-
 }  // namespace
 
 void validate(const LocalEnvironmentOptions& o) {
@@ -182,8 +179,7 @@ LocalEnvironmentTable::Sample LocalEnvironmentTable::sample(const Vec3d& normal,
   // Where the block table put the sample inside its cell (uniformly): reused for the pixel.
   const float inBlock[2] = {clampUnit(static_cast<float>(blockAxes[0].gridCoordinate(b.x[0]) - br)),
                             clampUnit(static_cast<float>(blockAxes[1].gridCoordinate(b.x[1]) - bc))};
-  const float condition[2] = {centreOf(br, blockRows_), centreOf(bc, blockColumns_)};
-  const SampleND q = pixels_->sample(condition, inBlock);
+  const SampleND q = pixels_->sampleInSlice(blockIndex(br, bc), inBlock);
   const std::vector<GridAxis>& pixelAxes = pixels_->axes();
   const uint32_t i = pixelAxes[2].cellOf(q.x[0]), j = pixelAxes[3].cellOf(q.x[1]);
   const PixelIndex p = pixelOf(br, bc, i, j);
@@ -200,10 +196,9 @@ double LocalEnvironmentTable::pdf(const Vec3d& normal, const Vec3d& w) const {
 double LocalEnvironmentTable::pdf(const Vec3d& normal, PixelIndex p) const {
   if (emitsNothing_) return 0.0;
   const uint32_t br = p.row / blockHeight_, bc = p.column / blockWidth_;
-  const float block[2] = {centreOf(br, blockRows_), centreOf(bc, blockColumns_)};
-  const float inBlock[2] = {centreOf(p.row - br * blockHeight_, blockHeight_),
-                            centreOf(p.column - bc * blockWidth_, blockWidth_)};
-  return static_cast<double>(slice(sliceOf(normal)).pdf(block)) * pixels_->pdf(block, inBlock) * pdfScale_[p.row];
+  const uint32_t block[2] = {br, bc}, inBlock[2] = {p.row - br * blockHeight_, p.column - bc * blockWidth_};
+  return static_cast<double>(slice(sliceOf(normal)).pdfOfCellsInSlice(0, block)) *
+         pixels_->pdfOfCellsInSlice(blockIndex(br, bc), inBlock) * pdfScale_[p.row];
 }
 
 std::size_t LocalEnvironmentTable::bytes() const {

@@ -124,6 +124,10 @@ class LocalEnvironmentTable {
   PixelIndex pixelOf(uint32_t blockRow, uint32_t blockColumn, uint32_t row, uint32_t column) const {
     return {blockRow * blockHeight_ + row, blockColumn * blockWidth_ + column};
   }
+  // The pixel table's slice of a block: its conditioning cells (block row, block column), row-major.
+  std::size_t blockIndex(uint32_t blockRow, uint32_t blockColumn) const {
+    return std::size_t{blockRow} * blockColumns_ + blockColumn;
+  }
 
   std::shared_ptr<const EnvironmentMap> map_;
   LocalEnvironmentOptions options_;
