@@ -4,6 +4,7 @@
 // vertices) and each level of a Cascade (pooled 1D CDFs) are all views of this.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -42,24 +43,39 @@ struct BreakpointCdf {
   const VertexIndices* vertices = nullptr;
   std::size_t vertexOffset = 0;
 
-  float value(std::size_t j) const { return j == 0 ? 0.0f : j + 1 == count ? 1.0f : interior[j - 1]; }
+  // The accessors below are a few instructions each and sit on every sample and pdf; they are
+  // forced inline because in a large translation unit (cascade.cpp) GCC reaches its unit-growth
+  // limit and leaves them as calls, whose spills and argument copies cost more than their bodies.
+  [[gnu::always_inline]] float value(std::size_t j) const { return j + 1 == count ? 1.0f : values(j)[0]; }
 
-  uint32_t vertex(std::size_t j) const {
-    if (!vertices) return static_cast<uint32_t>(j);
-    return j == 0 ? 0u : j + 1 == count ? cells : (*vertices)[vertexOffset + j - 1];
+  // {value(j), value(j + 1)} for an interval j < count − 1.
+  [[gnu::always_inline]] std::array<float, 2> values(std::size_t j) const {
+    return {j == 0 ? 0.0f : interior[j - 1], j + 2 == count ? 1.0f : interior[j]};
+  }
+
+  [[gnu::always_inline]] uint32_t vertex(std::size_t j) const { return j + 1 == count ? cells : ends(j)[0]; }
+
+  // {vertex(j), vertex(j + 1)} for an interval j < count − 1.
+  [[gnu::always_inline]] std::array<uint32_t, 2> ends(std::size_t j) const {
+    if (!vertices) return {static_cast<uint32_t>(j), static_cast<uint32_t>(j + 1)};
+    const std::size_t next = vertexOffset + j;  // the index of interior point j + 1
+    return {j == 0 ? 0u : (*vertices)[next - 1], j + 2 == count ? cells : (*vertices)[next]};
   }
 
   // The interval j with value(j) <= u < value(j+1), for u in [0, 1): it always has positive mass.
-  std::size_t intervalOfVariate(float u) const { return upperBound(interior, count - 2, u); }
+  [[gnu::always_inline]] std::size_t intervalOfVariate(float u) const { return upperBound(interior, count - 2, u); }
 
   // The interval holding `cell`: the number of interior vertices at or below it.
-  std::size_t intervalOfCell(uint32_t cell) const {
+  [[gnu::always_inline]] std::size_t intervalOfCell(uint32_t cell) const {
     if (!vertices) return std::min<std::size_t>(cell, count - 2);
     return vertices->countAtMost(vertexOffset, vertexOffset + count - 2, cell);
   }
 
   // Exact in double: the difference of two floats.
-  double mass(std::size_t j) const { return static_cast<double>(value(j + 1)) - static_cast<double>(value(j)); }
+  [[gnu::always_inline]] double mass(std::size_t j) const {
+    const auto [lo, hi] = values(j);
+    return static_cast<double>(hi) - static_cast<double>(lo);
+  }
 };
 
 // One sampled coordinate: the interval chosen, its cells, where in it the sample fell, and the
@@ -72,9 +88,10 @@ struct Draw {
 
 inline Draw draw(const BreakpointCdf& c, const GridAxis& axis, float u) {
   const std::size_t j = c.intervalOfVariate(u);
-  const double mass = c.mass(j);
-  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
-  const double t = (static_cast<double>(u) - c.value(j)) / mass;
+  const auto [lo, hi] = c.values(j);
+  const double mass = static_cast<double>(hi) - static_cast<double>(lo);
+  const auto [first, end] = c.ends(j);
+  const double t = (static_cast<double>(u) - lo) / mass;
   return {j, axis.place(first, end, t), axis.density(mass, end - first)};
 }
 

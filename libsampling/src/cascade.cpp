@@ -471,18 +471,26 @@ std::size_t Cascade::sliceOf(std::span<const float> condition) const {
   return slice;
 }
 
+// The checks of every sample() and pdf() call are inlined there; the messages are built out of line.
 namespace {
-void requireArity(std::size_t given, std::size_t needed, const char* what) {
-  if (given != needed) {
-    throw std::invalid_argument(std::string("cascade: ") + std::to_string(given) + " " + what + " for " +
-                                std::to_string(needed) + " sampled axes");
-  }
+[[noreturn]] void throwArity(std::size_t given, std::size_t needed, const char* what) {
+  throw std::invalid_argument(std::string("cascade: ") + std::to_string(given) + " " + what + " for " +
+                              std::to_string(needed) + " sampled axes");
+}
+
+[[noreturn]] void throwNoSlice(std::size_t slice, std::size_t slices) {
+  throw std::out_of_range("cascade: slice " + std::to_string(slice) + " of " + std::to_string(slices));
+}
+
+inline void requireArity(std::size_t given, std::size_t needed, const char* what) {
+  if (given != needed) [[unlikely]]
+    throwArity(given, needed, what);
 }
 }  // namespace
 
-void Cascade::requireSlice(std::size_t slice) const {
-  if (slice >= slices())
-    throw std::out_of_range("cascade: slice " + std::to_string(slice) + " of " + std::to_string(slices()));
+inline void Cascade::requireSlice(std::size_t slice) const {
+  if (slice >= slices()) [[unlikely]]
+    throwNoSlice(slice, slices());
 }
 
 SampleND Cascade::sample(std::span<const float> condition, std::span<const float> u) const {
@@ -500,12 +508,15 @@ SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) con
   SampleND result;
   result.dims = static_cast<uint8_t>(levels_.size());
   double density = 1.0;
-  for (std::size_t level = 0; level < levels_.size(); ++level) {
-    const NodeView n = viewOf(levels_[level], axes_[conditioningDims_ + level].cells()).node(index);
-    const detail::Draw d = detail::draw(n.cdf, axes_[conditioningDims_ + level], clampUnit(u[level]));
-    result.x[level] = d.x;
-    density *= d.density;
-    index = n.childBase + d.interval;
+  const GridAxis* axis = axes_.data() + conditioningDims_;
+  std::size_t d = 0;
+  for (const Level& level : levels_) {
+    const NodeView n = viewOf(level, axis->cells()).node(index);
+    const detail::Draw drawn = detail::draw(n.cdf, *axis, clampUnit(u[d]));
+    result.x[d] = drawn.x;
+    density *= drawn.density;
+    index = n.childBase + drawn.interval;
+    ++axis, ++d;
   }
   result.pdf = clampDensity(density);
   return result;

@@ -32,8 +32,13 @@ GridAxis::GridAxis(uint32_t cells, float lo, float hi) : cells_(cells), lo_(lo),
 }
 
 double GridAxis::gridCoordinate(float x) const {
-  const double g = (static_cast<double>(x) - lo_) * invCellWidth_;
-  return std::clamp(g, 0.0, static_cast<double>(cells_));
+  return std::clamp(rawGridCoordinate(x), 0.0, static_cast<double>(cells_));
+}
+
+float GridAxis::nudgeInto(float x, uint32_t firstCell, uint32_t endCell) const {
+  while (cellOf(x) < firstCell) x = std::nextafter(x, hi_);
+  while (cellOf(x) >= endCell) x = std::nextafter(x, lo_);
+  return x;
 }
 
 }  // namespace acdf

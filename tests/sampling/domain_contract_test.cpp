@@ -10,9 +10,13 @@
 //   far outside, ±Inf, NaN), and lo and the largest float below hi are inside it: their pdf is
 //   that of the first and last cells;
 // - ∫pdf over the domain is 1 within 1e-6.
+// GridAxis::place itself, which every sample goes through, returns exactly what its defining
+// formula (the fraction's coordinate, nudged ulp by ulp into the cell range) gives.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -23,6 +27,7 @@
 
 #include "acdf/sampling/cascade.h"
 #include "acdf/sampling/grid_axis.h"
+#include "acdf/sampling/rng.h"
 #include "acdf/sampling/sample.h"
 #include "acdf/test_support/chi_square_harness.h"
 #include "acdf/test_support/samplers.h"
@@ -207,5 +212,55 @@ TEST_P(DomainContract, Holds) {
 
 INSTANTIATE_TEST_SUITE_P(AllSamplers, DomainContract, ::testing::ValuesIn(domainCases()),
                          [](const auto& info) { return info.param.name; });
+
+// What place() is defined to return: the coordinate at fraction t of the cell range, clamped to
+// the inner domain, then moved ulp by ulp until its cell is in [first, end).
+float nudgedFormula(const GridAxis& a, uint32_t first, uint32_t end, double t) {
+  const double g = first + std::clamp(t, 0.0, 1.0) * (end - first);
+  float x = std::clamp(static_cast<float>(a.lo() + g * a.cellWidth()), a.innerLo(), a.innerHi());
+  while (a.cellOf(x) < first) x = std::nextafter(x, a.hi());
+  while (a.cellOf(x) >= end) x = std::nextafter(x, a.lo());
+  return x;
+}
+
+TEST(GridAxisPlace, IsTheNudgedFormulaBitForBit) {
+  // Unit and angle domains, an offset one, a huge grid, and cells of 4 and 3 ulps of their
+  // coordinates' magnitude, where many fractions round to a neighbouring cell's float. (No cell
+  // boundary at 0 inside a domain: the nudge would step through every float near 0, about 10^9.)
+  const float ulp1024 = std::nextafter(1024.0f, 2048.0f) - 1024.0f;
+  const std::vector<GridAxis> axes = {GridAxis(1),
+                                      GridAxis(32),
+                                      GridAxis(90, 0.0f, 1.5707964f),
+                                      GridAxis(359, -3.1415927f, 3.1415927f),
+                                      GridAxis(7, -3.3f, 12.9f),
+                                      GridAxis(1u << 20, 0.0f, 1.0f),
+                                      GridAxis(16, 1024.0f, 1024.0f + 64 * ulp1024),
+                                      GridAxis(5, -1024.0f, -1024.0f + 15 * ulp1024)};
+  Pcg32 rng(7);
+  std::size_t cases = 0, nudged = 0;
+  for (const GridAxis& a : axes) {
+    for (int r = 0; r < 4000; ++r) {
+      uint32_t first = rng.nextUint() % a.cells(), end = first + 1 + rng.nextUint() % (a.cells() - first);
+      if (r % 4 == 0) end = first + 1;              // one cell
+      if (r % 50 == 0) first = 0, end = a.cells();  // the whole axis
+      const double span = end - first;
+      const double k = std::floor(rng.nextDouble() * (span + 1));  // a cell boundary of the range
+      const double boundary = k / span;
+      for (double t : {0.0, 1.0, -0.25, 1.25, rng.nextDouble(), boundary, std::nextafter(boundary, 0.0),
+                       std::nextafter(boundary, 2.0), 0.5 / span, 1.0 - 0.5 / span}) {
+        const float expected = nudgedFormula(a, first, end, t);
+        const float placed = a.place(first, end, t);
+        ASSERT_EQ(std::bit_cast<uint32_t>(placed), std::bit_cast<uint32_t>(expected))
+            << "cells " << a.cells() << " on [" << a.lo() << ", " << a.hi() << "): [" << first << ", " << end
+            << ") at t = " << t << " gave " << placed << ", not " << expected;
+        const double g = first + std::clamp(t, 0.0, 1.0) * span;
+        nudged += expected != std::clamp(static_cast<float>(a.lo() + g * a.cellWidth()), a.innerLo(), a.innerHi());
+        ++cases;
+      }
+    }
+  }
+  // The rare path must have been taken, or the comparison proves nothing about it.
+  EXPECT_GT(nudged, cases / 1000) << nudged << " of " << cases << " cases nudged";
+}
 
 }  // namespace

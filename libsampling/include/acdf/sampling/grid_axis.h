@@ -28,7 +28,7 @@ class GridAxis {
 
   // The cell holding x, clamped to [0, cells-1]. Monotone non-decreasing in x.
   uint32_t cellOf(float x) const {
-    const double g = (static_cast<double>(x) - lo_) * invCellWidth_;
+    const double g = rawGridCoordinate(x);
     if (!(g > 0.0)) return 0;
     if (g >= cells_) return cells_ - 1;
     return static_cast<uint32_t>(g);
@@ -41,12 +41,14 @@ class GridAxis {
   // cellOf(result) is in [firstCell, endCell) and innerLo() <= result <= innerHi().
   float place(uint32_t firstCell, uint32_t endCell, double t) const {
     const double g = firstCell + std::clamp(t, 0.0, 1.0) * (endCell - firstCell);
-    float x = std::clamp(static_cast<float>(lo_ + g * cellWidth_), innerLo_, innerHi_);
-    // Rounding may have carried x across a cell boundary; the constructor guarantees each cell
-    // holds interior floats, so these loops take at most a few steps.
-    while (cellOf(x) < firstCell) x = std::nextafter(x, hi_);
-    while (cellOf(x) >= endCell) x = std::nextafter(x, lo_);
-    return x;
+    const float x = std::clamp(static_cast<float>(lo_ + g * cellWidth_), innerLo_, innerHi_);
+    // cellOf(x) is in [firstCell, endCell) whenever x's unclamped grid coordinate is (the cell
+    // bounds are integers), so one comparison settles the common case; the rare nudge stays out
+    // of line, so no value of a caller's loop has to survive its calls.
+    const double placed = rawGridCoordinate(x);
+    if (placed >= firstCell && placed < endCell) [[likely]]
+      return x;
+    return nudgeInto(x, firstCell, endCell);
   }
 
   // Density (w.r.t. this axis' length measure) of probability `mass` spread evenly over
@@ -61,6 +63,14 @@ class GridAxis {
   bool operator==(const GridAxis&) const = default;
 
  private:
+  // Grid coordinate of x, unclamped.
+  double rawGridCoordinate(float x) const { return (static_cast<double>(x) - lo_) * invCellWidth_; }
+
+  // x moved by whole ulps until cellOf(x) is in [firstCell, endCell): rounding may have carried
+  // it across a cell boundary. The constructor guarantees each cell holds interior floats, so
+  // this takes at most a few steps.
+  float nudgeInto(float x, uint32_t firstCell, uint32_t endCell) const;
+
   uint32_t cells_;
   float lo_, hi_;
   double cellWidth_;

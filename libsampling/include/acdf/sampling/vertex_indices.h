@@ -23,7 +23,8 @@ class VertexIndices {
   std::size_t size() const { return width_ == 1 ? narrow8_.size() : width_ == 2 ? narrow16_.size() : wide32_.size(); }
   std::size_t bytes() const { return size() * width_; }
 
-  uint32_t operator[](std::size_t i) const {
+  // Forced inline, as BreakpointCdf's accessors are (breakpoint_cdf.h says why).
+  [[gnu::always_inline]] uint32_t operator[](std::size_t i) const {
     return width_ == 1 ? narrow8_[i] : width_ == 2 ? narrow16_[i] : wide32_[i];
   }
 
@@ -50,9 +51,10 @@ class VertexIndices {
     wide32_.shrink_to_fit();
   }
 
-  // How many of the sorted indices [first, last) are <= cell. Inline and branchless within the
-  // search (the width test is the same on every call of a table): it sits on every pdf() call.
-  std::size_t countAtMost(std::size_t first, std::size_t last, uint32_t cell) const {
+  // How many of the sorted indices [first, last) are <= cell. Inline (forced, as operator[]) and
+  // branchless within the search (the width test is the same on every call of a table): it sits
+  // on every pdf() call.
+  [[gnu::always_inline]] std::size_t countAtMost(std::size_t first, std::size_t last, uint32_t cell) const {
     if (width_ == 1) return countAtMost(narrow8_.data() + first, last - first, cell);
     if (width_ == 2) return countAtMost(narrow16_.data() + first, last - first, cell);
     return countAtMost(wide32_.data() + first, last - first, cell);
