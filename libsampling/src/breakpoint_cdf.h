@@ -103,7 +103,7 @@ struct Lookup {
 // The interval holding grid cell `cell` of the axis and its density there.
 inline Lookup lookupCell(const BreakpointCdf& c, const GridAxis& axis, uint32_t cell) {
   const std::size_t j = c.intervalOfCell(cell);
-  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
+  const auto [first, end] = c.ends(j);
   return {j, axis.density(c.mass(j), end - first)};
 }
 
@@ -113,7 +113,7 @@ inline Lookup lookup(const BreakpointCdf& c, const GridAxis& axis, float x) {
 
 inline float invert(const BreakpointCdf& c, const GridAxis& axis, float x) {
   const std::size_t j = c.intervalOfCell(axis.cellOf(x));
-  const uint32_t first = c.vertex(j), end = c.vertex(j + 1);
+  const auto [first, end] = c.ends(j);
   const double t = std::clamp((axis.gridCoordinate(x) - first) / (end - first), 0.0, 1.0);
   return static_cast<float>(c.value(j) + t * c.mass(j));
 }

@@ -1,6 +1,7 @@
 #include "acdf/sampling/grid_axis.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -35,9 +36,39 @@ double GridAxis::gridCoordinate(float x) const {
   return std::clamp(rawGridCoordinate(x), 0.0, static_cast<double>(cells_));
 }
 
+namespace {
+
+// Floats as unsigned integers in the order of their values, −0 just below +0.
+uint32_t orderedKey(float x) {
+  const uint32_t bits = std::bit_cast<uint32_t>(x);
+  return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
+}
+float fromOrderedKey(uint32_t key) { return std::bit_cast<float>(key & 0x80000000u ? key & 0x7FFFFFFFu : ~key); }
+
+}  // namespace
+
+// The float that stepping x one ulp at a time would reach, found by bisection over the floats'
+// order: stepping from a cell boundary at or near 0, where floats are densest, would take up to
+// about 10^9 steps. cellOf is monotone and gives −0 and +0 the same cell, so the first float at
+// or above the boundary in this order is the one stepping reaches (which skips +0 going up and
+// −0 going down).
 float GridAxis::nudgeInto(float x, uint32_t firstCell, uint32_t endCell) const {
-  while (cellOf(x) < firstCell) x = std::nextafter(x, hi_);
-  while (cellOf(x) >= endCell) x = std::nextafter(x, lo_);
+  if (cellOf(x) < firstCell) {
+    uint32_t below = orderedKey(x), atOrAbove = orderedKey(hi_);  // cellOf(hi_) = cells − 1
+    while (atOrAbove - below > 1) {
+      const uint32_t mid = below + (atOrAbove - below) / 2;
+      (cellOf(fromOrderedKey(mid)) >= firstCell ? atOrAbove : below) = mid;
+    }
+    x = fromOrderedKey(atOrAbove);
+  }
+  if (cellOf(x) >= endCell) {
+    uint32_t below = orderedKey(lo_), atOrAbove = orderedKey(x);  // cellOf(lo_) = 0
+    while (atOrAbove - below > 1) {
+      const uint32_t mid = below + (atOrAbove - below) / 2;
+      (cellOf(fromOrderedKey(mid)) >= endCell ? atOrAbove : below) = mid;
+    }
+    x = fromOrderedKey(below);
+  }
   return x;
 }
 

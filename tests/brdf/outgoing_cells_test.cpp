@@ -106,7 +106,9 @@ void checkAxes(uint32_t thetaCells, std::optional<uint32_t> phiCells) {
       checker.checkAround(wo);
       phiSeen.insert(cells.cellsFromAngles(wo)[1]);
     }
-  if (phiCells) EXPECT_EQ(phiSeen.size(), *phiCells);
+  if (phiCells) {
+    EXPECT_EQ(phiSeen.size(), *phiCells);
+  }
 
   // Poles, horizon, the seam φo = 0 = 2π and φo = π, signed zeros, tiny and huge scales, NaN.
   const double tiny = std::numeric_limits<double>::denorm_min(), eps = 1e-300;

@@ -289,7 +289,9 @@ TEST(CascadeConditioning, PdfOfCellsIsThePdfInThoseCells) {
             }
         }
     }
-    if (setup.fixture == Fixture::ZerosWithIslands) EXPECT_GT(zeros, 0u);
+    if (setup.fixture == Fixture::ZerosWithIslands) {
+      EXPECT_GT(zeros, 0u);
+    }
     const uint32_t outside[] = {rows.cells(), 0}, alsoOutside[] = {0, columns.cells()}, tooFew[] = {0};
     EXPECT_EQ(c.pdfOfCellsInSlice(0, outside), 0.0f);
     EXPECT_EQ(c.pdfOfCellsInSlice(0, alsoOutside), 0.0f);

@@ -226,7 +226,8 @@ float nudgedFormula(const GridAxis& a, uint32_t first, uint32_t end, double t) {
 TEST(GridAxisPlace, IsTheNudgedFormulaBitForBit) {
   // Unit and angle domains, an offset one, a huge grid, and cells of 4 and 3 ulps of their
   // coordinates' magnitude, where many fractions round to a neighbouring cell's float. (No cell
-  // boundary at 0 inside a domain: the nudge would step through every float near 0, about 10^9.)
+  // boundary at 0 inside a domain: this reference would step through every float near 0, about
+  // 10^9; PlaceNearZeroIsTheFirstFloatOfTheCell checks those.)
   const float ulp1024 = std::nextafter(1024.0f, 2048.0f) - 1024.0f;
   const std::vector<GridAxis> axes = {GridAxis(1),
                                       GridAxis(32),
@@ -261,6 +262,34 @@ TEST(GridAxisPlace, IsTheNudgedFormulaBitForBit) {
   }
   // The rare path must have been taken, or the comparison proves nothing about it.
   EXPECT_GT(nudged, cases / 1000) << nudged << " of " << cases << " cases nudged";
+}
+
+// Domains with a cell boundary at 0, where the floats are densest: a coordinate that rounding
+// carried across a boundary is moved to the first float of the cell above (t = 0) or the last of
+// the cell below (t = 1), as stepping ulp by ulp would, so the float next to it on the far side
+// is in the neighbouring cell.
+TEST(GridAxisPlace, PlaceNearZeroIsTheFirstFloatOfTheCell) {
+  std::size_t nudged = 0;
+  for (const GridAxis& a : {GridAxis(360, -3.1415927f, 3.1415927f), GridAxis(2, -1.0f, 1.0f),
+                            GridAxis(1000, -1.0f, 1.0f), GridAxis(6, -0.3f, 0.3f), GridAxis(180, -90.0f, 90.0f),
+                            GridAxis(10, -0.7f, 0.7f), GridAxis(36, -1.3f, 1.3f)}) {
+    const uint32_t middle = a.cells() / 2;
+    for (uint32_t first : {middle - 1, middle}) {
+      for (double t : {0.0, 1.0}) {
+        const float placed = a.place(first, first + 1, t);
+        ASSERT_EQ(a.cellOf(placed), first) << a.cells() << " cells, cell " << first << ", t = " << t;
+        const double g = first + t;
+        const float unnudged = std::clamp(static_cast<float>(a.lo() + g * a.cellWidth()), a.innerLo(), a.innerHi());
+        if (placed == unnudged) continue;
+        ++nudged;
+        const float beyond = std::nextafter(placed, t == 0.0 ? a.lo() : a.hi());
+        EXPECT_EQ(a.cellOf(beyond), t == 0.0 ? first - 1 : first + 1)
+            << a.cells() << " cells, cell " << first << ", t = " << t << ": " << placed
+            << " is not the cell's " << (t == 0.0 ? "first" : "last") << " float";
+      }
+    }
+  }
+  EXPECT_GT(nudged, 0u) << "no case crossed a boundary at 0: the test proves nothing";
 }
 
 }  // namespace

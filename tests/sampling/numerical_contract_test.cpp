@@ -337,7 +337,9 @@ TEST(Reachability, EveryCellOfPositiveMassHasPositivePdf) {
     EXPECT_EQ(unreachable, 0u) << "cells of positive value with pdf 0";
     // The uniform tables keep a zero cell at pdf 0; an adaptive interval spreads its mass over
     // the zero cells it merged, by design.
-    if (c == Class::PiecewiseConstant1D || c == Class::CascadeUniform) EXPECT_EQ(zeroCellsSampled, 0u);
+    if (c == Class::PiecewiseConstant1D || c == Class::CascadeUniform) {
+      EXPECT_EQ(zeroCellsSampled, 0u);
+    }
     EXPECT_NEAR(integratePdf(s.axes, s.pdf, 2), 1.0, 1e-4);
     EXPECT_TRUE(checkSamples(s, 10'000).samplesValid());
   }

@@ -68,7 +68,7 @@ class GridAxis {
 
   // x moved by whole ulps until cellOf(x) is in [firstCell, endCell): rounding may have carried
   // it across a cell boundary. The constructor guarantees each cell holds interior floats, so
-  // this takes at most a few steps.
+  // the answer is a few ulps away; near 0 that can be a great many floats, hence a bisection.
   float nudgeInto(float x, uint32_t firstCell, uint32_t endCell) const;
 
   uint32_t cells_;
