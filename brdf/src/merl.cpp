@@ -316,12 +316,6 @@ std::vector<double> phiDiffPseudoAngles() {
   return thresholds;
 }
 
-// tan(θ/2) = ρ / (|v| + z) of a vector v at polar angle θ = atan2(ρ, z), for z > −|v|; the
-// lengths are kept where their squares neither overflow nor lose the angle to underflow.
-double halfAngleTangent(double rho, double length, double z) {
-  return length >= 0x1p-450 && length <= 0x1p450 ? rho / (length + z) : std::numeric_limits<double>::quiet_NaN();
-}
-
 class MerlCells {
  public:
   MerlCells()

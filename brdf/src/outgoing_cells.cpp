@@ -56,11 +56,11 @@ std::array<uint32_t, 2> OutgoingCells::cellsFromAngles(const Vec3d& wo) const {
 }
 
 std::array<uint32_t, 2> OutgoingCells::cellsOf(const Vec3d& wo) const {
-  const double rho2 = wo.x * wo.x + wo.y * wo.y, norm2 = rho2 + wo.z * wo.z;
-  // Squares neither overflow nor lose precision to underflow where it could matter (a ρ² that
-  // underflows then leaves tan(θo/2) far below every threshold), and |ωo| + z does not cancel.
-  if (!(wo.z > 0.0 && norm2 >= 0x1p-900 && norm2 <= 0x1p900)) return cellsFromAngles(wo);
-  const std::optional<uint32_t> theta = halfAngleTangents_.cellOf(std::sqrt(rho2) / (std::sqrt(norm2) + wo.z));
+  // Above the horizon |ωo| + z does not cancel.
+  if (!(wo.z > 0.0)) return cellsFromAngles(wo);
+  const double rho2 = wo.x * wo.x + wo.y * wo.y;
+  const std::optional<uint32_t> theta =
+      halfAngleTangents_.cellOf(halfAngleTangent(std::sqrt(rho2), std::sqrt(rho2 + wo.z * wo.z), wo.z));
   if (!theta) return cellsFromAngles(wo);
   uint32_t phi = 0;
   if (phiAxis_) {
@@ -93,10 +93,12 @@ std::array<uint32_t, 2> HalfVectorCells::cellsFromAngles(const Vec3d& wo, const 
 }
 
 std::array<uint32_t, 2> HalfVectorCells::cellsOf(const Vec3d& wo, const Vec3d& wh) const {
-  const double rho2 = wh.x * wh.x + wh.y * wh.y, norm2 = rho2 + wh.z * wh.z;
   // As for ωo in OutgoingCells::cellsOf.
-  if (!(wh.z > 0.0 && norm2 >= 0x1p-900 && norm2 <= 0x1p900)) return cellsFromAngles(wo, wh);
-  const std::optional<uint32_t> s = halfAngleTangents_.cellOf(std::sqrt(rho2) / (std::sqrt(norm2) + wh.z));
+  if (!(wh.z > 0.0)) return cellsFromAngles(wo, wh);
+  const double rho2 = wh.x * wh.x + wh.y * wh.y;
+  const std::optional<uint32_t> s =
+      halfAngleTangents_.cellOf(halfAngleTangent(std::sqrt(rho2), std::sqrt(rho2 + wh.z * wh.z), wh.z));
+  if (!s) return cellsFromAngles(wo, wh);
   double x = wh.x, y = wh.y;
   if (azimuth_ != HalfAzimuth::Absolute) {
     // ρo ρh (cos Δφ, sin Δφ), whose length ρo ρh keeps the products clear of underflow and
@@ -110,7 +112,7 @@ std::array<uint32_t, 2> HalfVectorCells::cellsOf(const Vec3d& wo, const Vec3d& w
   const double v = pseudoAngle(y, x);
   const bool nearSeam = azimuth_ == HalfAzimuth::Relative && !(v > kMargin && v < 4.0 - kMargin);
   const std::optional<uint32_t> phi = nearSeam ? std::nullopt : pseudoAngles_.cellOf(v);
-  if (!(s && phi)) return cellsFromAngles(wo, wh);
+  if (!phi) return cellsFromAngles(wo, wh);
   return {*s, *phi};
 }
 

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -72,8 +73,15 @@ std::vector<double> firstOfEachCell(uint32_t cells, double hi, CellOf cellOf) {
   return firsts;
 }
 
-// tan(θ/2) of each polar angle θ: thresholds for the quantity ρ / (|v| + z) = tan(θ/2) of a
-// vector v, which is monotone in θ and needs no atan2.
+// tan(θ/2) = ρ / (|v| + z) of a vector v = (x, y, z) at polar angle θ = atan2(ρ, z), given
+// ρ = √(x² + y²) and |v|, for z > −|v|: monotone in θ, without atan2. NaN, which has no cell,
+// where |v| lies outside [2^-450, 2^450]: there the squares could overflow or lose the angle to
+// underflow (a ρ² that underflows leaves tan(θ/2) far below every threshold).
+inline double halfAngleTangent(double rho, double length, double z) {
+  return length >= 0x1p-450 && length <= 0x1p450 ? rho / (length + z) : std::numeric_limits<double>::quiet_NaN();
+}
+
+// tan(θ/2) of each polar angle θ: thresholds for halfAngleTangent.
 inline std::vector<double> halfAngleTangents(std::vector<double> angles) {
   for (double& a : angles) a = std::tan(0.5 * a);
   return angles;
