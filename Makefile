@@ -1,5 +1,5 @@
 # Entry points for building, testing, benchmarking and the demo. See README.md.
-#   make demo       render scenes/demo.json (MIS, adaptive tables), then the compression report of the
+#   make demo       render scenes/demo.json (its defaults: Sobol, compensated env, MIS), then the compression report of the
 #                   sunset map and the paper's Table 1 rows for the demo's three measured materials
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests

@@ -62,9 +62,10 @@ def sort_key(s):
             bsdf)
 
 
-# The paper's Table 2 pair of difference images, independent samples (bench-error's diff/ names).
-PAPER_DIFFERENCES = ("env-adaptive-vs-uniform_adaptive_power_independent.png",
-                     "bsdf-adaptive-vs-uniform_adaptive_power_independent.png")
+SAMPLERS = ("independent", "sobol")
+# The paper's Table 2 pair of difference images, per sample source (bench-error's diff/ names).
+PAPER_DIFFERENCES = tuple(f"{axis}-adaptive-vs-uniform_adaptive_power_{sampler}.png"
+                          for sampler in SAMPLERS for axis in ("env", "bsdf"))
 # The paper's comparison: adaptive tables on both axes against uniform tables on both.
 PAPER_PAIR = (("adaptive", "adaptive"), ("uniform", "uniform"))
 
@@ -197,14 +198,14 @@ def plot(results, out_dir):
 
 
 # The changes whose size a reader wants to trust: one axis changed, the rest fixed, power MIS.
-CHANGES = (("BRDF table adaptive → uniform", ("adaptive", "adaptive", "power", "independent"),
-            ("uniform", "adaptive", "power", "independent")),
-           ("env table adaptive → uniform", ("adaptive", "adaptive", "power", "independent"),
-            ("adaptive", "uniform", "power", "independent")),
-           ("env table adaptive → local", ("adaptive", "adaptive", "power", "independent"),
-            ("adaptive", "local", "power", "independent")),
-           ("samples independent → Sobol", ("adaptive", "adaptive", "power", "independent"),
-            ("adaptive", "adaptive", "power", "sobol")))
+CHANGES = tuple((f"{name} ({sampler})", ("adaptive", "adaptive", "power", sampler), (*b, "power", sampler))
+                for sampler in SAMPLERS
+                for name, b in (("BRDF table adaptive → uniform", ("uniform", "adaptive")),
+                                ("env table adaptive → uniform", ("adaptive", "uniform")),
+                                ("env table adaptive → compensated", ("adaptive", "compensated")),
+                                ("env table adaptive → local", ("adaptive", "local")))) + \
+          (("samples independent → Sobol", ("adaptive", "adaptive", "power", "independent"),
+            ("adaptive", "adaptive", "power", "sobol")),)
 
 
 def relative_change(a, b, key):

@@ -221,11 +221,27 @@ TriangleMesh readObj(const fs::path& path, const Node& node, const Transform& tr
   return mesh;
 }
 
-TabulatedBrdfOptions readTableOptions(const Node& node) {
+// A material's table options, and whether the scene chose the layout: a table of an isotropic
+// model without one is isotropic (smaller, and of lower variance on every isotropic material
+// measured, docs/performance.md), the 4D layout the paper's and the one of anisotropic models.
+struct TableSpec {
+  TabulatedBrdfOptions options;
+  bool layoutGiven = false;
+
+  TabulatedBrdfOptions forModel(const BrdfModel& model) const {
+    TabulatedBrdfOptions o = options;
+    if (!layoutGiven && model.isotropic()) o.layout = TabulatedBrdfOptions::Layout::Isotropic;
+    return o;
+  }
+};
+
+TableSpec readTableOptions(const Node& node) {
   node.object(
       {"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
-  TabulatedBrdfOptions o;
-  if (node.has("layout")) o.layout = node["layout"].parsed(parseTableLayout);
+  TableSpec spec;
+  TabulatedBrdfOptions& o = spec.options;
+  spec.layoutGiven = node.has("layout");
+  if (spec.layoutGiven) o.layout = node["layout"].parsed(parseTableLayout);
   if (node.has("theta_out")) o.thetaOutCells = node["theta_out"].count(1);
   if (node.has("phi_out")) o.phiOutCells = node["phi_out"].count(1);
   if (node.has("theta_half")) o.thetaHalfCells = node["theta_half"].count(1);
@@ -234,7 +250,12 @@ TabulatedBrdfOptions readTableOptions(const Node& node) {
   if (node.has("epsilon")) o.simplify.epsilon = node["epsilon"].number();
   if (node.has("cosine_weight")) o.cosineWeight = node["cosine_weight"].number();
   node.validated(o);
-  return o;
+  if (!spec.layoutGiven) {  // the layout an isotropic model gets must be valid with them too
+    TabulatedBrdfOptions isotropic = o;
+    isotropic.layout = TabulatedBrdfOptions::Layout::Isotropic;
+    node.validated(isotropic);
+  }
+  return spec;
 }
 
 // Material descriptions are read up front (to report every error early) and built on demand.
@@ -278,13 +299,16 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
       node.fail("rgl sampling needs an RGL .bsdf \"file\" (a preset is tabulated in the MERL layout)");
     MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
     if (node.has("interpolation")) interpolation = node["interpolation"].parsed(parseInterpolation);
-    const TabulatedBrdfOptions table = node.has("table") ? readTableOptions(node["table"]) : TabulatedBrdfOptions{};
+    const TableSpec table = node.has("table") ? readTableOptions(node["table"]) : TableSpec{};
     const std::string where = node.path();
     spec.build = [=](TableProvider& tables) {
-      if (!file)
-        return tables.brdfSampler(tables.merlPreset(preset, interpolation), "preset " + preset, sampling, table);
+      if (!file) {
+        const auto model = tables.merlPreset(preset, interpolation);
+        return tables.brdfSampler(model, "preset " + preset, sampling, table.forModel(*model));
+      }
       try {
-        return tables.brdfSampler(tables.measuredFile(*file, interpolation), file->string(), sampling, table);
+        const auto model = tables.measuredFile(*file, interpolation);
+        return tables.brdfSampler(model, file->string(), sampling, table.forModel(*model));
       } catch (const FileError& e) {
         throw FileError(e.file(), e.problem() + " (referenced by " + where + ")");
       } catch (const std::invalid_argument& e) {  // rgl sampling of a MERL file
@@ -334,6 +358,7 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
     node["type"].fail("unknown environment type \"" + type + "\" (map or constant)");
   }
   EnvironmentLightOptions& o = spec.options;
+  o.strategy = kSceneEnvironmentSampling;
   if (node.has("scale")) {
     const double scale = node["scale"].positive();
     // The light scales float radiance.

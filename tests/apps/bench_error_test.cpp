@@ -204,13 +204,13 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     if (bsdf == "adaptive") {
       EXPECT_LT(bytes("adaptive", env), bytes("uniform", env));
     }
-    EXPECT_EQ(budgets.at(64)["sampler"], "independent") << "the scene's sampler";
-    EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + "_independent.exr")));
-    EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + "_independent.png")));
+    EXPECT_EQ(budgets.at(64)["sampler"], "sobol") << "the scene's sampler";
+    EXPECT_TRUE(fs::is_regular_file(path("out/images/" + bsdf + "_" + env + "_" + mis + "_sobol.exr")));
+    EXPECT_TRUE(fs::is_regular_file(path("out/diff/" + bsdf + "_" + env + "_" + mis + "_sobol.png")));
   }
   EXPECT_GE(strictlyFalling, 50u) << "of 57 combinations";
-  EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power_independent.png")));
-  EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance_independent.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/env-adaptive-vs-uniform_adaptive_power_sobol.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("out/diff/bsdf-adaptive-vs-uniform_hierarchical_balance_sobol.png")));
 
   // Time to the target relMSE, by default the least at the smallest budget: the strategy that
   // reached it needs exactly that row's time; every other one crosses it later along its own
@@ -439,9 +439,9 @@ TEST_F(BenchErrorCli, TwoShardsMergeToTheUnshardedRun) {
   EXPECT_EQ(apptest::readFile(path("sharded/results.csv")).substr(0, 100),
             apptest::readFile(path("whole/results.csv")).substr(0, 100));
   for (const char* image :
-       {"images/adaptive_uniform_power_independent.exr", "images/adaptive_adaptive_power_independent.exr",
-        "diff/adaptive_adaptive_power_independent.png",
-        "diff/env-adaptive-vs-uniform_adaptive_power_independent.png"}) {
+       {"images/adaptive_uniform_power_sobol.exr", "images/adaptive_adaptive_power_sobol.exr",
+        "diff/adaptive_adaptive_power_sobol.png",
+        "diff/env-adaptive-vs-uniform_adaptive_power_sobol.png"}) {
     EXPECT_TRUE(fs::is_regular_file(path(std::string("sharded/") + image))) << image;
     EXPECT_TRUE(readImage(path(std::string("sharded/") + image)).pixels ==
                 readImage(path(std::string("whole/") + image)).pixels)
@@ -565,9 +565,9 @@ TEST_F(BenchErrorCli, PlotsAndTheDocsSectionAreWritten) {
   EXPECT_EQ(once.find("old"), std::string::npos);
   EXPECT_NE(once.find("before\n<!-- bench-error: begin -->"), std::string::npos);
   EXPECT_NE(once.find("<!-- bench-error: end -->\nafter"), std::string::npos);
-  EXPECT_NE(once.find("| adaptive | adaptive | power | independent |"), std::string::npos) << once;
+  EXPECT_NE(once.find("| adaptive | adaptive | power | sobol |"), std::string::npos) << once;
   EXPECT_NE(once.find("](images/error_vs_time.png)"), std::string::npos) << once;
-  EXPECT_TRUE(fs::is_regular_file(path("images/env-adaptive-vs-uniform_adaptive_power_independent.png")));
+  EXPECT_TRUE(fs::is_regular_file(path("images/env-adaptive-vs-uniform_adaptive_power_sobol.png")));
 }
 
 }  // namespace

@@ -177,7 +177,7 @@ TEST(SobolSampler, AVertexReadsItsOwnDimensionsWhateverThePathAskedBefore) {
   }
 }
 
-// The scene's render.sampler, independent by default (renders stay as they were), replaced by
+// The scene's render.sampler, Sobol by default (it won at equal time, docs/performance.md), replaced by
 // SceneOverrides::sampler (--sampler); a bad name is a FileError with its JSON path.
 TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
   nlohmann::json scene = {
@@ -190,10 +190,10 @@ TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
   const auto load = [&](const SceneOverrides& overrides = {}) {
     return loadSceneText(scene.dump(), "scene.json", overrides, tables).settings.sampler;
   };
-  EXPECT_EQ(load(), SamplerKind::Independent);
-  scene["render"] = {{"sampler", "sobol"}};
   EXPECT_EQ(load(), SamplerKind::Sobol);
-  EXPECT_EQ(load({.sampler = SamplerKind::Independent}), SamplerKind::Independent);
+  scene["render"] = {{"sampler", "independent"}};
+  EXPECT_EQ(load(), SamplerKind::Independent);
+  EXPECT_EQ(load({.sampler = SamplerKind::Sobol}), SamplerKind::Sobol);
   scene["render"]["sampler"] = "halton";
   try {
     (void)load();

@@ -41,13 +41,19 @@ MisMode parseMisMode(std::string_view name);
 // the light too, in every mode but light-only.
 inline bool allowsIncompleteLightPdf(MisMode mode) { return mode != MisMode::LightOnly; }
 
+// What a scene gets where it names no strategy: the combinations that won at equal time on the
+// example scenes (docs/performance.md, "Defaults"). Owen-scrambled Sobol samples below, the
+// compensated environment table here, and the isotropic table layout for isotropic materials
+// (scene_loader.cpp).
+inline constexpr EnvironmentSampling kSceneEnvironmentSampling = EnvironmentSampling::Compensated;
+
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
   uint32_t maxDepth = 8;       // bounces; 1 = direct light only
   uint32_t rouletteDepth = 3;  // Russian roulette from this bounce on
   MisMode mis = MisMode::Power;
-  SamplerKind sampler = SamplerKind::Independent;
+  SamplerKind sampler = SamplerKind::Sobol;
 };
 
 // Command-line choices that replace the scene file's.
