@@ -13,6 +13,7 @@
 #include <optional>
 #include <system_error>
 
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/threshold_cells.h"
 #include "acdf/sampling/write_atomically.h"
@@ -383,14 +384,15 @@ std::string MerlBrdf::addToKey(ContentHash& content) const {
   return "interpolation=" + std::string(toString(interpolation_));
 }
 
-std::string_view toString(MerlBrdf::Interpolation interpolation) {
-  return interpolation == MerlBrdf::Interpolation::Nearest ? "nearest" : "trilinear";
-}
+namespace {
+constexpr EnumName<MerlBrdf::Interpolation> kInterpolationNames[] = {
+    {MerlBrdf::Interpolation::Nearest, "nearest"}, {MerlBrdf::Interpolation::Trilinear, "trilinear"}};
+}  // namespace
+
+std::string_view toString(MerlBrdf::Interpolation interpolation) { return nameOf(kInterpolationNames, interpolation); }
 
 MerlBrdf::Interpolation parseInterpolation(std::string_view name) {
-  for (auto i : {MerlBrdf::Interpolation::Nearest, MerlBrdf::Interpolation::Trilinear})
-    if (toString(i) == name) return i;
-  throw std::invalid_argument("unknown interpolation '" + std::string(name) + "' (nearest or trilinear)");
+  return valueNamed(kInterpolationNames, name, "interpolation");
 }
 
 Rgb MerlBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const {

@@ -11,6 +11,7 @@
 
 #include "acdf/brdf/coordinates.h"
 #include "acdf/brdf/half_vector.h"
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/sample.h"
 #include "acdf/sampling/timing.h"
 
@@ -389,12 +390,14 @@ void validate(const TabulatedBrdfOptions& o) {
   validate(o.simplify);
 }
 
-std::string_view toString(TabulatedBrdfOptions::Layout layout) { return layout == Layout::Full4D ? "4d" : "isotropic"; }
+namespace {
+constexpr EnumName<Layout> kLayoutNames[] = {{Layout::Full4D, "4d"}, {Layout::Isotropic, "isotropic"}};
+}  // namespace
+
+std::string_view toString(TabulatedBrdfOptions::Layout layout) { return nameOf(kLayoutNames, layout); }
 
 TabulatedBrdfOptions::Layout parseTableLayout(std::string_view name) {
-  for (Layout layout : {Layout::Full4D, Layout::Isotropic})
-    if (toString(layout) == name) return layout;
-  throw std::invalid_argument("unknown BRDF table layout '" + std::string(name) + "' (4d or isotropic)");
+  return valueNamed(kLayoutNames, name, "BRDF table layout");
 }
 
 std::string TabulatedBrdfOptions::name() const {

@@ -7,31 +7,27 @@
 #include <string>
 #include <utility>
 
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/sample.h"
 
 namespace acdf {
 
-std::string_view toString(EnvironmentSampling strategy) {
-  switch (strategy) {
-    case EnvironmentSampling::UniformSphere: return "uniform-sphere";
-    case EnvironmentSampling::Uniform: return "uniform";
-    case EnvironmentSampling::Alias: return "alias";
-    case EnvironmentSampling::Adaptive: return "adaptive";
-    case EnvironmentSampling::Compensated: return "compensated";
-    case EnvironmentSampling::Hierarchical: return "hierarchical";
-    case EnvironmentSampling::Local: return "local";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<EnvironmentSampling> kEnvironmentSamplingNames[] = {
+    {EnvironmentSampling::UniformSphere, "uniform-sphere"},
+    {EnvironmentSampling::Uniform, "uniform"},
+    {EnvironmentSampling::Alias, "alias"},
+    {EnvironmentSampling::Adaptive, "adaptive"},
+    {EnvironmentSampling::Compensated, "compensated"},
+    {EnvironmentSampling::Hierarchical, "hierarchical"},
+    {EnvironmentSampling::Local, "local"},
+};
+}  // namespace
+
+std::string_view toString(EnvironmentSampling strategy) { return nameOf(kEnvironmentSamplingNames, strategy); }
 
 EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
-  std::string names;
-  for (EnvironmentSampling s : kEnvironmentSamplings) {
-    if (toString(s) == name) return s;
-    const bool last = s == std::end(kEnvironmentSamplings)[-1];
-    names += (names.empty() ? "" : last ? " or " : ", ") + std::string(toString(s));
-  }
-  throw std::invalid_argument("unknown environment sampling strategy '" + std::string(name) + "' (" + names + ")");
+  return valueNamed(kEnvironmentSamplingNames, name, "environment sampling strategy");
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/sobol.h"
 
 namespace acdf {
@@ -35,19 +36,14 @@ std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, 
 
 std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }
 
-std::string_view toString(SamplerKind kind) {
-  switch (kind) {
-    case SamplerKind::Independent: return "independent";
-    case SamplerKind::Sobol: return "sobol";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<SamplerKind> kSamplerNames[] = {{SamplerKind::Independent, "independent"},
+                                                   {SamplerKind::Sobol, "sobol"}};
+}  // namespace
 
-SamplerKind parseSamplerKind(std::string_view name) {
-  for (auto k : {SamplerKind::Independent, SamplerKind::Sobol})
-    if (toString(k) == name) return k;
-  throw std::invalid_argument("unknown sampler '" + std::string(name) + "' (independent or sobol)");
-}
+std::string_view toString(SamplerKind kind) { return nameOf(kSamplerNames, kind); }
+
+SamplerKind parseSamplerKind(std::string_view name) { return valueNamed(kSamplerNames, name, "sampler"); }
 
 std::unique_ptr<Sampler> makeSampler(SamplerKind kind, uint64_t seed, uint32_t frameWidth) {
   if (kind == SamplerKind::Sobol) return std::make_unique<SobolSampler>(seed, frameWidth);

@@ -20,6 +20,7 @@
 #include "acdf/brdf/lambertian.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/scene.h"
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/transform.h"
 
 namespace acdf {
@@ -406,21 +407,18 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
 
 }  // namespace
 
-std::string_view toString(MisMode mode) {
-  switch (mode) {
-    case MisMode::Power: return "power";
-    case MisMode::Balance: return "balance";
-    case MisMode::BsdfOnly: return "bsdf-only";
-    case MisMode::LightOnly: return "light-only";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<MisMode> kMisModeNames[] = {
+    {MisMode::Power, "power"},
+    {MisMode::Balance, "balance"},
+    {MisMode::BsdfOnly, "bsdf-only"},
+    {MisMode::LightOnly, "light-only"},
+};
+}  // namespace
 
-MisMode parseMisMode(std::string_view name) {
-  for (auto m : {MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly})
-    if (toString(m) == name) return m;
-  throw std::invalid_argument("unknown MIS mode '" + std::string(name) + "' (power, balance, bsdf-only or light-only)");
-}
+std::string_view toString(MisMode mode) { return nameOf(kMisModeNames, mode); }
+
+MisMode parseMisMode(std::string_view name) { return valueNamed(kMisModeNames, name, "MIS mode"); }
 
 Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
   std::error_code ec;

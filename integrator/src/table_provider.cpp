@@ -8,24 +8,22 @@
 #include "acdf/brdf/measured_file.h"
 #include "acdf/brdf/rgl.h"
 #include "acdf/brdf/rgl_sampler.h"
+#include "acdf/sampling/enum_names.h"
 
 namespace acdf {
 
-std::string_view toString(BrdfSampling sampling) {
-  switch (sampling) {
-    case BrdfSampling::Cosine: return "cosine";
-    case BrdfSampling::Uniform: return "uniform";
-    case BrdfSampling::Adaptive: return "adaptive";
-    case BrdfSampling::Rgl: return "rgl";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<BrdfSampling> kBrdfSamplingNames[] = {
+    {BrdfSampling::Cosine, "cosine"},
+    {BrdfSampling::Uniform, "uniform"},
+    {BrdfSampling::Adaptive, "adaptive"},
+    {BrdfSampling::Rgl, "rgl"},
+};
+}  // namespace
 
-BrdfSampling parseBrdfSampling(std::string_view name) {
-  for (auto s : {BrdfSampling::Cosine, BrdfSampling::Uniform, BrdfSampling::Adaptive, BrdfSampling::Rgl})
-    if (toString(s) == name) return s;
-  throw std::invalid_argument("unknown BRDF sampling '" + std::string(name) + "' (cosine, uniform, adaptive or rgl)");
-}
+std::string_view toString(BrdfSampling sampling) { return nameOf(kBrdfSamplingNames, sampling); }
+
+BrdfSampling parseBrdfSampling(std::string_view name) { return valueNamed(kBrdfSamplingNames, name, "BRDF sampling"); }
 
 std::shared_ptr<const BrdfModel> TableProvider::measuredFile(const std::filesystem::path& path,
                                                              MerlBrdf::Interpolation interpolation) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/grid_check.h"
 #include "acdf/sampling/quality.h"
 #include "breakpoint_cdf.h"
@@ -323,35 +324,27 @@ class Builder {
 
 }  // namespace
 
-std::string_view toString(DimensionMethod method) {
-  return method == DimensionMethod::Uniform ? "uniform" : "adaptive";
-}
+namespace {
+constexpr EnumName<DimensionMethod> kDimensionMethodNames[] = {{DimensionMethod::Uniform, "uniform"},
+                                                               {DimensionMethod::Adaptive, "adaptive"}};
+constexpr EnumName<ConditionalRule> kConditionalRuleNames[] = {
+    {ConditionalRule::ExactMass, "exact-mass"}, {ConditionalRule::AverageOfNormalized, "average-of-normalized"}};
+constexpr EnumName<ConditionalTolerance> kConditionalToleranceNames[] = {
+    {ConditionalTolerance::Constant, "constant"}, {ConditionalTolerance::MassScaled, "mass-scaled"}};
+}  // namespace
 
-std::string_view toString(ConditionalRule rule) {
-  return rule == ConditionalRule::ExactMass ? "exact-mass" : "average-of-normalized";
-}
-
-std::string_view toString(ConditionalTolerance tolerance) {
-  return tolerance == ConditionalTolerance::Constant ? "constant" : "mass-scaled";
-}
+std::string_view toString(DimensionMethod method) { return nameOf(kDimensionMethodNames, method); }
+std::string_view toString(ConditionalRule rule) { return nameOf(kConditionalRuleNames, rule); }
+std::string_view toString(ConditionalTolerance tolerance) { return nameOf(kConditionalToleranceNames, tolerance); }
 
 DimensionMethod parseDimensionMethod(std::string_view name) {
-  for (DimensionMethod m : {DimensionMethod::Uniform, DimensionMethod::Adaptive})
-    if (toString(m) == name) return m;
-  throw std::invalid_argument("unknown dimension method '" + std::string(name) + "' (uniform or adaptive)");
+  return valueNamed(kDimensionMethodNames, name, "dimension method");
 }
-
 ConditionalRule parseConditionalRule(std::string_view name) {
-  for (ConditionalRule r : {ConditionalRule::ExactMass, ConditionalRule::AverageOfNormalized})
-    if (toString(r) == name) return r;
-  throw std::invalid_argument("unknown conditional rule '" + std::string(name) +
-                              "' (exact-mass or average-of-normalized)");
+  return valueNamed(kConditionalRuleNames, name, "conditional rule");
 }
-
 ConditionalTolerance parseConditionalTolerance(std::string_view name) {
-  for (ConditionalTolerance t : {ConditionalTolerance::Constant, ConditionalTolerance::MassScaled})
-    if (toString(t) == name) return t;
-  throw std::invalid_argument("unknown conditional tolerance '" + std::string(name) + "' (constant or mass-scaled)");
+  return valueNamed(kConditionalToleranceNames, name, "conditional tolerance");
 }
 
 void validate(const CascadeOptions& o, std::size_t axes) {

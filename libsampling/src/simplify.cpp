@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "acdf/sampling/enum_names.h"
+
 namespace acdf {
 
 namespace {
@@ -174,28 +176,17 @@ uint32_t worstVertex(std::span<const float> cdf, uint32_t a, uint32_t b, ErrorMe
   return Chords(cdf, metric).worst(a, b).vertex;
 }
 
-std::string_view toString(Simplifier s) { return s == Simplifier::DouglasPeucker ? "douglas-peucker" : "greedy"; }
+namespace {
+constexpr EnumName<Simplifier> kSimplifierNames[] = {{Simplifier::DouglasPeucker, "douglas-peucker"},
+                                                     {Simplifier::GreedyRefinement, "greedy"}};
+constexpr EnumName<ErrorMetric> kErrorMetricNames[] = {
+    {ErrorMetric::Vertical, "vertical"}, {ErrorMetric::Perpendicular, "perpendicular"}, {ErrorMetric::ChiSquare, "chi-square"}};
+}  // namespace
 
-std::string_view toString(ErrorMetric m) {
-  switch (m) {
-    case ErrorMetric::Vertical: return "vertical";
-    case ErrorMetric::Perpendicular: return "perpendicular";
-    case ErrorMetric::ChiSquare: return "chi-square";
-  }
-  return "unknown";
-}
+std::string_view toString(Simplifier s) { return nameOf(kSimplifierNames, s); }
+std::string_view toString(ErrorMetric m) { return nameOf(kErrorMetricNames, m); }
 
-Simplifier parseSimplifier(std::string_view name) {
-  for (Simplifier s : {Simplifier::DouglasPeucker, Simplifier::GreedyRefinement})
-    if (toString(s) == name) return s;
-  throw std::invalid_argument("unknown simplifier '" + std::string(name) + "' (douglas-peucker or greedy)");
-}
-
-ErrorMetric parseErrorMetric(std::string_view name) {
-  for (ErrorMetric m : {ErrorMetric::Vertical, ErrorMetric::Perpendicular, ErrorMetric::ChiSquare})
-    if (toString(m) == name) return m;
-  throw std::invalid_argument("unknown error metric '" + std::string(name) +
-                              "' (vertical, perpendicular or chi-square)");
-}
+Simplifier parseSimplifier(std::string_view name) { return valueNamed(kSimplifierNames, name, "simplifier"); }
+ErrorMetric parseErrorMetric(std::string_view name) { return valueNamed(kErrorMetricNames, name, "error metric"); }
 
 }  // namespace acdf
