@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
-#include "acdf/integrator/error_benchmark.h"
+#include "acdf/experiments/error_benchmark.h"
 #include "errors.h"
 #include "options.h"
 #include "scene_cli.h"

@@ -4,7 +4,7 @@
 // sampling × environment sampling × MIS mode), measured against a high-sample reference in one
 // run on one machine. Writes results.csv / results.json (after every row, so an interrupted run
 // resumes where it stopped), false-colour difference images, and the plots of
-// bench/error_report.py. The engine is acdf/integrator/error_benchmark.h; this parses and prints.
+// bench/error_report.py. The engine is acdf/experiments/error_benchmark.h; this parses and prints.
 // See docs/performance.md ("Error against time").
 
 #include "command.h"

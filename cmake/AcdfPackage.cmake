@@ -1,5 +1,6 @@
 # The installed CMake package (cmake --install, make install): find_package(acdf) gives the
-# targets acdf::sampling, acdf::brdf, acdf::envmap and acdf::integrator (cmake/acdfConfig.cmake.in).
+# targets acdf::sampling, acdf::brdf, acdf::envmap, acdf::integrator and acdf::experiments
+# (cmake/acdfConfig.cmake.in).
 include(CMakePackageConfigHelpers)
 
 set(ACDF_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/acdf)

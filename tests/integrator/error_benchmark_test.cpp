@@ -1,4 +1,4 @@
-// The error-against-time benchmark as a library (acdf/integrator/error_benchmark.h): its option
+// The error-against-time benchmark as a library (acdf/experiments/error_benchmark.h): its option
 // checks, its shard syntax, and a run in process that renders exactly the matrix it reports
 // through the renderer it is given, logging a line per row. The command line's behaviour (resume,
 // the reference, merging, plots, bad input) is tested in tests/apps/bench_error_test.cpp.
@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "acdf/integrator/error_benchmark.h"
+#include "acdf/experiments/error_benchmark.h"
 #include "acdf/sampling/option_error.h"
 #include "app_test_util.h"
 

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "acdf/integrator/render_error.h"
+#include "acdf/experiments/render_error.h"
 
 namespace acdf {
 namespace {

@@ -1,4 +1,4 @@
-#include "acdf/integrator/error_benchmark.h"
+#include "acdf/experiments/error_benchmark.h"
 
 #include <algorithm>
 #include <bit>
@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/image_file.h"
-#include "acdf/integrator/render_error.h"
+#include "acdf/experiments/render_error.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/sampling/file_error.h"
 #include "acdf/sampling/option_error.h"

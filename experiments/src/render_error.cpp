@@ -1,4 +1,4 @@
-#include "acdf/integrator/render_error.h"
+#include "acdf/experiments/render_error.h"
 
 #include <algorithm>
 #include <cmath>

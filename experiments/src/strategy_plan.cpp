@@ -1,4 +1,4 @@
-#include "acdf/integrator/strategy_plan.h"
+#include "acdf/experiments/strategy_plan.h"
 
 #include <fmt/format.h>
 

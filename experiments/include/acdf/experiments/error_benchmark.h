@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "acdf/integrator/renderer.h"
-#include "acdf/integrator/strategy_plan.h"
+#include "acdf/experiments/strategy_plan.h"
 #include "acdf/sampling/table_cache.h"
 
 namespace acdf {
