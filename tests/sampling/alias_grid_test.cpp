@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -67,33 +66,6 @@ INSTANTIATE_TEST_SUITE_P(AllFixtures, AliasGridTest,
                            return std::string(std::get<0>(info.param) == 0 ? "2D_" : "3D_") +
                                   toString(std::get<1>(info.param));
                          });
-
-ACDF_CHI_SQUARE_TEST(AliasGrid, SphericalDomain, 1) {
-  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
-  const auto v = makeFixture(Fixture::Random, k2D);
-  const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
-  const Sampler s = makeAliasGrid(v, axes);
-  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-  // A constant function has density 1/(2π·π).
-  const AliasGrid flat(std::vector<float>(64 * 32, 1.0f), axes);
-  const float x[] = {1.0f, 2.0f};
-  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
-}
-
-ACDF_CHI_SQUARE_TEST(AliasGrid, PositionsAreUniformWithinCells, 1) {
-  // Bins halving every cell along both axes: axis 0's position comes from the cell variate's
-  // unused fraction, axis 1's from u[1]; both must be uniform inside the cell.
-  const std::vector<uint32_t> dims = {32, 16};
-  const auto v = makeFixture(Fixture::Random, dims);
-  const Sampler s = makeAliasGrid(v, unitAxes(dims));
-  ChiSquareOptions o;
-  o.bins = {64, 32};
-  const ChiSquareReport r = runChiSquare(s, o);
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-}
 
 ACDF_CHI_SQUARE_TEST(AliasGrid, FourDimensions, 1) {
   const std::vector<uint32_t> dims = {8, 4, 8, 4};

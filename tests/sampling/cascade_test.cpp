@@ -16,7 +16,6 @@
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -610,31 +609,6 @@ TEST(CascadeStructure, AdaptiveLevelsCompress) {
 }
 
 // ---- Domains ------------------------------------------------------------------------------------
-
-ACDF_CHI_SQUARE_TEST(CascadeDomains, SphericalDomainChiSquare, 1) {
-  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
-  const auto v = makeFixture(Fixture::Random, k2D);
-  const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
-  const Sampler s = makeCascade(v, axes);
-  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-  const Cascade flat(std::vector<float>(64 * 32, 1.0f), axes);
-  const float x[] = {1.0f, 2.0f};
-  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
-}
-
-ACDF_CHI_SQUARE_TEST(CascadeDomains, PositionsAreUniformWithinCells, 1) {
-  // Bins halving every cell along both axes: the position inside an interval is linear in u.
-  const std::vector<uint32_t> dims = {32, 16};
-  const auto v = makeFixture(Fixture::Random, dims);
-  const Sampler s = makeCascade(v, unitAxes(dims));
-  ChiSquareOptions o;
-  o.bins = {64, 32};
-  const ChiSquareReport r = runChiSquare(s, o);
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-}
 
 ACDF_CHI_SQUARE_TEST(CascadeDomains, ShiftedDomains3D, 1) {
   const auto v = makeFixture(Fixture::Smooth, k3D);

@@ -10,6 +10,8 @@
 //   far outside, ±Inf, NaN), and lo and the largest float below hi are inside it: their pdf is
 //   that of the first and last cells;
 // - ∫pdf over the domain is 1 within 1e-6.
+// The 2D grid samplers (AliasGrid, Cascade, HierarchicalWarp2D) are also chi-square tested on the
+// sphere's (φ, θ) rectangle and for uniform positions inside their cells.
 // GridAxis::place itself, which every sample goes through, returns exactly what its defining
 // formula (the fraction's coordinate, nudged ulp by ulp into the cell range) gives.
 
@@ -21,7 +23,9 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -212,6 +216,60 @@ TEST_P(DomainContract, Holds) {
 
 INSTANTIATE_TEST_SUITE_P(AllSamplers, DomainContract, ::testing::ValuesIn(domainCases()),
                          [](const auto& info) { return info.param.name; });
+
+// The 2D grid samplers on domains other than the unit box, by chi-square: the same tests for
+// every class, since each maps its cell and in-cell fractions onto the axes the same way.
+struct GridSamplerCase {
+  std::string name;
+  std::function<Sampler(std::span<const float> values, std::vector<GridAxis> axes)> make;
+};
+
+void PrintTo(const GridSamplerCase& c, std::ostream* os) { *os << c.name; }
+
+class GridSamplerDomains : public ::testing::TestWithParam<GridSamplerCase> {};
+
+// The sphere's (φ, θ) rectangle: samples follow the function on it, and a constant function has
+// the density 1/(2π·π) there.
+ACDF_CHI_SQUARE_TEST_P(GridSamplerDomains, SphericalDomain, 2) {
+  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
+  const std::vector<uint32_t> dims = {64, 32};
+  const std::vector<GridAxis> axes = {GridAxis(64, 0.0f, kTwoPi), GridAxis(32, 0.0f, kPi)};
+  for (Fixture f : {Fixture::Random, Fixture::PeakedSun}) {
+    const ChiSquareReport r = runChiSquare(GetParam().make(makeFixture(f, dims), axes), ChiSquareOptions{});
+    recordReport(r);
+    EXPECT_TRUE(Passed(r)) << toString(f);
+  }
+  const Sampler flat = GetParam().make(std::vector<float>(64 * 32, 1.0f), axes);
+  const float x[] = {1.0f, 2.0f};
+  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
+}
+
+// Bins halving every cell on both axes (of odd and even counts): where a sample lands inside its
+// cell comes from the variates' remainders, and must be uniform there.
+ACDF_CHI_SQUARE_TEST_P(GridSamplerDomains, PositionsAreUniformWithinCells, 1) {
+  const std::vector<uint32_t> dims = {17, 32};
+  const Sampler s = GetParam().make(makeFixture(Fixture::Random, dims), unitAxes(dims));
+  ChiSquareOptions o;
+  o.bins = {34, 64};
+  const ChiSquareReport r = runChiSquare(s, o);
+  recordReport(r);
+  EXPECT_TRUE(Passed(r));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllGridSamplers, GridSamplerDomains,
+    ::testing::Values(
+        GridSamplerCase{"AliasGrid", [](std::span<const float> v, std::vector<GridAxis> a) {
+                          return makeAliasGrid(v, std::move(a));
+                        }},
+        GridSamplerCase{"Cascade", [](std::span<const float> v, std::vector<GridAxis> a) {
+                          return makeCascade(v, std::move(a));
+                        }},
+        GridSamplerCase{"HierarchicalWarp2D",
+                        [](std::span<const float> v, std::vector<GridAxis> a) {
+                          return makeHierarchicalWarp(v, std::move(a));
+                        }}),
+    [](const auto& info) { return info.param.name; });
 
 // What place() is defined to return: the coordinate at fraction t of the cell range, clamped to
 // the inner domain, then moved ulp by ulp until its cell is in [first, end).

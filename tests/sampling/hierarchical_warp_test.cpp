@@ -93,32 +93,6 @@ ACDF_CHI_SQUARE_TEST(HierarchicalWarp, ZeroRowsAndColumns, 1) {
   }
 }
 
-ACDF_CHI_SQUARE_TEST(HierarchicalWarp, SphericalDomain, 1) {
-  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>, kPi = std::numbers::pi_v<float>;
-  const std::vector<uint32_t> dims = {24, 48};
-  const auto v = makeFixture(Fixture::PeakedSun, dims);
-  const Sampler s = makeHierarchicalWarp(v, {GridAxis(24, 0.0f, kPi), GridAxis(48, 0.0f, kTwoPi)});
-  const ChiSquareReport r = runChiSquare(s, ChiSquareOptions{});
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-  const HierarchicalWarp2D flat(std::vector<float>(24 * 48, 1.0f),
-                                {GridAxis(24, 0.0f, kPi), GridAxis(48, 0.0f, kTwoPi)});
-  const float x[] = {1.0f, 2.0f};
-  EXPECT_NEAR(flat.pdf(x), 1.0 / (2 * std::numbers::pi * std::numbers::pi), 1e-7);
-}
-
-// Bins halving every cell on both axes: the variates' remainders place the sample uniformly
-// inside its cell.
-ACDF_CHI_SQUARE_TEST(HierarchicalWarp, PositionsAreUniformWithinCells, 1) {
-  const std::vector<uint32_t> dims = {17, 32};
-  const Sampler s = makeHierarchicalWarp(makeFixture(Fixture::Random, dims), unitAxes(dims));
-  ChiSquareOptions o;
-  o.bins = {34, 64};
-  const ChiSquareReport r = runChiSquare(s, o);
-  recordReport(r);
-  EXPECT_TRUE(Passed(r));
-}
-
 // On a 2048 × 4096 grid (12 levels) the descent in double loses nothing measurable: invertCell()
 // recovers double variates to 1e-9 (the same descent in float arithmetic: 2e-7, i.e. about 1e-3
 // of a cell), so the fractions inside the cell are the variates' last bits.
