@@ -1,6 +1,7 @@
 # Entry points for building, testing, benchmarking and the demo. See README.md.
-#   make demo       render scenes/demo.json (its defaults: Sobol, compensated env, MIS), then the compression report of the
-#                   sunset map and the paper's Table 1 rows for the demo's three measured materials
+#   make demo       render scenes/demo.json and scenes/product.json (no strategy named: the defaults),
+#                   then the compression report of the sunset map and the paper's Table 1 rows for
+#                   the demo's three measured materials
 #   make test       Release build + all tests
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
 #   make bench      run every build/bin/bench_* program, JSON into bench/results/, and their tables in
@@ -92,17 +93,20 @@ test-asan: deps
 	$(MAKE) build-asan
 	$(SANITIZER_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS)
 
-# The demo's measured materials (scenes/demo.json), generated once; needs $(BUILD_DIR)/bin/acdf.
+# The example scenes' measured materials (scenes/demo.json, product.json, rgl.json), generated once;
+# needs $(BUILD_DIR)/bin/acdf.
 demo-materials:
 	@mkdir -p $(DEMO_DIR)
 	@set -e; for m in $(DEMO_BRDFS); do \
 	  [ -f $(DEMO_DIR)/$$m.binary ] || $(BUILD_DIR)/bin/acdf merl-gen --nbrdf $$m -o $(DEMO_DIR)/$$m.binary; \
 	done
+	@[ -f $(DEMO_DIR)/red-plastic.bsdf ] || $(BUILD_DIR)/bin/acdf rgl-gen --preset red-plastic -o $(DEMO_DIR)/red-plastic.bsdf
 
 demo: deps
 	$(MAKE) build
 	$(MAKE) demo-materials
 	$(BUILD_DIR)/bin/acdf render scenes/demo.json -o $(DEMO_DIR)/demo.exr
+	$(BUILD_DIR)/bin/acdf render scenes/product.json -o $(DEMO_DIR)/product.exr
 	$(BUILD_DIR)/bin/acdf cdf-stats $(DEMO_INPUT)
 	@set -e; for m in $(DEMO_BRDFS); do \
 	  $(BUILD_DIR)/bin/acdf brdf-stats $(DEMO_DIR)/$$m.binary --samples $(DEMO_BRDF_SAMPLES); \

@@ -1,7 +1,7 @@
 // The example scenes in scenes/ stay valid: each loads and renders a few pixels to finite,
-// non-negative values. demo.json and rgl.json refer to the materials `make demo` generates into
-// build/demo, and rgl.json to the real RGL files of ../shared/data/rgl; without them a scene is
-// reported and skipped.
+// non-negative values. demo.json, product.json and rgl.json refer to the materials `make demo`
+// generates into build/demo, and rgl.json to the real RGL files of ../shared/data/rgl; without
+// them a scene is reported and skipped.
 
 #include <gtest/gtest.h>
 
