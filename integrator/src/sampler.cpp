@@ -23,6 +23,11 @@ void IndependentSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampl
   rng_ = Pcg32(mix(seed_ ^ mix(sampleIndex)), uint64_t{y} * frameWidth_ + x);
 }
 
+Pcg32 IndependentSampler::getStream() {
+  const uint64_t seed = uint64_t{rng_.nextUint()} << 32 | rng_.nextUint();
+  return Pcg32(mix(seed), seed);
+}
+
 void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
   pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
   sampleIndex_ = sampleIndex;
@@ -32,6 +37,10 @@ void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex
 float SobolSampler::get1D() { return paddedSobol1D(sampleIndex_, component_++, pixelSeed_); }
 
 std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, component_++, pixelSeed_); }
+
+Pcg32 SobolSampler::getStream() {
+  return Pcg32(mix(pixelSeed_ ^ mix(uint64_t{sampleIndex_} << 32 | component_++)), pixelSeed_);
+}
 
 std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }
 

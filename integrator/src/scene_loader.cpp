@@ -397,6 +397,20 @@ MisMode parseMisMode(std::string_view name) {
   throw std::invalid_argument("unknown MIS mode '" + std::string(name) + "' (power, balance, bsdf-only or light-only)");
 }
 
+std::string_view toString(DirectLighting direct) {
+  switch (direct) {
+    case DirectLighting::Mis: return "mis";
+    case DirectLighting::Product: return "product";
+  }
+  return "?";
+}
+
+DirectLighting parseDirectLighting(std::string_view name) {
+  for (auto d : {DirectLighting::Mis, DirectLighting::Product})
+    if (toString(d) == name) return d;
+  throw std::invalid_argument("unknown direct lighting '" + std::string(name) + "' (mis or product)");
+}
+
 Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
@@ -426,15 +440,22 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   RenderSettings& settings = scene.settings;
   if (root.has("render")) {
     const Node r = root["render"];
-    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler"});
+    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler", "direct", "candidates",
+              "bsdf_fraction"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
     if (r.has("roulette_depth")) settings.rouletteDepth = r["roulette_depth"].count(1);
     if (r.has("mis")) settings.mis = r["mis"].parsed(parseMisMode);
     if (r.has("sampler")) settings.sampler = r["sampler"].parsed(parseSamplerKind);
+    if (r.has("direct")) settings.direct = r["direct"].parsed(parseDirectLighting);
+    if (r.has("candidates")) settings.product.candidates = r["candidates"].count(1);
+    if (r.has("bsdf_fraction")) settings.product.bsdfFraction = r["bsdf_fraction"].number();
+    r.validated(settings.product);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
+  if (overrides.direct) settings.direct = *overrides.direct;
+  if (overrides.candidates) settings.product.candidates = *overrides.candidates;
   if (overrides.sampler) settings.sampler = *overrides.sampler;
   if (overrides.spp) settings.spp = *overrides.spp;
   if (overrides.seed) settings.seed = *overrides.seed;
@@ -513,7 +534,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   for (const MaterialSpec* spec : used)
     if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
   for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
-  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings.mis) ? LightPdfs::Incomplete : LightPdfs::Complete;
+  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
   scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
