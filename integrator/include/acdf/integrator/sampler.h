@@ -13,9 +13,9 @@
 //                                  values (their number is an option, so they come from a stream),
 //                        get2D()   the BSDF sample,
 //                        get1D()   Russian roulette (from RenderSettings::rouletteDepth on).
-// Which values a vertex asks for depends on the MIS mode and the depth; startVertex() lets a
-// low-discrepancy sampler give every vertex the same fixed block of dimensions whatever the
-// vertices before it asked for.
+// Which values a vertex asks for depends on the MIS mode, the direct lighting and the depth;
+// startVertex() lets a low-discrepancy sampler give every vertex the same fixed block of
+// dimensions whatever the vertices before it asked for.
 
 #include <array>
 #include <cstdint>
