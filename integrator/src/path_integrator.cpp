@@ -54,7 +54,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     lightContext.normal = hit->normal;
 
     if (product) {
-      Pcg32 candidates = sampler.getStream();
+      CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);
       const ProductDirectLight direct(env, lightContext, material, frame, wo, scene_.settings.product);
       if (const std::optional<ProductLightSample> light = direct.sample(candidates)) {
         ++rays;

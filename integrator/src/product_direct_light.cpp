@@ -1,5 +1,6 @@
 #include "acdf/integrator/product_direct_light.h"
 
+#include <array>
 #include <cmath>
 
 #include "acdf/sampling/option_error.h"
@@ -28,15 +29,14 @@ ProductDirectLight::ProductDirectLight(const EnvironmentLight& light, const Ligh
                                        const ProductSamplingOptions& options)
     : light_(light), context_(context), material_(material), frame_(frame), wo_(wo), options_(options) {}
 
-std::optional<ProductLightSample> ProductDirectLight::sample(Pcg32& random) const {
+std::optional<ProductLightSample> ProductDirectLight::sample(CandidateValues& values) const {
   // Weighted reservoir sampling: candidate i replaces the kept one with probability w_i / Σ_{k≤i} w_k,
   // so candidate j is kept with probability w_j / Σ w, in one pass without storing the candidates.
   Candidate chosen;
   double weightSum = 0;
   for (uint32_t i = 0; i < options_.candidates; ++i) {
-    const float strategy = random.nextFloat(), u0 = random.nextFloat(), u1 = random.nextFloat();
-    const float choice = random.nextFloat();
-    const Candidate c = candidate(strategy, u0, u1);
+    const Candidate c = candidate(values.point(i));
+    const float choice = values.resamplingValue();
     if (!(c.weight > 0)) continue;
     weightSum += c.weight;
     if (choice * weightSum < c.weight) chosen = c;
@@ -54,16 +54,18 @@ double ProductDirectLight::mixturePdf(const Vec3d& w) const {
   return (1 - b) * lightPdf + b * bsdfPdf;
 }
 
-ProductDirectLight::Candidate ProductDirectLight::candidate(float strategy, float u0, float u1) const {
+ProductDirectLight::Candidate ProductDirectLight::candidate(const std::array<float, 2>& u) const {
+  // The strategy from u[0], which is then stretched back over [0, 1) (the samplers clamp a
+  // rounded 1 into it), so that stratified points stay stratified within each strategy.
   const double b = options_.bsdfFraction;
-  if (strategy < b) {
-    const BrdfSample s = material_.sample(wo_, u0, u1);
+  if (u[0] < b) {
+    const BrdfSample s = material_.sample(wo_, static_cast<float>(u[0] / b), u[1]);
     const Vec3d direction = normalize(frame_.toWorld(s.wi));
     if (b == 1) return weighed(direction, s.wi, light_.eval(direction), 0.0, s.pdf);
     const RadianceAndPdf L = light_.evalWithPdf(context_, direction);
     return weighed(direction, s.wi, L.radiance, L.pdf, s.pdf);
   }
-  const LightSample l = light_.sample(context_, u0, u1);
+  const LightSample l = light_.sample(context_, static_cast<float>((u[0] - b) / (1 - b)), u[1]);
   if (!(l.pdf > 0)) return {};  // a light that emits nothing
   const Vec3d wi = frame_.toLocal(l.direction);
   return weighed(l.direction, wi, l.radiance, l.pdf, b > 0 ? material_.pdf(wo_, wi) : 0.0);

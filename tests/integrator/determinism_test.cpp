@@ -40,7 +40,7 @@ TEST(Determinism, SameImageForAnyThreadCount) {
   EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(2)).pixels) << "the seed must matter";
 }
 
-// Product direct lighting draws a number of candidates per vertex from Sampler::getStream(): the
+// Product direct lighting draws a number of candidates per vertex from Sampler::getCandidates(): the
 // same for any thread count, with either sample source.
 TEST(Determinism, ProductDirectLightingIsTheSameForAnyThreadCount) {
   for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {

@@ -118,9 +118,9 @@ ACDF_CHI_SQUARE_TEST(ProductDirectLight, OneCandidateSamplesTheMixture, 2) {
     chi.alpha = test_support::chiSquareTestLevel();
     const SphereChiSquareReport report = sphereChiSquareTest(
         [&](float u0, float u1) -> DirectionSample {
-          Pcg32 random = streamOf(u0, u1);
+          CandidateValues values(streamOf(u0, u1));
           for (int attempt = 0; attempt < 1000; ++attempt)
-            if (const auto s = technique.sample(random))
+            if (const auto s = technique.sample(values))
               return {LatLongMapping::toZUp(s->direction), s->mixturePdf / kept};
           return {};
         },
@@ -139,10 +139,10 @@ TEST(ProductDirectLight, OneCandidateEstimateIsIntegrandOverMixturePdf) {
   const Vec3d wo = frame.toLocal(reflect(sunDirection(), normal));
   const ProductSamplingOptions options{.candidates = 1, .bsdfFraction = 0.5};
   const ProductDirectLight technique(*env, contextFor(normal, options), *material, frame, wo, options);
-  Pcg32 random(11);
+  CandidateValues values(Pcg32(11));
   int returned = 0;
   for (int i = 0; i < 20000; ++i) {
-    const auto s = technique.sample(random);
+    const auto s = technique.sample(values);
     if (!s) continue;
     ++returned;
     const double q = technique.mixturePdf(s->direction);
@@ -174,13 +174,17 @@ struct MeanCase {
   uint32_t candidates;
   double bsdfFraction;
   EnvironmentSampling strategy;
+  bool sobol = false;  // candidates' points from one padded Sobol component, as SobolSampler gives them
 };
 
 class ProductEstimatorMean : public ::testing::TestWithParam<MeanCase> {};
 
 // A glossy lobe aimed at a small sun over a sky: the estimator's mean over 10^5 shading-point
 // estimates is the integral, within 4 standard errors and the quadrature's 0.2 %. Dropping 1/M,
-// or weighting by one strategy's density instead of the mixture's, misses by far more.
+// or weighting by one strategy's density instead of the mixture's, misses by far more. With Sobol
+// points, estimate n's candidates are points nM … nM + M − 1 of one sequence: dependent, each of
+// law q, so still unbiased; the standard error is then that of independent estimates, an upper
+// bound.
 TEST_P(ProductEstimatorMean, IsTheIntegral) {
   const MeanCase c = GetParam();
   const auto material = gold();
@@ -194,9 +198,10 @@ TEST_P(ProductEstimatorMean, IsTheIntegral) {
 
   const int n = 100000;
   std::array<double, 3> sum{}, sumSq{};
-  Pcg32 random(5);
+  CandidateValues independent(Pcg32(5));
   for (int i = 0; i < n; ++i) {
-    const auto s = technique.sample(random);
+    CandidateValues stratified(Pcg32(i), 17, i * c.candidates, 3);
+    const auto s = technique.sample(c.sobol ? stratified : independent);
     if (!s) continue;
     const double v[3] = {s->estimate.r, s->estimate.g, s->estimate.b};
     for (int k = 0; k < 3; ++k) sum[k] += v[k], sumSq[k] += v[k] * v[k];
@@ -213,11 +218,14 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(MeanCase{1, 0.5, EnvironmentSampling::Compensated},
                       MeanCase{8, 0.5, EnvironmentSampling::Compensated}, MeanCase{8, 0, EnvironmentSampling::Adaptive},
                       MeanCase{8, 1, EnvironmentSampling::Adaptive}, MeanCase{4, 0.5, EnvironmentSampling::Local},
-                      MeanCase{16, 0.2, EnvironmentSampling::UniformSphere}),
+                      MeanCase{16, 0.2, EnvironmentSampling::UniformSphere},
+                      MeanCase{1, 0.5, EnvironmentSampling::Compensated, true},
+                      MeanCase{8, 0.5, EnvironmentSampling::Compensated, true},
+                      MeanCase{8, 0, EnvironmentSampling::Local, true}),
     [](const auto& info) {
       std::string name = "M" + std::to_string(info.param.candidates) + "_b" +
                          std::to_string(static_cast<int>(info.param.bsdfFraction * 10)) + "_" +
-                         std::string(toString(info.param.strategy));
+                         std::string(toString(info.param.strategy)) + (info.param.sobol ? "_sobol" : "");
       for (char& ch : name)
         if (ch == '-') ch = '_';
       return name;
@@ -234,7 +242,7 @@ TEST(ProductDirectLight, NoNonFiniteValuesOnAdversarialInputs) {
   };
   const std::vector<Vec3d> normals = {{0, 1, 0}, {0, -1, 0}, {0, 0, -1}, {1e-9, 1, 0}, normalize(Vec3d{0, 0.3, -1})};
   const std::vector<Vec3d> outgoing = {{0, 0, 1}, normalize(Vec3d{1, 0, 1e-7}), {1, 0, 0}, normalize(Vec3d{0.3, 0.4, 0.5})};
-  Pcg32 random(3);
+  CandidateValues values(Pcg32(3));
   long estimates = 0, nonZero = 0;
   for (const auto& map : maps)
     for (EnvironmentSampling strategy : {EnvironmentSampling::Compensated, EnvironmentSampling::Local})
@@ -247,7 +255,7 @@ TEST(ProductDirectLight, NoNonFiniteValuesOnAdversarialInputs) {
               const Frame frame(normal);
               const ProductDirectLight technique(*env, contextFor(normal, options), *material, frame, wo, options);
               for (int i = 0; i < 500; ++i) {
-                const auto s = technique.sample(random);
+                const auto s = technique.sample(values);
                 ++estimates;
                 if (!s) continue;
                 ++nonZero;

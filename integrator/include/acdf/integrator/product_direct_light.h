@@ -3,10 +3,11 @@
 // f·L·cos (Talbot, Cline & Egbert 2005): the light's table ignores f, the BSDF's sampler ignores L,
 // and a lobe reflecting a small bright part of the map needs both.
 //
-// Candidates. X_1 … X_M are drawn independently from the mixture
+// Candidates. X_1 … X_M are each drawn from the mixture
 //   q(ω) = (1 − b) · p_light(ω) + b · p_bsdf(ω),      b = bsdfFraction,
-// each by choosing the light's table (the local one: the context carries the shading normal) with
-// probability 1 − b, else the material's sampler. Each is weighted by
+// from a 2D point (u0, u1): the material's sampler at (u0 / b, u1) if u0 < b, else the light's
+// table (the local one: the context carries the shading normal) at ((u0 − b) / (1 − b), u1).
+// The points may be stratified (CandidateValues, sampler.h): only each one's law matters below. Each is weighted by
 //   w_i = p̂(X_i) / q(X_i),      p̂(ω) = lum(f(ωo, ω) ⊙ L(ω) · max(0, cosθ)),
 // the luminance of the unoccluded integrand as the estimator computes it (float RGB, its Rec. 709
 // weights summed in double, so p̂ > 0 exactly where that RGB is not black).
@@ -14,9 +15,10 @@
 // Estimator. Y = X_j is chosen with probability w_j / Σ w; one shadow ray gives V(Y), and
 //   F = f(Y) ⊙ L(Y) · cosθ_Y · V(Y) / p̂(Y) · (1/M) Σ_i w_i      (F = 0 when Σ w = 0).
 //
-// Unbiased. Write g = f ⊙ L · cos · V (RGB). Conditioning on the candidates,
+// Unbiased. Write g = f ⊙ L · cos · V (RGB). Conditioning on the candidates (independent or not),
 //   E[F | X] = Σ_j (w_j / Σ w) · g(X_j) / p̂(X_j) · (1/M) Σ w = (1/M) Σ_j w_j g(X_j) / p̂(X_j),
-// and w_j / p̂(X_j) = 1 / q(X_j) where p̂(X_j) > 0 (the term is 0 elsewhere), so
+// and w_j / p̂(X_j) = 1 / q(X_j) where p̂(X_j) > 0 (the term is 0 elsewhere), so, each X_j having
+// the law q,
 //   E[F] = (1/M) Σ_j E[g(X_j) 1{p̂ > 0} / q(X_j)] = ∫_{q > 0, p̂ > 0} g dω,
 // which is ∫ g dω exactly when p̂ > 0 and q > 0 wherever g ≠ 0:
 //   - p̂: f, L ≥ 0 channel by channel and the luminance weights are positive, so p̂(ω) > 0 wherever
@@ -41,9 +43,9 @@
 
 #include "acdf/brdf/brdf_sampler.h"
 #include "acdf/envmap/environment_light.h"
+#include "acdf/integrator/sampler.h"
 #include "acdf/sampling/frame.h"
 #include "acdf/sampling/rgb.h"
-#include "acdf/sampling/rng.h"
 
 namespace acdf {
 
@@ -70,9 +72,9 @@ class ProductDirectLight {
   ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context, const BrdfSampler& material,
                      const Frame& frame, const Vec3d& wo, const ProductSamplingOptions& options);
 
-  // Draws the M candidates, four values of `random` each (strategy, direction, resampling choice),
-  // and chooses one; none when every weight is 0.
-  std::optional<ProductLightSample> sample(Pcg32& random) const;
+  // Draws the M candidates, a point and a resampling value of `values` each, and chooses one;
+  // none when every weight is 0.
+  std::optional<ProductLightSample> sample(CandidateValues& values) const;
   // q at the world direction w (unit length).
   double mixturePdf(const Vec3d& w) const;
 
@@ -84,7 +86,7 @@ class ProductDirectLight {
     double weight = 0;  // p̂ / q, or 0
     double mixturePdf = 0;
   };
-  Candidate candidate(float strategy, float u0, float u1) const;
+  Candidate candidate(const std::array<float, 2>& u) const;
   Candidate weighed(const Vec3d& direction, const Vec3d& wi, const Rgb& radiance, double lightPdf,
                     double bsdfPdf) const;
 
