@@ -35,7 +35,7 @@ struct BenchErrorArgs {
   std::string scene, reference, out = "bench-error";
   std::vector<double> budgets;  // seconds
   std::vector<uint32_t> sppBudgets;
-  std::vector<std::string> bsdf, env, mis, samplers;
+  std::vector<std::string> bsdf, env, mis, samplers, direct;
   uint32_t referenceSpp = 1024;
   double targetRelMse = 0;  // 0: the least relMSE of any strategy at the smallest budget
   uint32_t seeds = 4;
@@ -122,6 +122,7 @@ int run(const BenchErrorArgs& args) {
   options.bsdf = parseList<BrdfSampling>(args.bsdf, "--bsdf-sampling", parseBrdfSampling);
   options.env = parseList<EnvironmentSampling>(args.env, "--env-sampling", parseEnvironmentSampling);
   options.mis = parseList<MisMode>(args.mis, "--mis", parseMisMode);
+  options.direct = parseList<DirectLighting>(args.direct, "--direct", parseDirectLighting);
   options.samplers = parseList<SamplerKind>(args.samplers, "--sampler", parseSamplerKind);
   options.referenceSpp = args.referenceSpp;
   options.seeds = args.seeds;
@@ -160,9 +161,11 @@ Command addBenchError(CLI::App& parent) {
       "their standard errors (*_stderr) and efficiency = 1 / (relMSE x seconds) with its delta-method error.\n"
       "Seed k of a row is a hash of the scene's seed, the strategy, the budget and k. The tables are built\n"
       "(or read from the table cache) before the timed render; their set-up time and memory are reported per row.\n"
-      "A combination is BRDF sampling x environment sampling x MIS mode x sample source (--sampler).\n"
-      "Combinations that render the same image as another are left out and listed: bsdf-only with any but\n"
-      "the first --env-sampling, and BRDF strategies other than the first when no material is measured.\n"
+      "A combination is BRDF sampling x environment sampling x direct lighting (--direct mis,product; default\n"
+      "mis; product takes the scene's render.candidates and bsdf_fraction) x MIS mode x sample source\n"
+      "(--sampler). Combinations that render the same image as another are left out and listed: bsdf-only\n"
+      "with any but the first --env-sampling, product with any but the first --mis, and BRDF strategies\n"
+      "other than the first when no material is measured.\n"
       "Reference: --reference REF.exr (same resolution as the scene), else DIR/reference.exr, rendered at\n"
       "--reference-spp with the scene's own strategies and reused while DIR/reference.json matches.\n"
       "Per strategy, curves.csv (and results.json's curves) give the render time to reach --target-relmse,\n"
@@ -199,6 +202,7 @@ Command addBenchError(CLI::App& parent) {
       ->delimiter(',');
   app->add_option("--env-sampling", args->env, "Environment strategies (default: all)")->delimiter(',');
   app->add_option("--mis", args->mis, "MIS modes, e.g. power,bsdf-only (default: all)")->delimiter(',');
+  app->add_option("--direct", args->direct, "Direct lighting, e.g. mis,product (default: mis)")->delimiter(',');
   app->add_option("--sampler", args->samplers, "Sample sources, e.g. independent,sobol (default: the scene's)")
       ->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");

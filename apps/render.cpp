@@ -31,7 +31,8 @@ struct RenderArgs {
   std::optional<uint32_t> spp;
   std::optional<double> seconds;
   std::optional<uint64_t> seed;
-  std::string mis, sampler, bsdfSampling, envSampling;
+  std::string mis, sampler, bsdfSampling, envSampling, direct;
+  std::optional<uint32_t> candidates;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
   bool noCache = false;
@@ -41,6 +42,15 @@ struct RenderArgs {
 int runRender(const RenderArgs& args) {
   SceneOverrides overrides;
   if (!args.mis.empty()) overrides.mis = parseOption("render", "--mis", args.mis, parseMisMode);
+  if (!args.direct.empty()) overrides.direct = parseOption("render", "--direct", args.direct, parseDirectLighting);
+  if (args.candidates) {
+    try {
+      validate(ProductSamplingOptions{.candidates = *args.candidates});
+    } catch (const OptionError& e) {
+      throw UsageError("render: --candidates " + e.problem());
+    }
+    overrides.candidates = args.candidates;
+  }
   if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
@@ -87,6 +97,11 @@ int runRender(const RenderArgs& args) {
     j["rays_per_second"] = raysPerSecond;
     j["rays"] = stats.rays;
     j["mis"] = toString(scene.settings.mis);
+    j["direct"] = toString(scene.settings.direct);
+    if (scene.settings.direct == DirectLighting::Product) {
+      j["candidates"] = scene.settings.product.candidates;
+      j["bsdf_fraction"] = scene.settings.product.bsdfFraction;
+    }
     j["sampler"] = toString(scene.settings.sampler);
     j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
@@ -120,13 +135,15 @@ Command addRender(CLI::App& parent) {
       "  --bsdf-sampling  cosine | uniform | adaptive | rgl    (every measured material)\n"
       "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | hierarchical | local\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
+      "  --direct         mis | product  (product: resampled f·L·cos, --candidates M of them)\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
-      "tables_from_cache, exr, png (and scene, width, height, rays, mis, sampler, env_sampling).\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, sampler, env_sampling;\n"
+      "candidates and bsdf_fraction under product direct lighting).\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / data file / output path or command line, 1 internal error.");
   app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
@@ -138,6 +155,9 @@ Command addRender(CLI::App& parent) {
   app->add_option("--time", args->seconds, "Render progressive passes for this many seconds instead")->excludes(spp);
   app->add_option("--seed", args->seed, "Random seed (replaces the scene's)");
   app->add_option("--mis", args->mis, "power | balance | bsdf-only | light-only");
+  app->add_option("--direct", args->direct, "mis | product (direct lighting technique)");
+  app->add_option("--candidates", args->candidates, "Product sampling's candidates per vertex (replaces the scene's)")
+      ->transform(nonNegativeInteger());
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
   app->add_option("--env-sampling", args->envSampling,

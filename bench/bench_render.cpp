@@ -91,7 +91,7 @@ RecordedRays recordRays(const Scene& scene) {
   RecordedRays rays;
   Pcg32 rng(1);
   const Camera& camera = *scene.camera;
-  const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene.settings.mis)};
+  const LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene.settings)};
   for (uint32_t y = 0; y < camera.height(); ++y)
     for (uint32_t x = 0; x < camera.width(); ++x) {
       Ray ray = camera.generateRay(x + rng.nextFloat(), y + rng.nextFloat());

@@ -26,7 +26,7 @@ import sys
 
 from doc_sections import fmt_bytes, machine, replace_sections, table
 
-MIS_ORDER = ["power", "balance", "light-only", "bsdf-only"]
+MIS_ORDER = ["power", "balance", "light-only", "bsdf-only", "product"]
 ENV_ORDER = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local"]
 BSDF_COLOR = {"cosine": "tab:gray", "uniform": "tab:blue", "adaptive": "tab:red"}
 # Line style and marker of each environment strategy: one curve told apart by two cues.
@@ -43,8 +43,13 @@ def load(path):
     return data
 
 
+def lighting(row):
+    """The MIS mode, or "product" for product direct lighting (which uses none)."""
+    return "product" if row.get("direct", "mis") == "product" else row["mis"]
+
+
 def strategy(row):
-    return (row["bsdf_sampling"], row["env_sampling"], row["mis"], row["sampler"])
+    return (row["bsdf_sampling"], row["env_sampling"], lighting(row), row["sampler"])
 
 
 def by_strategy(rows):
@@ -161,7 +166,7 @@ def plot(results, out_dir):
 
     # Colour = BRDF strategy and marker = environment strategy as in error_vs_time; fill = MIS; a
     # panel per sample source. Keyed by three small legends, not one entry per point.
-    fills = {"power": "full", "balance": "bottom", "light-only": "left", "bsdf-only": "none"}
+    fills = {"power": "full", "balance": "bottom", "light-only": "left", "bsdf-only": "none", "product": "right"}
     samplers = sorted({s[3] for s in curves})
     fig, axes = plt.subplots(1, len(samplers), figsize=(5.6 * len(samplers), 4.8), squeeze=False, sharey=True)
     for ax, sampler in zip(axes[0], samplers):
@@ -185,7 +190,7 @@ def plot(results, out_dir):
             ([Line2D([], [], color="black", marker=ENV_STYLE[e][1], linestyle="none", fillstyle="none", label=e)
               for e in ENV_ORDER if e in shown[1]], "environment (marker)", 0.17),
             ([Line2D([], [], color="black", marker="o", linestyle="none", fillstyle=fills.get(m, "full"), label=m)
-              for m in MIS_ORDER if m in shown[2]], "MIS (fill)", 0.38))
+              for m in MIS_ORDER if m in shown[2]], "MIS or product (fill)", 0.38))
     # Side by side along the bottom of the first panel, below the table-less strategies' points.
     for handles, title, left in keys:
         first.add_artist(first.legend(handles=handles, title=title, fontsize=6, title_fontsize=6, loc="lower left",
@@ -269,14 +274,14 @@ def markdown(data, results, image_dir, doc_dir, command):
             out += [f"![{title}]({rel(os.path.join(image_dir, name))})", ""]
     seeds = settings.get("seeds", 1)
     target = data.get("target_relmse")
-    to_target = {(c["bsdf_sampling"], c["env_sampling"], c["mis"], c["sampler"]): c for c in data.get("curves", [])}
+    to_target = {strategy(c): c for c in data.get("curves", [])}
     out += [f"At the largest budget ({budgets[-1]:g} {kind}), best first; mean ± standard error over {seeds} "
             "seed(s); relMSE trimmed = relMSE without the 0.1% of pixels of largest error (firefly-robust); "
             "efficiency = 1 / (relMSE × time), its error by the delta method; time to "
             + (f"relMSE {target:.3g} ({data.get('target_relmse_rule', '')}): " if target else "the target: ")
             + "interpolated log-log between the budgets around it, or, marked *, extrapolated by relMSE ∝ 1/time "
             "from the nearest budget:", ""]
-    header = ["BRDF", "environment", "MIS", "samples", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE",
+    header = ["BRDF", "environment", "MIS or product", "samples", "time (s)", "spp", "relMSE", "relMSE trimmed", "RMSE",
               "efficiency", "time to target (s)", "table memory", "table set-up (ms)"]
 
     def time_to_target(s):

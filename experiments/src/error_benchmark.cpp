@@ -68,16 +68,18 @@ std::optional<Strategy> strategyOf(const Json& row) {
   try {
     return Strategy{parseBrdfSampling(row.value("bsdf_sampling", "")),
                     parseEnvironmentSampling(row.value("env_sampling", "")), parseMisMode(row.value("mis", "")),
-                    parseSamplerKind(row.value("sampler", ""))};
+                    parseSamplerKind(row.value("sampler", "")), parseDirectLighting(row.value("direct", "mis"))};
   } catch (const std::invalid_argument&) {
     return std::nullopt;
   }
 }
 
-// The strategy's four names, as rows, curves and skipped entries carry them (strategyOf reads them).
+// The strategy's five names, as rows, curves and skipped entries carry them (strategyOf reads them;
+// rows of runs from before the direct-lighting axis have no "direct": they are "mis").
 Json strategyJson(const Strategy& s) {
   return {{"bsdf_sampling", toString(s.bsdf)},
           {"env_sampling", toString(s.env)},
+          {"direct", toString(s.direct)},
           {"mis", toString(s.mis)},
           {"sampler", toString(s.sampler)}};
 }
@@ -92,6 +94,7 @@ std::optional<std::string> rowKey(const Json& row) {
 
 const char* const kCsvColumns[] = {"bsdf_sampling",
                                    "env_sampling",
+                                   "direct",
                                    "mis",
                                    "sampler",
                                    "budget_kind",
@@ -169,10 +172,11 @@ Json curves(const Json& rows, double target) {
 }
 
 std::string curvesCsv(const Json& curves) {
-  std::string out = "bsdf_sampling,env_sampling,mis,sampler,time_to_target,time_to_target_stderr,extrapolated\n";
+  std::string out =
+      "bsdf_sampling,env_sampling,direct,mis,sampler,time_to_target,time_to_target_stderr,extrapolated\n";
   for (const Json& c : curves)
-    out += fmt::format("{},{},{},{},{},{},{}\n", c["bsdf_sampling"].get<std::string>(),
-                       c["env_sampling"].get<std::string>(), c["mis"].get<std::string>(),
+    out += fmt::format("{},{},{},{},{},{},{},{}\n", c["bsdf_sampling"].get<std::string>(),
+                       c["env_sampling"].get<std::string>(), c["direct"].get<std::string>(), c["mis"].get<std::string>(),
                        c["sampler"].get<std::string>(), csvCell(c["time_to_target"]),
                        csvCell(c["time_to_target_stderr"]), c["time_to_target_extrapolated"].get<bool>() ? 1 : 0);
   return out;
@@ -216,7 +220,8 @@ class ErrorBenchmark {
     height_ = film.height();
     sceneSeed_ = scene.settings.seed;
     if (samplers_.empty()) samplers_ = {scene.settings.sampler};
-    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, samplers_, scene.hasMeasuredMaterial());
+    product_ = scene.settings.product;
+    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, samplers_, scene.hasMeasuredMaterial(), directs_);
     plan_ = std::move(plan.render);
     skipped_ = std::move(plan.skipped);
     if (!options_.reference.empty()) loadGivenReference();
@@ -262,8 +267,8 @@ class ErrorBenchmark {
         throw FileError(file, fmt::format("shard {}/{} is given twice", shard.value("k", 0u), shard.value("n", 0u)));
       for (const Json& row : shards[i]["rows"])
         if (!rowKey(row))
-          throw FileError(file,
-                          "a row without a known strategy (bsdf_sampling, env_sampling, mis, sampler) and budget");
+          throw FileError(
+              file, "a row without a known strategy (bsdf_sampling, env_sampling, direct, mis, sampler) and budget");
     }
     const uint32_t n = first["shard"].value("n", 0u);
     for (uint32_t k = 1; k <= n; ++k)
@@ -332,6 +337,7 @@ class ErrorBenchmark {
                  ? std::vector<MisMode>{MisMode::Power, MisMode::Balance, MisMode::BsdfOnly, MisMode::LightOnly}
                  : options_.mis;
     samplers_ = options_.samplers;
+    directs_ = options_.direct.empty() ? std::vector<DirectLighting>{DirectLighting::Mis} : options_.direct;
     budgets_ = options_.budgets.empty() ? defaultBudgets() : options_.budgets;
     std::sort(budgets_.begin(), budgets_.end());
     budgets_.erase(std::unique(budgets_.begin(), budgets_.end()), budgets_.end());
@@ -470,6 +476,7 @@ class ErrorBenchmark {
            {"threads", options_.threads},
            {"budgets", budgets_},
            {"strategies", strategyIds()},
+           {"product_sampling", {{"candidates", product_.candidates}, {"bsdf_fraction", product_.bsdfFraction}}},
            {"seeds", options_.seeds},
            {"scene_seed", sceneSeed_},
            {"relmse", "mean over pixels and channels of (I - R)^2 / (R^2 + 0.01)"},
@@ -507,8 +514,10 @@ class ErrorBenchmark {
       return;
     }
     for (const Json& row : (*earlier)["rows"])
-      if (const auto key = row.is_object() ? rowKey(row) : std::nullopt; key && done_.insert(*key).second)
+      if (const auto key = row.is_object() ? rowKey(row) : std::nullopt; key && done_.insert(*key).second) {
         rows_.push_back(row);
+        rows_.back().update(strategyJson(*strategyOf(row)));  // every column, also in an older run's rows
+      }
     kept_ = rows_.size();
   }
 
@@ -543,6 +552,7 @@ class ErrorBenchmark {
       overrides.bsdfSampling = s.bsdf;
       overrides.envSampling = s.env;
       overrides.mis = s.mis;
+      overrides.direct = s.direct;
       overrides.sampler = s.sampler;
       const std::size_t builtBefore = tables_->tablesBuilt().size(), cachedBefore = tables_->tablesFromCache().size();
       const auto setupStart = Clock::now();
@@ -648,15 +658,15 @@ class ErrorBenchmark {
     for (const auto& [id, image] : images) write(id, image, reference_);
     for (const Strategy& s : plan_) {
       if (s.env == EnvironmentSampling::Adaptive) {
-        const Strategy uniform{s.bsdf, EnvironmentSampling::Uniform, s.mis, s.sampler};
+        const Strategy uniform{s.bsdf, EnvironmentSampling::Uniform, s.mis, s.sampler, s.direct};
         if (images.contains(s.id()) && images.contains(uniform.id()))
-          write(fmt::format("env-adaptive-vs-uniform_{}_{}_{}", toString(s.bsdf), toString(s.mis), toString(s.sampler)),
+          write(fmt::format("env-adaptive-vs-uniform_{}_{}_{}", toString(s.bsdf), s.lighting(), toString(s.sampler)),
                 images.at(s.id()), images.at(uniform.id()));
       }
       if (s.bsdf == BrdfSampling::Adaptive) {
-        const Strategy uniform{BrdfSampling::Uniform, s.env, s.mis, s.sampler};
+        const Strategy uniform{BrdfSampling::Uniform, s.env, s.mis, s.sampler, s.direct};
         if (images.contains(s.id()) && images.contains(uniform.id()))
-          write(fmt::format("bsdf-adaptive-vs-uniform_{}_{}_{}", toString(s.env), toString(s.mis), toString(s.sampler)),
+          write(fmt::format("bsdf-adaptive-vs-uniform_{}_{}_{}", toString(s.env), s.lighting(), toString(s.sampler)),
                 images.at(s.id()), images.at(uniform.id()));
       }
     }
@@ -671,6 +681,8 @@ class ErrorBenchmark {
   std::vector<BrdfSampling> bsdfs_;
   std::vector<EnvironmentSampling> envs_;
   std::vector<MisMode> mises_;
+  std::vector<DirectLighting> directs_;
+  ProductSamplingOptions product_;  // the scene's, for every product row
   std::vector<SamplerKind> samplers_;  // empty until the scene is loaded: its own sampler
   std::vector<double> budgets_;
   std::vector<Strategy> plan_;

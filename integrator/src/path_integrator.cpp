@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "acdf/integrator/product_direct_light.h"
 #include "acdf/sampling/frame.h"
 
 namespace acdf {
@@ -20,11 +21,12 @@ double PathIntegrator::misWeight(double chosen, double other) const {
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
-  const bool sampleLight = mis != MisMode::BsdfOnly;
-  const bool bsdfSeesLight = mis != MisMode::LightOnly;
+  const bool product = scene_.settings.direct == DirectLighting::Product;
+  const bool sampleLight = !product && mis != MisMode::BsdfOnly;
+  const bool bsdfSeesLight = !product && mis != MisMode::LightOnly;
   // The normal is the shading normal of the vertex being lit; after a BSDF sample it stays that of
   // the vertex the sample left, for the pdf of the light the sample may reach.
-  LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(mis)};
+  LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings)};
 
   Rgb result, throughput{1, 1, 1};
   Ray ray = cameraRay;
@@ -51,7 +53,16 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     const Vec3d wo = frame.toLocal(-ray.direction);
     lightContext.normal = hit->normal;
 
-    if (sampleLight) {
+    if (product) {
+      CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);
+      const ProductDirectLight direct(env, lightContext, material, frame, wo, scene_.settings.product);
+      if (const std::optional<ProductLightSample> light = direct.sample(candidates)) {
+        ++rays;
+        if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light->direction), light->direction},
+                                       std::numeric_limits<double>::infinity()))
+          result += throughput * light->estimate;
+      }
+    } else if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
       const LightSample light = env.sample(lightContext, u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);

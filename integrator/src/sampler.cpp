@@ -24,6 +24,16 @@ void IndependentSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampl
   rng_ = Pcg32(mix(seed_ ^ mix(sampleIndex)), uint64_t{y} * frameWidth_ + x);
 }
 
+std::array<float, 2> CandidateValues::point(uint32_t i) {
+  if (sobol_) return paddedSobol2D(sobol_->first + i, sobol_->component, sobol_->seed);
+  return {random_.nextFloat(), random_.nextFloat()};
+}
+
+CandidateValues IndependentSampler::getCandidates(uint32_t) {
+  const uint64_t seed = uint64_t{rng_.nextUint()} << 32 | rng_.nextUint();
+  return CandidateValues(Pcg32(mix(seed), seed));
+}
+
 void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
   pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
   sampleIndex_ = sampleIndex;
@@ -33,6 +43,12 @@ void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex
 float SobolSampler::get1D() { return paddedSobol1D(sampleIndex_, component_++, pixelSeed_); }
 
 std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, component_++, pixelSeed_); }
+
+CandidateValues SobolSampler::getCandidates(uint32_t count) {
+  const uint32_t component = component_++;
+  return CandidateValues(Pcg32(mix(pixelSeed_ ^ mix(uint64_t{sampleIndex_} << 32 | component)), pixelSeed_),
+                         pixelSeed_, sampleIndex_ * count, component);
+}
 
 std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }
 

@@ -414,11 +414,19 @@ constexpr EnumName<MisMode> kMisModeNames[] = {
     {MisMode::BsdfOnly, "bsdf-only"},
     {MisMode::LightOnly, "light-only"},
 };
+constexpr EnumName<DirectLighting> kDirectLightingNames[] = {{DirectLighting::Mis, "mis"},
+                                                             {DirectLighting::Product, "product"}};
 }  // namespace
 
 std::string_view toString(MisMode mode) { return nameOf(kMisModeNames, mode); }
 
 MisMode parseMisMode(std::string_view name) { return valueNamed(kMisModeNames, name, "MIS mode"); }
+
+std::string_view toString(DirectLighting direct) { return nameOf(kDirectLightingNames, direct); }
+
+DirectLighting parseDirectLighting(std::string_view name) {
+  return valueNamed(kDirectLightingNames, name, "direct lighting");
+}
 
 Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
   std::error_code ec;
@@ -449,15 +457,22 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   RenderSettings& settings = scene.settings;
   if (root.has("render")) {
     const Node r = root["render"];
-    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler"});
+    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler", "direct", "candidates",
+              "bsdf_fraction"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
     if (r.has("roulette_depth")) settings.rouletteDepth = r["roulette_depth"].count(1);
     if (r.has("mis")) settings.mis = r["mis"].parsed(parseMisMode);
     if (r.has("sampler")) settings.sampler = r["sampler"].parsed(parseSamplerKind);
+    if (r.has("direct")) settings.direct = r["direct"].parsed(parseDirectLighting);
+    if (r.has("candidates")) settings.product.candidates = r["candidates"].count(1);
+    if (r.has("bsdf_fraction")) settings.product.bsdfFraction = r["bsdf_fraction"].number();
+    r.validated(settings.product);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
+  if (overrides.direct) settings.direct = *overrides.direct;
+  if (overrides.candidates) settings.product.candidates = *overrides.candidates;
   if (overrides.sampler) settings.sampler = *overrides.sampler;
   if (overrides.spp) settings.spp = *overrides.spp;
   if (overrides.seed) settings.seed = *overrides.seed;
@@ -536,7 +551,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   for (const MaterialSpec* spec : used)
     if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
   for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
-  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings.mis) ? LightPdfs::Incomplete : LightPdfs::Complete;
+  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
   scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));

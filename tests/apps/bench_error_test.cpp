@@ -243,7 +243,7 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   const auto csv = parseCsv(apptest::readFile(path("out/results.csv")));
   ASSERT_EQ(csv.size(), rows.size() + 1);
   const std::vector<std::string>& header = csv[0];
-  ASSERT_EQ(header.size(), 24u);
+  ASSERT_EQ(header.size(), 25u);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_EQ(csv[i + 1].size(), header.size());
     for (std::size_t c = 0; c < header.size(); ++c) {

@@ -40,6 +40,22 @@ TEST(Determinism, SameImageForAnyThreadCount) {
   EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(2)).pixels) << "the seed must matter";
 }
 
+// Product direct lighting draws a number of candidates per vertex from Sampler::getCandidates(): the
+// same for any thread count, with either sample source.
+TEST(Determinism, ProductDirectLightingIsTheSameForAnyThreadCount) {
+  for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+    SceneOverrides overrides;
+    overrides.direct = DirectLighting::Product;
+    overrides.candidates = 3;
+    overrides.sampler = sampler;
+    const Image one = renderWithThreads(1, smallScene(1), overrides);
+    EXPECT_EQ(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << toString(sampler);
+    EXPECT_EQ(one.pixels, renderWithThreads(4, smallScene(1), overrides).pixels) << toString(sampler);
+    EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(2), overrides).pixels) << "the seed must matter";
+    EXPECT_NE(one.pixels, renderWithThreads(1, smallScene(1), {}).pixels) << "product must change the image";
+  }
+}
+
 TEST(Determinism, CropWindowsReproduceTheirPartOfTheFrame) {
   const Image full = renderWithThreads(2, smallScene(1));
   // Two pieces a render farm could render separately: the left 15 columns and the rest.

@@ -3,6 +3,7 @@
 // through the renderer it is given, logging a line per row. The command line's behaviour (resume,
 // the reference, merging, plots, bad input) is tested in tests/apps/bench_error_test.cpp.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +118,49 @@ TEST_F(ErrorBenchmarkRun, RendersTheMatrixItReportsThroughTheGivenRenderer) {
     EXPECT_EQ(row["seeds"], 2);
     EXPECT_GT(row["relmse"].get<double>(), 0);
   }
+}
+
+// --direct mis,product: product rows with the first MIS mode only (it uses none), each row naming
+// its direct lighting, and the scene's product options in the settings.
+TEST_F(ErrorBenchmarkRun, DirectLightingIsAnAxis) {
+  const nlohmann::json scene = {
+      {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", 8}, {"height", 4}}},
+      {"render", {{"spp", 2}, {"seed", 3}, {"max_depth", 2}, {"candidates", 3}}},
+      {"environment", {{"type", "constant"}, {"radiance", 1.0}}},
+      {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+      {"shapes", {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "grey"}}}},
+  };
+  apptest::writeFile(path("scene.json"), scene.dump(2));
+  ErrorBenchmarkOptions options;
+  options.scene = path("scene.json");
+  options.out = path("out");
+  options.sppBudgets = true;
+  options.budgets = {2};
+  options.bsdf = {BrdfSampling::Cosine};
+  options.env = {EnvironmentSampling::Adaptive};
+  options.mis = {MisMode::Power, MisMode::Balance};
+  options.direct = {DirectLighting::Mis, DirectLighting::Product};
+  options.seeds = 1;
+  options.referenceSpp = 4;
+  std::vector<DirectLighting> rendered;
+  options.render = [&](const Scene& s, Film& film, std::optional<double>) {
+    rendered.push_back(s.settings.direct);
+    return render(s, film);
+  };
+  const ErrorBenchmarkReport report = runErrorBenchmark(options, TableCache::disabled());
+  EXPECT_EQ(report.strategies, 3u);  // power, balance, product
+  ASSERT_EQ(report.skipped.size(), 1u);
+  EXPECT_EQ(report.skipped[0].strategy.direct, DirectLighting::Product);
+  EXPECT_EQ(report.skipped[0].strategy.mis, MisMode::Balance);
+  EXPECT_EQ(std::count(rendered.begin(), rendered.end(), DirectLighting::Product), 1);
+
+  std::ifstream in(fs::path(path("out")) / "results.json");
+  const nlohmann::json results = nlohmann::json::parse(in);
+  EXPECT_EQ(results["settings"]["product_sampling"]["candidates"], 3);
+  std::vector<std::string> directs;
+  for (const auto& row : results["rows"]) directs.push_back(row["direct"]);
+  EXPECT_EQ(directs, (std::vector<std::string>{"mis", "mis", "product"}));
+  EXPECT_TRUE(fs::exists(fs::path(path("out")) / "images" / "cosine_adaptive_product_sobol.exr"));
 }
 
 }  // namespace

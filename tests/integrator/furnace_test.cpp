@@ -1,6 +1,7 @@
 // Furnace tests: scenes whose exact image is known.
 //  - A diffuse sphere of albedo ρ under a constant environment L reflects ρL towards every
-//    pixel (a convex shape sees only the sky), for every MIS mode × environment strategy.
+//    pixel (a convex shape sees only the sky), for every MIS mode × environment strategy, and
+//    under product direct lighting for every environment strategy × mixture.
 //  - A measured-material sphere under a constant white environment shows, at each pixel, the
 //    material's directional albedo for that pixel's ωo, computed here by brute-force quadrature.
 
@@ -80,6 +81,42 @@ INSTANTIATE_TEST_SUITE_P(EveryStrategy, DiffuseFurnace, ::testing::ValuesIn(ever
     if (c == '-') c = '_';
   return name;
 });
+
+// Product direct lighting (resampled f·L·cos) on every environment strategy and at both ends of
+// the mixture: light candidates alone (which need the complete table), BSDF candidates alone, and
+// half of each (where a compensated table may leave directions to the BSDF).
+struct ProductCombination {
+  std::string env;
+  double bsdfFraction;
+};
+
+class ProductDiffuseFurnace : public ::testing::TestWithParam<ProductCombination> {};
+
+TEST_P(ProductDiffuseFurnace, RendersAlbedoTimesRadiance) {
+  nlohmann::json scene = furnaceScene(kDiffuse, kRadiance, 12, 48);
+  scene["render"]["direct"] = "product";
+  scene["render"]["candidates"] = 4;
+  scene["render"]["bsdf_fraction"] = GetParam().bsdfFraction;
+  SceneOverrides overrides;
+  overrides.envSampling = parseEnvironmentSampling(GetParam().env);
+  expectUniformImage(renderScene(scene, overrides).film, kAlbedo * kRadiance);
+}
+
+std::vector<ProductCombination> everyProductCombination() {
+  std::vector<ProductCombination> all;
+  for (const std::string& env : environmentStrategies())
+    for (double b : {0.0, 0.5, 1.0}) all.push_back({env, b});
+  return all;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryStrategy, ProductDiffuseFurnace, ::testing::ValuesIn(everyProductCombination()),
+                         [](const auto& info) {
+                           std::string name = info.param.env + "_bsdf" +
+                                              std::to_string(static_cast<int>(info.param.bsdfFraction * 10));
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
+                         });
 
 // Under Sobol samples, per MIS mode, with an environment strategy that leaves variance (uniform
 // sphere samples of a constant sky weigh cosθ).

@@ -197,6 +197,28 @@ TEST_F(RenderCli, SamplerOnTheCommandLine) {
                        "acdf: render: --sampler", "independent or sobol");
 }
 
+// --direct product --candidates M chooses product direct lighting; --json reports it.
+TEST_F(RenderCli, ProductDirectLightingOnTheCommandLine) {
+  nlohmann::json scene = tinyScene();
+  scene["environment"]["sampling"] = "uniform-sphere";
+  const auto product = runAcdf(
+      {"render", writeScene(scene), "-o", path("product.exr"), "--direct", "product", "--candidates", "3", "--json"},
+      dir_);
+  ASSERT_EQ(product.exitCode, 0) << apptest::describe(product);
+  const auto j = nlohmann::json::parse(product.out);
+  EXPECT_EQ(j["direct"], "product");
+  EXPECT_EQ(j["candidates"], 3);
+  EXPECT_EQ(j["bsdf_fraction"], 0.5);
+  const auto mis = runAcdf({"render", writeScene(scene), "-o", path("mis.exr"), "--json"}, dir_);
+  ASSERT_EQ(mis.exitCode, 0) << apptest::describe(mis);
+  EXPECT_EQ(nlohmann::json::parse(mis.out)["direct"], "mis");
+  EXPECT_FALSE(nlohmann::json::parse(mis.out).contains("candidates"));
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--direct", "best"}, dir_),
+                       "acdf: render: --direct", "mis or product");
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--candidates", "0"}, dir_),
+                       "acdf: render: --candidates", "must be an integer in [1, 1024]");
+}
+
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
   nlohmann::json scene = tinyScene();
   scene["shapes"][0]["radious"] = 2;
@@ -244,6 +266,13 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   scene = tinyScene();
   scene["environment"]["block_size"] = 5000;
   failure(scene, "$.environment.block_size: must be in [1, 4096], got 5000");
+  scene = tinyScene();
+  scene["render"] = {{"direct", "product"}, {"bsdf_fraction", 1.5}};
+  failure(scene, "$.render.bsdf_fraction: must be in [0, 1], got 1.5");
+  scene["render"] = {{"candidates", 2000}};
+  failure(scene, "$.render.candidates: must be an integer in [1, 1024]");
+  scene["render"] = {{"direct", "resampled"}};
+  failure(scene, "$.render.direct: unknown direct lighting 'resampled' (mis or product)");
   expectNoOutputs();
 }
 

@@ -54,6 +54,7 @@ struct ErrorBenchmarkOptions {
   std::vector<EnvironmentSampling> env;
   std::vector<MisMode> mis;
   std::vector<SamplerKind> samplers;
+  std::vector<DirectLighting> direct;  // empty: mis only (product's M and b: the scene's)
   uint32_t referenceSpp = 1024;
   uint32_t seeds = 4;
   uint32_t threads = 0;     // 0: all cores

@@ -9,6 +9,9 @@
 //   power    w_x = p_x² / (p_light² + p_bsdf²)     balance  w_x = p_x / (p_light + p_bsdf)
 //   bsdf-only  w_bsdf = 1, no light samples        light-only  w_light = 1, escapes add nothing
 // (both densities per steradian). Camera rays that escape see the environment directly.
+// Under product direct lighting (RenderSettings::direct) the light sample and its MIS weights give
+// way to one resampled estimate of all the direct light (product_direct_light.h, one shadow ray);
+// BSDF samples then only continue the path, and escapes add nothing, as under light-only.
 // Russian roulette from RenderSettings::rouletteDepth on: survive with probability
 // min(0.95, max throughput channel), dividing the throughput by it. Light sampling may use an
 // incomplete pdf (a compensated table) exactly when BSDF samples see the light too

@@ -9,20 +9,49 @@
 //   getPixel2D()                  the position in the pixel (the camera ray);
 //   per surface vertex, depth d:  startVertex(d), then
 //                        get2D()   the light sample (next-event estimation; not under bsdf-only),
+//                                  or getCandidates() under product direct lighting: the values of
+//                                  its candidates (their number is an option),
 //                        get2D()   the BSDF sample,
 //                        get1D()   Russian roulette (from RenderSettings::rouletteDepth on).
-// Which values a vertex asks for depends on the MIS mode and the depth; startVertex() lets a
-// low-discrepancy sampler give every vertex the same fixed block of dimensions whatever the
-// vertices before it asked for.
+// Which values a vertex asks for depends on the MIS mode, the direct lighting and the depth;
+// startVertex() lets a low-discrepancy sampler give every vertex the same fixed block of
+// dimensions whatever the vertices before it asked for.
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string_view>
 
 #include "acdf/sampling/rng.h"
 
 namespace acdf {
+
+// The values of the candidates product sampling draws at one call site: candidate i's 2D point,
+// and one resampling value per candidate. The points come from a padded Sobol component (index
+// first + i, so the candidates of a pixel's samples together stratify it, and each sample's own
+// candidates when their number is a power of 2), or from a PCG32 stream; the resampling values
+// always from the stream.
+class CandidateValues {
+ public:
+  // Every value from `random`.
+  explicit CandidateValues(Pcg32 random) : random_(random) {}
+  // Points paddedSobol2D(first + i, component, seed), resampling values from `random`.
+  CandidateValues(Pcg32 random, uint64_t seed, uint32_t first, uint32_t component)
+      : random_(random), sobol_(SobolComponent{seed, first, component}) {}
+
+  // Candidate i's point in [0, 1)²; called for i = 0, 1, … in order.
+  std::array<float, 2> point(uint32_t i);
+  float resamplingValue() { return random_.nextFloat(); }
+
+ private:
+  struct SobolComponent {
+    uint64_t seed;
+    uint32_t first, component;
+  };
+  Pcg32 random_;
+  std::optional<SobolComponent> sobol_;
+};
 
 class Sampler {
  public:
@@ -35,13 +64,17 @@ class Sampler {
   virtual void startVertex(uint32_t depth) = 0;
   virtual float get1D() = 0;
   virtual std::array<float, 2> get2D() = 0;
+  // The values of `count` candidates (product sampling), from the pixel, the sample index, the
+  // seed and the call's place in the order above, like every other value. Counts as one call of
+  // the vertex.
+  virtual CandidateValues getCandidates(uint32_t count) = 0;
   // The position in the pixel, [0, 1)².
   virtual std::array<float, 2> getPixel2D() = 0;
 
   // A sampler of the same kind and seed, with its own state (one per thread or tile).
   virtual std::unique_ptr<Sampler> clone() const = 0;
 
-  // The get1D/get2D calls a vertex may make: light, BSDF, roulette.
+  // The get1D/get2D/getCandidates calls a vertex may make: light, BSDF, roulette.
   static constexpr uint32_t kValuesPerVertex = 3;
 };
 
@@ -57,6 +90,8 @@ class IndependentSampler final : public Sampler {
   void startVertex(uint32_t) override {}
   float get1D() override { return rng_.nextFloat(); }
   std::array<float, 2> get2D() override { return {rng_.nextFloat(), rng_.nextFloat()}; }
+  // From a stream seeded by the next two values of the pixel sample's.
+  CandidateValues getCandidates(uint32_t count) override;
   std::array<float, 2> getPixel2D() override { return get2D(); }
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<IndependentSampler>(*this); }
 
@@ -76,6 +111,10 @@ class IndependentSampler final : public Sampler {
 // so vertex d's light sample always reads component 1 + 3d, however the path got there. Every
 // component is a (0,2)-sequence over the pixel's samples (the first 2^m samples a (0,m,2)-net,
 // for every m); components are independent of each other, pixels independent of each other.
+// getCandidates(M) takes a component's place too: candidate i of sample s reads point M·s + i of
+// it (indices modulo 2^32), so a pixel's candidates are one stratified sequence; the resampling
+// values come from a PCG32 stream seeded by a hash of the pixel's seed, the sample index and the
+// component.
 class SobolSampler final : public Sampler {
  public:
   SobolSampler(uint64_t seed, uint32_t frameWidth) : seed_(seed), frameWidth_(frameWidth) {}
@@ -84,6 +123,7 @@ class SobolSampler final : public Sampler {
   void startVertex(uint32_t depth) override { component_ = 1 + kValuesPerVertex * depth; }
   float get1D() override;
   std::array<float, 2> get2D() override;
+  CandidateValues getCandidates(uint32_t count) override;
   std::array<float, 2> getPixel2D() override;
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<SobolSampler>(*this); }
 

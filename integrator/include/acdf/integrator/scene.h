@@ -21,6 +21,7 @@
 #include "acdf/envmap/environment_light.h"
 #include "acdf/integrator/camera.h"
 #include "acdf/integrator/geometry.h"
+#include "acdf/integrator/product_direct_light.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/table_provider.h"
 #include "acdf/sampling/file_error.h"
@@ -47,6 +48,15 @@ inline bool allowsIncompleteLightPdf(MisMode mode) { return mode != MisMode::Lig
 // (scene_loader.cpp).
 inline constexpr EnvironmentSampling kSceneEnvironmentSampling = EnvironmentSampling::Compensated;
 
+// How a surface vertex estimates the environment light reaching it directly.
+enum class DirectLighting {
+  Mis,      // a light sample and the escaped BSDF sample, combined by the MIS mode
+  Product,  // resampled product sampling (product_direct_light.h); the MIS mode does not apply
+};
+// "mis", "product"; parse throws std::invalid_argument.
+std::string_view toString(DirectLighting direct);
+DirectLighting parseDirectLighting(std::string_view name);
+
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
@@ -54,12 +64,23 @@ struct RenderSettings {
   uint32_t rouletteDepth = 3;  // Russian roulette from this bounce on
   MisMode mis = MisMode::Power;
   SamplerKind sampler = SamplerKind::Sobol;
+  DirectLighting direct = DirectLighting::Mis;
+  ProductSamplingOptions product{};  // under DirectLighting::Product
 };
+
+// Whether the render's light samples may have an incomplete pdf: under product sampling when the
+// candidates' mixture includes BSDF sampling, else as the MIS mode says.
+inline bool allowsIncompleteLightPdf(const RenderSettings& settings) {
+  if (settings.direct == DirectLighting::Product) return settings.product.bsdfFraction > 0;
+  return allowsIncompleteLightPdf(settings.mis);
+}
 
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
   std::optional<MisMode> mis;
   std::optional<SamplerKind> sampler;
+  std::optional<DirectLighting> direct;
+  std::optional<uint32_t> candidates;  // product sampling's M
   std::optional<BrdfSampling> bsdfSampling;  // every measured material
   std::optional<EnvironmentSampling> envSampling;
   std::optional<uint32_t> spp;
