@@ -182,9 +182,9 @@ class ProductEstimatorMean : public ::testing::TestWithParam<MeanCase> {};
 // A glossy lobe aimed at a small sun over a sky: the estimator's mean over 10^5 shading-point
 // estimates is the integral, within 4 standard errors and the quadrature's 0.2 %. Dropping 1/M,
 // or weighting by one strategy's density instead of the mixture's, misses by far more. With Sobol
-// points, estimate n's candidates are points nM … nM + M − 1 of one sequence: dependent, each of
-// law q, so still unbiased; the standard error is then that of independent estimates, an upper
-// bound.
+// points, estimate n's candidates are points nM … nM + M − 1 of one sequence and its resampling
+// value point n of another: dependent, each of law q, so still unbiased; the standard error is
+// then that of independent estimates, an upper bound.
 TEST_P(ProductEstimatorMean, IsTheIntegral) {
   const MeanCase c = GetParam();
   const auto material = gold();
@@ -200,7 +200,7 @@ TEST_P(ProductEstimatorMean, IsTheIntegral) {
   std::array<double, 3> sum{}, sumSq{};
   CandidateValues independent(Pcg32(5));
   for (int i = 0; i < n; ++i) {
-    CandidateValues stratified(Pcg32(i), 17, i * c.candidates, 3);
+    CandidateValues stratified(Pcg32(i), 17, i, c.candidates, 3);
     const auto s = technique.sample(c.sobol ? stratified : independent);
     if (!s) continue;
     const double v[3] = {s->estimate.r, s->estimate.g, s->estimate.b};
