@@ -47,11 +47,14 @@ std::shared_ptr<const EnvironmentMap> skyMap() {
 }
 
 constexpr uint32_t kSunRow = 4, kSunColumn = 5;
-// skyMap() with one pixel 2000 times brighter than the sky.
+// A reddish sky and a blue sun a thousand times brighter in one pixel. The colours differ so that
+// the estimate's channels, f ⊙ L cos / p̂ (p̂ their luminance), depend on which candidate is kept:
+// a resampling choice of the wrong law biases them.
 std::shared_ptr<const EnvironmentMap> sunMap() {
   const auto sky = skyMap();
   return makeMap(32, 16, [&](uint32_t r, uint32_t c) {
-    return r == kSunRow && c == kSunColumn ? Rgb{2000, 1800, 1500} : sky->radiance(PixelIndex{r, c});
+    const Rgb s = sky->radiance(PixelIndex{r, c});
+    return r == kSunRow && c == kSunColumn ? Rgb{200, 300, 5000} : Rgb{s.r, 0.3f * s.g, 0.05f * s.b};
   });
 }
 
