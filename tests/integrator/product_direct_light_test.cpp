@@ -58,7 +58,9 @@ std::shared_ptr<const EnvironmentMap> sunMap() {
   });
 }
 
-Vec3d sunDirection() { return LatLongMapping::direction(kPi * (kSunRow + 0.5) / 16, 2 * kPi * (kSunColumn + 0.5) / 32); }
+Vec3d sunDirection() {
+  return LatLongMapping::direction(kPi * (kSunRow + 0.5) / 16, 2 * kPi * (kSunColumn + 0.5) / 32);
+}
 
 std::shared_ptr<const BrdfSampler> gold() {
   return std::make_shared<GgxBrdfSampler>(std::make_shared<const AnalyticBrdf>(AnalyticBrdf::preset("gold")));
@@ -241,10 +243,12 @@ TEST(ProductDirectLight, NoNonFiniteValuesOnAdversarialInputs) {
   const std::vector<std::shared_ptr<const EnvironmentMap>> maps = {
       makeMap(32, 16, [](uint32_t, uint32_t) { return Rgb{}; }),
       makeMap(64, 32, [](uint32_t r, uint32_t c) { return r == 0 && c == 7 ? Rgb{1e9f, 1e9f, 1e9f} : Rgb{}; }),
-      makeMap(64, 32, [](uint32_t r, uint32_t c) { return r == 20 && c == 40 ? Rgb{1e9f, 5e8f, 1e8f} : Rgb{1e-6f, 0, 0}; }),
+      makeMap(64, 32,
+              [](uint32_t r, uint32_t c) { return r == 20 && c == 40 ? Rgb{1e9f, 5e8f, 1e8f} : Rgb{1e-6f, 0, 0}; }),
   };
   const std::vector<Vec3d> normals = {{0, 1, 0}, {0, -1, 0}, {0, 0, -1}, {1e-9, 1, 0}, normalize(Vec3d{0, 0.3, -1})};
-  const std::vector<Vec3d> outgoing = {{0, 0, 1}, normalize(Vec3d{1, 0, 1e-7}), {1, 0, 0}, normalize(Vec3d{0.3, 0.4, 0.5})};
+  const std::vector<Vec3d> outgoing = {
+      {0, 0, 1}, normalize(Vec3d{1, 0, 1e-7}), {1, 0, 0}, normalize(Vec3d{0.3, 0.4, 0.5})};
   CandidateValues values(Pcg32(3));
   long estimates = 0, nonZero = 0;
   for (const auto& map : maps)
