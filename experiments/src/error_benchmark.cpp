@@ -176,7 +176,8 @@ std::string curvesCsv(const Json& curves) {
       "bsdf_sampling,env_sampling,direct,mis,sampler,time_to_target,time_to_target_stderr,extrapolated\n";
   for (const Json& c : curves)
     out += fmt::format("{},{},{},{},{},{},{},{}\n", c["bsdf_sampling"].get<std::string>(),
-                       c["env_sampling"].get<std::string>(), c["direct"].get<std::string>(), c["mis"].get<std::string>(),
+                       c["env_sampling"].get<std::string>(), c["direct"].get<std::string>(),
+                       c["mis"].get<std::string>(),
                        c["sampler"].get<std::string>(), csvCell(c["time_to_target"]),
                        csvCell(c["time_to_target_stderr"]), c["time_to_target_extrapolated"].get<bool>() ? 1 : 0);
   return out;

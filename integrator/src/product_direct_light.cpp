@@ -1,5 +1,6 @@
 #include "acdf/integrator/product_direct_light.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -30,16 +31,25 @@ ProductDirectLight::ProductDirectLight(const EnvironmentLight& light, const Ligh
     : light_(light), context_(context), material_(material), frame_(frame), wo_(wo), options_(options) {}
 
 std::optional<ProductLightSample> ProductDirectLight::sample(CandidateValues& values) const {
-  // Weighted reservoir sampling: candidate i replaces the kept one with probability w_i / Σ_{k≤i} w_k,
-  // so candidate j is kept with probability w_j / Σ w, in one pass without storing the candidates.
+  // Weighted reservoir sampling: candidate i replaces the kept one with probability
+  // p_i = w_i / Σ_{k≤i} w_k, so candidate j is kept with probability w_j / Σ w, in one pass
+  // without storing the candidates. One uniform u decides every step: u < p_i replaces, and u is
+  // rescaled to the part of [0, 1) it fell in, which leaves it uniform and independent of the
+  // decisions so far; a stratified u keeps the choice stratified over the pixel's samples.
+  constexpr double kBelowOne = 0x1.fffffffffffffp-1;
+  double u = values.resamplingValue(), weightSum = 0;
   Candidate chosen;
-  double weightSum = 0;
   for (uint32_t i = 0; i < options_.candidates; ++i) {
     const Candidate c = candidate(values.point(i));
-    const float choice = values.resamplingValue();
     if (!(c.weight > 0)) continue;
     weightSum += c.weight;
-    if (choice * weightSum < c.weight) chosen = c;
+    const double p = c.weight / weightSum;
+    if (u < p) {
+      chosen = c;
+      u = std::min(u / p, kBelowOne);
+    } else {
+      u = std::min((u - p) / (1 - p), kBelowOne);
+    }
   }
   if (!(weightSum > 0)) return std::nullopt;
   const Rgb estimate = chosen.integrand * static_cast<float>(weightSum / (options_.candidates * chosen.target));

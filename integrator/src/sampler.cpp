@@ -25,8 +25,14 @@ void IndependentSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampl
 }
 
 std::array<float, 2> CandidateValues::point(uint32_t i) {
-  if (sobol_) return paddedSobol2D(sobol_->first + i, sobol_->component, sobol_->seed);
+  if (sobol_) return paddedSobol2D(sobol_->sampleIndex * sobol_->count + i, sobol_->component, sobol_->seed);
   return {random_.nextFloat(), random_.nextFloat()};
+}
+
+double CandidateValues::resamplingValue() {
+  if (!sobol_) return random_.nextDouble();
+  const float stratified = paddedSobol1D(sobol_->sampleIndex, sobol_->component + 0x80000000u, sobol_->seed);
+  return stratified + random_.nextDouble() * 0x1p-24;  // a float on the 2^-24 lattice, then its cell
 }
 
 CandidateValues IndependentSampler::getCandidates(uint32_t) {
@@ -47,7 +53,7 @@ std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, 
 CandidateValues SobolSampler::getCandidates(uint32_t count) {
   const uint32_t component = component_++;
   return CandidateValues(Pcg32(mix(pixelSeed_ ^ mix(uint64_t{sampleIndex_} << 32 | component)), pixelSeed_),
-                         pixelSeed_, sampleIndex_ * count, component);
+                         pixelSeed_, sampleIndex_, count, component);
 }
 
 std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }

@@ -47,15 +47,20 @@ std::shared_ptr<const EnvironmentMap> skyMap() {
 }
 
 constexpr uint32_t kSunRow = 4, kSunColumn = 5;
-// skyMap() with one pixel 2000 times brighter than the sky.
+// A reddish sky and a blue sun a thousand times brighter in one pixel. The colours differ so that
+// the estimate's channels, f ⊙ L cos / p̂ (p̂ their luminance), depend on which candidate is kept:
+// a resampling choice of the wrong law biases them.
 std::shared_ptr<const EnvironmentMap> sunMap() {
   const auto sky = skyMap();
   return makeMap(32, 16, [&](uint32_t r, uint32_t c) {
-    return r == kSunRow && c == kSunColumn ? Rgb{2000, 1800, 1500} : sky->radiance(PixelIndex{r, c});
+    const Rgb s = sky->radiance(PixelIndex{r, c});
+    return r == kSunRow && c == kSunColumn ? Rgb{200, 300, 5000} : Rgb{s.r, 0.3f * s.g, 0.05f * s.b};
   });
 }
 
-Vec3d sunDirection() { return LatLongMapping::direction(kPi * (kSunRow + 0.5) / 16, 2 * kPi * (kSunColumn + 0.5) / 32); }
+Vec3d sunDirection() {
+  return LatLongMapping::direction(kPi * (kSunRow + 0.5) / 16, 2 * kPi * (kSunColumn + 0.5) / 32);
+}
 
 std::shared_ptr<const BrdfSampler> gold() {
   return std::make_shared<GgxBrdfSampler>(std::make_shared<const AnalyticBrdf>(AnalyticBrdf::preset("gold")));
@@ -182,9 +187,9 @@ class ProductEstimatorMean : public ::testing::TestWithParam<MeanCase> {};
 // A glossy lobe aimed at a small sun over a sky: the estimator's mean over 10^5 shading-point
 // estimates is the integral, within 4 standard errors and the quadrature's 0.2 %. Dropping 1/M,
 // or weighting by one strategy's density instead of the mixture's, misses by far more. With Sobol
-// points, estimate n's candidates are points nM … nM + M − 1 of one sequence: dependent, each of
-// law q, so still unbiased; the standard error is then that of independent estimates, an upper
-// bound.
+// points, estimate n's candidates are points nM … nM + M − 1 of one sequence and its resampling
+// value point n of another: dependent, each of law q, so still unbiased; the standard error is
+// then that of independent estimates, an upper bound.
 TEST_P(ProductEstimatorMean, IsTheIntegral) {
   const MeanCase c = GetParam();
   const auto material = gold();
@@ -200,7 +205,7 @@ TEST_P(ProductEstimatorMean, IsTheIntegral) {
   std::array<double, 3> sum{}, sumSq{};
   CandidateValues independent(Pcg32(5));
   for (int i = 0; i < n; ++i) {
-    CandidateValues stratified(Pcg32(i), 17, i * c.candidates, 3);
+    CandidateValues stratified(Pcg32(i), 17, i, c.candidates, 3);
     const auto s = technique.sample(c.sobol ? stratified : independent);
     if (!s) continue;
     const double v[3] = {s->estimate.r, s->estimate.g, s->estimate.b};
@@ -238,10 +243,12 @@ TEST(ProductDirectLight, NoNonFiniteValuesOnAdversarialInputs) {
   const std::vector<std::shared_ptr<const EnvironmentMap>> maps = {
       makeMap(32, 16, [](uint32_t, uint32_t) { return Rgb{}; }),
       makeMap(64, 32, [](uint32_t r, uint32_t c) { return r == 0 && c == 7 ? Rgb{1e9f, 1e9f, 1e9f} : Rgb{}; }),
-      makeMap(64, 32, [](uint32_t r, uint32_t c) { return r == 20 && c == 40 ? Rgb{1e9f, 5e8f, 1e8f} : Rgb{1e-6f, 0, 0}; }),
+      makeMap(64, 32,
+              [](uint32_t r, uint32_t c) { return r == 20 && c == 40 ? Rgb{1e9f, 5e8f, 1e8f} : Rgb{1e-6f, 0, 0}; }),
   };
   const std::vector<Vec3d> normals = {{0, 1, 0}, {0, -1, 0}, {0, 0, -1}, {1e-9, 1, 0}, normalize(Vec3d{0, 0.3, -1})};
-  const std::vector<Vec3d> outgoing = {{0, 0, 1}, normalize(Vec3d{1, 0, 1e-7}), {1, 0, 0}, normalize(Vec3d{0.3, 0.4, 0.5})};
+  const std::vector<Vec3d> outgoing = {
+      {0, 0, 1}, normalize(Vec3d{1, 0, 1e-7}), {1, 0, 0}, normalize(Vec3d{0.3, 0.4, 0.5})};
   CandidateValues values(Pcg32(3));
   long estimates = 0, nonZero = 0;
   for (const auto& map : maps)

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -174,6 +175,34 @@ TEST(SobolSampler, AVertexReadsItsOwnDimensionsWhateverThePathAskedBefore) {
     // And a vertex's first decision is not the next vertex's.
     a.startVertex(3);
     EXPECT_NE(a.get2D(), first);
+  }
+}
+
+// Product sampling's candidates (getCandidates(M)) take the place of the light sample: the BSDF
+// sample after them reads the same component as after a light sample. Candidate i of sample s is
+// point M·s + i of the light's component, so 2^m candidates of 2^(m−2) samples are a (0,m,2)-net,
+// and so are the resampling values (with their low bits dropped) of 2^m samples.
+TEST(SobolSampler, ProductCandidatesAreStratifiedAndTakeTheLightSamplesPlace) {
+  constexpr uint32_t M = 4;
+  for (int m : {4, 6, 8}) {
+    SobolSampler a(3, 64), b(3, 64);
+    std::vector<std::array<float, 2>> candidates, resampling;
+    for (uint32_t s = 0; s < (1u << m); ++s) {
+      a.startPixelSample(5, 9, s), b.startPixelSample(5, 9, s);
+      a.startVertex(1), b.startVertex(1);
+      CandidateValues values = a.getCandidates(M);
+      (void)b.get2D();
+      EXPECT_EQ(a.get2D(), b.get2D()) << "the BSDF sample after the candidates";
+      for (uint32_t i = 0; i < M; ++i)
+        if (s < (1u << m) / M) candidates.push_back(values.point(i));
+      const double u = values.resamplingValue();
+      ASSERT_TRUE(u >= 0 && u < 1);
+      resampling.push_back({static_cast<float>(std::ldexp(std::floor(std::ldexp(u, 24)), -24)), 0.5f});
+    }
+    EXPECT_TRUE(isZeroNet(candidates, m)) << "candidates, 2^" << m;
+    std::vector<int> cells(1u << m, 0);
+    for (const auto& r : resampling) ++cells[static_cast<std::size_t>(r[0] * (1u << m))];
+    EXPECT_EQ(std::count(cells.begin(), cells.end(), 1), 1 << m) << "resampling values, 2^" << m;
   }
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The sampling-strategy combinations (BRDF sampling × environment sampling × direct lighting and
-// its MIS mode × sample source) a comparison renders, with the rules for which of them render the same image by construction, so
-// a comparison renders each image once and says why it left the others out.
+// its MIS mode × sample source) a comparison renders, with the rules for which of them render the
+// same image by construction, so a comparison renders each image once and says why it left the
+// others out.
 
 #include <string>
 #include <vector>

@@ -7,12 +7,14 @@
 //   q(ω) = (1 − b) · p_light(ω) + b · p_bsdf(ω),      b = bsdfFraction,
 // from a 2D point (u0, u1): the material's sampler at (u0 / b, u1) if u0 < b, else the light's
 // table (the local one: the context carries the shading normal) at ((u0 − b) / (1 − b), u1).
-// The points may be stratified (CandidateValues, sampler.h): only each one's law matters below. Each is weighted by
+// The points may be stratified (CandidateValues, sampler.h): only each one's law matters below.
+// Each candidate is weighted by
 //   w_i = p̂(X_i) / q(X_i),      p̂(ω) = lum(f(ωo, ω) ⊙ L(ω) · max(0, cosθ)),
 // the luminance of the unoccluded integrand as the estimator computes it (float RGB, its Rec. 709
 // weights summed in double, so p̂ > 0 exactly where that RGB is not black).
 //
-// Estimator. Y = X_j is chosen with probability w_j / Σ w; one shadow ray gives V(Y), and
+// Estimator. Y = X_j is chosen with probability w_j / Σ w (weighted reservoir sampling with one
+// uniform value, exact up to its 53 bits); one shadow ray gives V(Y), and
 //   F = f(Y) ⊙ L(Y) · cosθ_Y · V(Y) / p̂(Y) · (1/M) Σ_i w_i      (F = 0 when Σ w = 0).
 //
 // Unbiased. Write g = f ⊙ L · cos · V (RGB). Conditioning on the candidates (independent or not),
@@ -72,7 +74,7 @@ class ProductDirectLight {
   ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context, const BrdfSampler& material,
                      const Frame& frame, const Vec3d& wo, const ProductSamplingOptions& options);
 
-  // Draws the M candidates, a point and a resampling value of `values` each, and chooses one;
+  // Draws the M candidates, a point of `values` each, and chooses one with its resampling value;
   // none when every weight is 0.
   std::optional<ProductLightSample> sample(CandidateValues& values) const;
   // q at the world direction w (unit length).

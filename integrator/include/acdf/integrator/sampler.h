@@ -28,26 +28,28 @@
 namespace acdf {
 
 // The values of the candidates product sampling draws at one call site: candidate i's 2D point,
-// and one resampling value per candidate. The points come from a padded Sobol component (index
-// first + i, so the candidates of a pixel's samples together stratify it, and each sample's own
-// candidates when their number is a power of 2), or from a PCG32 stream; the resampling values
-// always from the stream.
+// and one value for the resampling choice. Either every value comes from a PCG32 stream, or they
+// are stratified over the pixel's samples: in pixel sample s, candidate i of `count` takes point
+// count·s + i of a padded Sobol component (indices modulo 2^32), so the candidates of a pixel's
+// samples together stratify it (and each sample's own when `count` is a power of 2), and the
+// resampling value is point s of the component + 2^31, below 2^-24 filled in from the stream.
 class CandidateValues {
  public:
   // Every value from `random`.
   explicit CandidateValues(Pcg32 random) : random_(random) {}
-  // Points paddedSobol2D(first + i, component, seed), resampling values from `random`.
-  CandidateValues(Pcg32 random, uint64_t seed, uint32_t first, uint32_t component)
-      : random_(random), sobol_(SobolComponent{seed, first, component}) {}
+  // Stratified, with padded Sobol components seeded by `seed`.
+  CandidateValues(Pcg32 random, uint64_t seed, uint32_t sampleIndex, uint32_t count, uint32_t component)
+      : random_(random), sobol_(SobolComponent{seed, sampleIndex, count, component}) {}
 
   // Candidate i's point in [0, 1)²; called for i = 0, 1, … in order.
   std::array<float, 2> point(uint32_t i);
-  float resamplingValue() { return random_.nextFloat(); }
+  // Uniform in [0, 1), with 53 bits.
+  double resamplingValue();
 
  private:
   struct SobolComponent {
     uint64_t seed;
-    uint32_t first, component;
+    uint32_t sampleIndex, count, component;
   };
   Pcg32 random_;
   std::optional<SobolComponent> sobol_;
@@ -111,10 +113,8 @@ class IndependentSampler final : public Sampler {
 // so vertex d's light sample always reads component 1 + 3d, however the path got there. Every
 // component is a (0,2)-sequence over the pixel's samples (the first 2^m samples a (0,m,2)-net,
 // for every m); components are independent of each other, pixels independent of each other.
-// getCandidates(M) takes a component's place too: candidate i of sample s reads point M·s + i of
-// it (indices modulo 2^32), so a pixel's candidates are one stratified sequence; the resampling
-// values come from a PCG32 stream seeded by a hash of the pixel's seed, the sample index and the
-// component.
+// getCandidates(M) takes a component's place too, for stratified CandidateValues (their stream
+// seeded by a hash of the pixel's seed, the sample index and the component).
 class SobolSampler final : public Sampler {
  public:
   SobolSampler(uint64_t seed, uint32_t frameWidth) : seed_(seed), frameWidth_(frameWidth) {}
