@@ -74,7 +74,7 @@ int runRender(const RenderArgs& args) {
   if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
 
   const auto setupStart = Clock::now();
-  TableProvider tables(commandTableCache(args.noCache));
+  SceneAssets tables(commandTableCache(args.noCache));
   const Scene scene = loadScene(args.scene, overrides, tables);
   const double setupMs = millisecondsSince(setupStart);
 

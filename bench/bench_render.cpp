@@ -30,7 +30,7 @@ namespace {
 constexpr uint32_t kWidth = 120, kHeight = 50;
 
 struct DemoScene {
-  std::unique_ptr<TableProvider> tables;
+  std::unique_ptr<SceneAssets> tables;
   Scene scene;
   std::string problem;  // why the scene is unavailable, if it is
 };
@@ -45,7 +45,7 @@ DemoScene& demoScene() {
     nlohmann::json json = nlohmann::json::parse(text.str());
     json["camera"]["width"] = kWidth;
     json["camera"]["height"] = kHeight;
-    d.tables = std::make_unique<TableProvider>(TableCache::atDefaultLocation());
+    d.tables = std::make_unique<SceneAssets>(TableCache::atDefaultLocation());
     try {
       d.scene = loadSceneText(json.dump(), file, {}, *d.tables);
     } catch (const FileError& e) {
@@ -103,7 +103,7 @@ RecordedRays recordRays(const Scene& scene) {
         const LightSample light = scene.environment->sample(lightContext, rng.nextFloat(), rng.nextFloat());
         if (light.pdf > 0) rays.shadow.push_back({Geometry::offsetOrigin(*hit, light.direction), light.direction});
         const BrdfSample s =
-            scene.materials[hit->material]->sample(frame.toLocal(-ray.direction), rng.nextFloat(), rng.nextFloat());
+            scene.bsdfSamplers[hit->material]->sample(frame.toLocal(-ray.direction), rng.nextFloat(), rng.nextFloat());
         if (!(s.pdf > 0) || s.weight.isBlack()) break;
         const Vec3d direction = normalize(frame.toWorld(s.wi));
         ray = {Geometry::offsetOrigin(*hit, direction), direction};

@@ -15,7 +15,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace acdf;
   const std::string file = ACDF_SOURCE_DIR "/scenes/fuzz.json";
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   try {
     const Scene scene = loadSceneText(std::string(reinterpret_cast<const char*>(data), size), file, {}, tables);
     fuzz::require(scene.camera && scene.geometry && scene.environment, "scene: loaded without a part");

@@ -678,7 +678,7 @@ class ErrorBenchmark {
   fs::path dir_;
   // One provider for the run: the scene's inputs (MERL files, maps) are read once, and a
   // combination's set-up time is that of its own tables.
-  std::optional<TableProvider> tables_;
+  std::optional<SceneAssets> tables_;
   std::vector<BrdfSampling> bsdfs_;
   std::vector<EnvironmentSampling> envs_;
   std::vector<MisMode> mises_;

@@ -48,7 +48,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     if (depth >= scene_.settings.maxDepth) break;
     sampler.startVertex(depth);
 
-    const BrdfSampler& material = *scene_.materials[hit->material];
+    const BrdfSampler& material = *scene_.bsdfSamplers[hit->material];
     const Frame frame(hit->normal, hit->tangentHint);
     const Vec3d wo = frame.toLocal(-ray.direction);
     lightContext.normal = hit->normal;

@@ -8,7 +8,7 @@ namespace acdf {
 Scene::TableBytes Scene::tableBytes() const {
   TableBytes bytes;
   std::set<const BrdfSampler*> samplers;
-  for (const auto& material : materials)
+  for (const auto& material : bsdfSamplers)
     if (samplers.insert(material.get()).second) bytes.brdf += material->bytes();
   bytes.environment = environment->tableBytes();
   return bytes;
@@ -19,7 +19,7 @@ void Scene::buildDeferredTables() const {
 }
 
 bool Scene::hasMeasuredMaterial() const {
-  for (const auto& material : materials)
+  for (const auto& material : bsdfSamplers)
     if (dynamic_cast<const MerlBrdf*>(&material->model()) != nullptr) return true;
   return false;
 }

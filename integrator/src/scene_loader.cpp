@@ -263,7 +263,7 @@ TableSpec readTableOptions(const Node& node) {
 struct MaterialSpec {
   std::string path;              // JSON path, for messages
   std::optional<fs::path> file;  // the data file it needs, checked once the material is used
-  std::function<std::shared_ptr<const BrdfSampler>(TableProvider&)> build;
+  std::function<std::shared_ptr<const BrdfSampler>(SceneAssets&)> build;
 };
 
 MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const SceneOverrides& overrides) {
@@ -273,7 +273,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     node.object({"type", "albedo"});
     const std::array<double, 3> a = node["albedo"].color(1.0);
     const Rgb albedo{static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
-    spec.build = [albedo](TableProvider&) {
+    spec.build = [albedo](SceneAssets&) {
       return std::make_shared<const CosineBrdfSampler>(std::make_shared<const LambertianBrdf>(albedo));
     };
   } else if (type == "measured") {
@@ -302,7 +302,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     if (node.has("interpolation")) interpolation = node["interpolation"].parsed(parseInterpolation);
     const TableSpec table = node.has("table") ? readTableOptions(node["table"]) : TableSpec{};
     const std::string where = node.path();
-    spec.build = [=](TableProvider& tables) {
+    spec.build = [=](SceneAssets& tables) {
       if (!file) {
         const auto model = tables.merlPreset(preset, interpolation);
         return tables.brdfSampler(model, "preset " + preset, sampling, table.forModel(*model));
@@ -331,7 +331,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
       const double alpha = node["alpha"].positive();
       brdf = std::make_shared<const AnalyticBrdf>(AnalyticBrdf::conductor(alpha, node["f0"].color(1.0)));
     }
-    spec.build = [brdf](TableProvider&) { return std::make_shared<const GgxBrdfSampler>(brdf); };
+    spec.build = [brdf](SceneAssets&) { return std::make_shared<const GgxBrdfSampler>(brdf); };
   } else {
     node["type"].fail("unknown material type \"" + type + "\" (diffuse, measured or ggx-conductor)");
   }
@@ -377,7 +377,7 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
 }
 
 // The light, with the tables the calls of `pdfs` use.
-std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, LightPdfs pdfs, TableProvider& tables,
+std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, LightPdfs pdfs, SceneAssets& tables,
                                                    const std::string& where) {
   std::shared_ptr<const EnvironmentMap> map;
   std::string key;
@@ -428,7 +428,7 @@ DirectLighting parseDirectLighting(std::string_view name) {
   return valueNamed(kDirectLightingNames, name, "direct lighting");
 }
 
-Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProvider& tables) {
+Scene loadScene(const fs::path& file, const SceneOverrides& overrides, SceneAssets& tables) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
     throw FileError(file.string(), fs::exists(file, ec) ? "not a regular file" : "no such file");
@@ -440,7 +440,7 @@ Scene loadScene(const fs::path& file, const SceneOverrides& overrides, TableProv
 }
 
 Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOverrides& overrides,
-                    TableProvider& tables) {
+                    SceneAssets& tables) {
   const std::string name = file.string();
   const fs::path baseDir = file.parent_path();
   Json json;
@@ -550,7 +550,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   // ---- Build what is used ----
   for (const MaterialSpec* spec : used)
     if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
-  for (const MaterialSpec* spec : used) scene.materials.push_back(spec->build(tables));
+  for (const MaterialSpec* spec : used) scene.bsdfSamplers.push_back(spec->build(tables));
   const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
   scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {

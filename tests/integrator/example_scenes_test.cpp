@@ -11,7 +11,7 @@
 
 #include "acdf/integrator/renderer.h"
 #include "acdf/integrator/scene.h"
-#include "acdf/integrator/table_provider.h"
+#include "acdf/integrator/scene_assets.h"
 
 namespace acdf {
 namespace {
@@ -26,7 +26,7 @@ TEST(ExampleScenes, EveryExampleLoadsAndRenders) {
   for (const auto& entry : std::filesystem::directory_iterator(scenes)) {
     if (entry.path().extension() != ".json") continue;
     SCOPED_TRACE(entry.path().string());
-    TableProvider tables(TableCache::disabled());
+    SceneAssets tables(TableCache::disabled());
     SceneOverrides overrides;
     overrides.spp = 1;
     overrides.crop = CropWindow{0, 0, 8, 8};

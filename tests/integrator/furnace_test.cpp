@@ -187,7 +187,7 @@ TEST(MeasuredFurnace, MatchesBruteForceDirectionalAlbedo) {
                                    {"table", {{"layout", "isotropic"}}}};
   const uint32_t size = 16;
   const nlohmann::json scene = furnaceScene(material, Rgb{1, 1, 1}, size, 1);
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   const Scene loaded = loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test.json", {}, tables);
   const auto brdf = tables.merlPreset("rough-aluminium", MerlBrdf::Interpolation::Nearest);
 

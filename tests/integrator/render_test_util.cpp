@@ -18,7 +18,7 @@ const tbb::global_control serialTableBuilds(tbb::global_control::max_allowed_par
 Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& overrides) {
   // One provider for the whole test program: scenes that share a material or a map share its
   // tables, as they would within one scene.
-  static TableProvider tables(TableCache::disabled());
+  static SceneAssets tables(TableCache::disabled());
   const Scene loaded =
       loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
   Rendered r{makeFilm(loaded), {}};

@@ -215,7 +215,7 @@ TEST(SceneSampler, FromTheSceneFileOrTheOverride) {
       {"materials", {{"m", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
       {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}},
   };
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   const auto load = [&](const SceneOverrides& overrides = {}) {
     return loadSceneText(scene.dump(), "scene.json", overrides, tables).settings.sampler;
   };

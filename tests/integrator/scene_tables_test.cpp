@@ -1,4 +1,4 @@
-// The environment tables a scene gets: the loader asks the TableProvider only for the tables its
+// The environment tables a scene gets: the loader asks the SceneAssets only for the tables its
 // light's calls use (a compensated light under MIS: the compensated table; under light-only: the
 // complete, adaptive one; uniform-sphere sampling: none), and lights of one map under other
 // rotations and scales share them; a local light builds its slices on first use or when asked.
@@ -16,7 +16,7 @@
 #include "acdf/brdf/rgl.h"
 #include "acdf/brdf/rgl_synthesis.h"
 #include "acdf/integrator/scene.h"
-#include "acdf/integrator/table_provider.h"
+#include "acdf/integrator/scene_assets.h"
 
 namespace acdf {
 namespace {
@@ -36,12 +36,12 @@ nlohmann::json mapScene(const std::string& sampling, const std::string& mis, dou
   };
 }
 
-Scene load(const nlohmann::json& scene, TableProvider& tables) {
+Scene load(const nlohmann::json& scene, SceneAssets& tables) {
   return loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", {}, tables);
 }
 
 // The tables built, by strategy ("envmap adaptive <file>" → "adaptive").
-std::vector<std::string> strategiesBuilt(const TableProvider& tables) {
+std::vector<std::string> strategiesBuilt(const SceneAssets& tables) {
   std::vector<std::string> out;
   for (const std::string& name : tables.tablesBuilt()) out.push_back(name.substr(7, name.find(' ', 7) - 7));
   return out;
@@ -50,21 +50,21 @@ std::vector<std::string> strategiesBuilt(const TableProvider& tables) {
 TEST(SceneTables, CompensatedLightsGetTheTableTheirEstimatorUses) {
   const LightSampleContext mis{.allowIncompletePdf = true}, lightOnly{.allowIncompletePdf = false};
   {
-    TableProvider tables(TableCache::disabled());
+    SceneAssets tables(TableCache::disabled());
     const Scene scene = load(mapScene("compensated", "power"), tables);
     EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"compensated"});
     EXPECT_EQ(scene.environment->table(mis).strategy(), EnvironmentSampling::Compensated);
     EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(mis).bytes());
   }
   {
-    TableProvider tables(TableCache::disabled());
+    SceneAssets tables(TableCache::disabled());
     const Scene scene = load(mapScene("compensated", "light-only"), tables);
     EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"adaptive"});
     EXPECT_EQ(scene.environment->table(lightOnly).strategy(), EnvironmentSampling::Adaptive);
     EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(lightOnly).bytes());
   }
   {
-    TableProvider tables(TableCache::disabled());
+    SceneAssets tables(TableCache::disabled());
     const Scene scene = load(mapScene("uniform-sphere", "light-only"), tables);
     EXPECT_TRUE(tables.tablesBuilt().empty());
     EXPECT_EQ(scene.environment->tableBytes(), 0u);
@@ -72,7 +72,7 @@ TEST(SceneTables, CompensatedLightsGetTheTableTheirEstimatorUses) {
 }
 
 TEST(SceneTables, LocalSlicesAreBuiltOnFirstUseOrWhenAsked) {
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   nlohmann::json json = mapScene("local", "power");
   json["environment"]["normal_rows"] = 4;
   json["environment"]["normal_columns"] = 8;
@@ -90,7 +90,7 @@ TEST(SceneTables, LocalSlicesAreBuiltOnFirstUseOrWhenAsked) {
 }
 
 TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   const Scene plain = load(mapScene("adaptive", "power"), tables);
   const Scene turned = load(mapScene("adaptive", "power", 90, 2.5), tables);
   EXPECT_EQ(tables.tablesBuilt().size(), 1u);
@@ -117,7 +117,7 @@ TEST(SceneTables, MeasuredFilesOfEitherFormatAndTheirSamplers) {
   const std::filesystem::path file = std::filesystem::temp_directory_path() / "acdf_scene_tables_gold.dat";
   synthesizeRgl(AnalyticBrdf::preset("gold"), {.thetaIn = 4, .ndf = 64, .vndf = 32, .reflectance = 16}, "gold")
       .save(file);
-  TableProvider tables(TableCache::disabled());
+  SceneAssets tables(TableCache::disabled());
   const auto model = tables.measuredFile(file, MerlBrdf::Interpolation::Trilinear);
   ASSERT_NE(std::dynamic_pointer_cast<const RglBrdf>(model), nullptr);
   EXPECT_EQ(tables.measuredFile(file, MerlBrdf::Interpolation::Nearest), model) << "loaded once";

@@ -9,7 +9,7 @@
 
 #include "acdf/envmap/environment_table.h"
 #include "acdf/integrator/scene.h"
-#include "acdf/integrator/table_provider.h"
+#include "acdf/integrator/scene_assets.h"
 
 namespace acdf {
 

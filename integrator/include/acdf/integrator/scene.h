@@ -5,7 +5,7 @@
 // and bad values are reported with their JSON path ("$.shapes[2].radius: expected a number,
 // got a string"); relative file paths resolve against the scene file's directory. Then it loads
 // only what the shapes use — a material no shape refers to is never read — and asks the
-// TableProvider for just the tables the chosen strategies need.
+// SceneAssets for just the tables the chosen strategies need.
 
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +23,7 @@
 #include "acdf/integrator/geometry.h"
 #include "acdf/integrator/product_direct_light.h"
 #include "acdf/integrator/sampler.h"
-#include "acdf/integrator/table_provider.h"
+#include "acdf/integrator/scene_assets.h"
 #include "acdf/sampling/file_error.h"
 
 namespace acdf {
@@ -91,9 +91,9 @@ struct SceneOverrides {
 struct Scene {
   std::unique_ptr<Camera> camera;
   std::unique_ptr<Geometry> geometry;
-  // Indexed by the shapes' material ids: a material is its BRDF model's sampler (two materials
-  // of one table share it).
-  std::vector<std::shared_ptr<const BrdfSampler>> materials;
+  // The materials' BRDF samplers (each with its model: eval, sample and pdf), indexed by the
+  // shapes' material ids; two materials of one table share one.
+  std::vector<std::shared_ptr<const BrdfSampler>> bsdfSamplers;
   std::unique_ptr<EnvironmentLight> environment;
   RenderSettings settings;
 
@@ -114,10 +114,10 @@ struct Scene {
 // Throws FileError for any problem with the scene or a file it names; a problem in the scene
 // carries its JSON path ("$.shapes[2].radius: ..."), one in a file it names says where the scene
 // refers to it ("(referenced by $.materials.x.file)").
-Scene loadScene(const std::filesystem::path& file, const SceneOverrides& overrides, TableProvider& tables);
+Scene loadScene(const std::filesystem::path& file, const SceneOverrides& overrides, SceneAssets& tables);
 // The same from the text of a scene file; `file` names it in messages and its directory resolves
 // relative paths.
 Scene loadSceneText(const std::string& text, const std::filesystem::path& file, const SceneOverrides& overrides,
-                    TableProvider& tables);
+                    SceneAssets& tables);
 
 }  // namespace acdf

@@ -38,7 +38,7 @@ enum class ErrorMetric : uint8_t {
 struct SimplifyOptions {
   Simplifier method = Simplifier::DouglasPeucker;
   ErrorMetric metric = ErrorMetric::Vertical;
-  double epsilon = 2e-3;  // largest error left in the simplified CDF; >= 0
+  double epsilon = 2e-3;  // largest error left in the simplified CDF, in `metric`'s units; >= 0
   // Greedy refinement only: stop once this many points are kept (0 = no budget). The weight bound
   // below may add points beyond the budget: it is a guarantee, the budget is a target.
   uint32_t maxPoints = 0;

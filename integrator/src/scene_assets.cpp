@@ -1,4 +1,4 @@
-#include "acdf/integrator/table_provider.h"
+#include "acdf/integrator/scene_assets.h"
 
 #include <stdexcept>
 
@@ -25,7 +25,7 @@ std::string_view toString(BrdfSampling sampling) { return nameOf(kBrdfSamplingNa
 
 BrdfSampling parseBrdfSampling(std::string_view name) { return valueNamed(kBrdfSamplingNames, name, "BRDF sampling"); }
 
-std::shared_ptr<const BrdfModel> TableProvider::measuredFile(const std::filesystem::path& path,
+std::shared_ptr<const BrdfModel> SceneAssets::measuredFile(const std::filesystem::path& path,
                                                              MerlBrdf::Interpolation interpolation) {
   auto& slot = measuredFiles_[path.string()];
   if (!slot) slot = loadMeasuredBrdf(path);
@@ -34,7 +34,7 @@ std::shared_ptr<const BrdfModel> TableProvider::measuredFile(const std::filesyst
   return slot;
 }
 
-std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& name,
+std::shared_ptr<const MerlBrdf> SceneAssets::merlPreset(const std::string& name,
                                                           MerlBrdf::Interpolation interpolation) {
   auto& slot = merlPresets_[name];
   if (!slot) {
@@ -47,7 +47,7 @@ std::shared_ptr<const MerlBrdf> TableProvider::merlPreset(const std::string& nam
   return std::make_shared<const MerlBrdf>(slot->withInterpolation(interpolation));
 }
 
-std::shared_ptr<const EnvironmentMap> TableProvider::environmentMap(const std::filesystem::path& path) {
+std::shared_ptr<const EnvironmentMap> SceneAssets::environmentMap(const std::filesystem::path& path) {
   auto& slot = maps_[path.string()];
   if (!slot) {
     slot = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(path.string()));
@@ -55,7 +55,7 @@ std::shared_ptr<const EnvironmentMap> TableProvider::environmentMap(const std::f
   return slot;
 }
 
-std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_ptr<const BrdfModel>& model,
+std::shared_ptr<const BrdfSampler> SceneAssets::brdfSampler(const std::shared_ptr<const BrdfModel>& model,
                                                               const std::string& modelName, BrdfSampling sampling,
                                                               TabulatedBrdfOptions table) {
   if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(model);
@@ -87,7 +87,7 @@ std::shared_ptr<const BrdfSampler> TableProvider::brdfSampler(const std::shared_
   return slot;
 }
 
-std::shared_ptr<const EnvironmentTable> TableProvider::environmentTable(
+std::shared_ptr<const EnvironmentTable> SceneAssets::environmentTable(
     const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey, EnvironmentSampling strategy,
     const SimplifyOptions& simplify) {
   if (strategy == EnvironmentSampling::UniformSphere || map->isBlack())

@@ -29,10 +29,10 @@ enum class BrdfSampling { Cosine, Uniform, Adaptive, Rgl };
 std::string_view toString(BrdfSampling sampling);
 BrdfSampling parseBrdfSampling(std::string_view name);
 
-class TableProvider {
+class SceneAssets {
  public:
   // TableCache::disabled() builds everything (--no-cache).
-  explicit TableProvider(TableCache cache) : cache_(std::move(cache)) {}
+  explicit SceneAssets(TableCache cache) : cache_(std::move(cache)) {}
 
   // A measured file of either format (loadMeasuredBrdf: RGL or MERL by content), loaded once per
   // path; MERL tables of any interpolation share the values. Throws FileError.
