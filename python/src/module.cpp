@@ -37,4 +37,5 @@ Errors
   acdf::python::bindSampling(m);
   acdf::python::bindEnvmap(m);
   acdf::python::bindBrdf(m);
+  acdf::python::bindProductSampling(m);
 }
