@@ -124,7 +124,7 @@ bench: deps
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
 	/usr/bin/python3 bench/report.py --update docs/performance.md --command "make bench" $(RESULTS_DIR)/bench_*.json
-	@if ls $(BUILD_DIR)/python/acdf*.so >/dev/null 2>&1; then \
+	@if ls $(BUILD_DIR)/python/acdf/_acdf*.so >/dev/null 2>&1; then \
 	  echo "== bench_python.py -> $(RESULTS_DIR)/python.json"; \
 	  /usr/bin/python3 bench/bench_python.py --build $(BUILD_DIR) --json $(RESULTS_DIR)/python.json; \
 	fi
