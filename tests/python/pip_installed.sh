@@ -2,10 +2,10 @@
 # pip_installed.sh SOURCE_DIR WORK_DIR [CMAKE_DEFINE=VALUE...] (ctest python.pip_installed)
 #
 # The Python suite against the package as pip installs it: a wheel built by scikit-build-core from
-# .venv (scripts/install-deps; no build isolation, so nothing is downloaded) with its CMake build in
-# WORK_DIR, installed into a fresh venv of /usr/bin/python3 that sees Debian's numpy, scipy and
-# pytest. pytest runs from inside that venv, without PYTHONPATH; the tests check that acdf and the
-# acdf program are the venv's.
+# .venv (scripts/install-deps; no build isolation) with its CMake build in WORK_DIR, installed into
+# a fresh venv of /usr/bin/python3 that sees Debian's numpy, scipy and pytest and gets the pins of
+# python/requirements-dev.txt. pytest runs from inside that venv, without PYTHONPATH; the tests
+# check that acdf and the acdf program are the venv's.
 set -euo pipefail
 source_dir=$1
 work=$2
@@ -23,6 +23,8 @@ rm -rf "$work/dist" "$work/venv"
   --wheel-dir "$work/dist" --config-settings=build-dir="$work" "${settings[@]}" "$source_dir"
 /usr/bin/python3 -m venv --system-site-packages "$work/venv"
 "$work/venv/bin/python" -m pip install --quiet --no-deps --no-index --disable-pip-version-check "$work"/dist/acdf-*.whl
+# The PyPI packages the tests use beside the package, as in .venv (from pip's cache once downloaded).
+"$work/venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$source_dir/python/requirements-dev.txt"
 
 venv=$work/venv
 site=$("$venv/bin/python" -c "import sysconfig; print(sysconfig.get_path('platlib'))")
