@@ -2,7 +2,8 @@
 #   make demo       render scenes/demo.json and scenes/product.json (no strategy named: the defaults),
 #                   then the compression report of the sunset map and the paper's Table 1 rows for
 #                   the demo's three measured materials
-#   make test       Release build + all tests
+#   make test       Release build + all tests (the Python suite also on the package pip installs
+#                   from a wheel, in a fresh virtual environment)
 #   make test-asan  AddressSanitizer + UBSan build (build-asan/) + all tests
 #   make bench      run every build/bin/bench_* program, JSON into bench/results/, and their tables in
 #                   docs/performance.md; bench/bench_python.py (the Python module against the C++
@@ -53,6 +54,14 @@ STRESS_ARGS ?= --samples 1e8 --json $(RESULTS_DIR)/stress.json
 GENERATOR := $(if $(shell command -v ninja 2>/dev/null),-G Ninja,)
 generator_for = $(if $(wildcard $(1)/CMakeCache.txt),,$(GENERATOR))
 
+# ccache, when installed, for the Release build: ctest python.pip_installed builds the wheel in a
+# second build directory beside it ($(BUILD_DIR)-wheel) with the same compiler and launcher, and gets
+# every object from the cache. Paths are made relative to the tree and the build directory is not
+# hashed (a Release build has no debug information naming it), so both directories share entries.
+LAUNCHER := $(if $(shell command -v ccache 2>/dev/null),-DCMAKE_CXX_COMPILER_LAUNCHER=ccache,)
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+
 SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 \
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
@@ -65,7 +74,7 @@ deps:
 	scripts/install-deps
 
 configure:
-	cmake -S . -B $(BUILD_DIR) $(call generator_for,$(BUILD_DIR)) -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD_DIR) $(call generator_for,$(BUILD_DIR)) -DCMAKE_BUILD_TYPE=Release $(LAUNCHER)
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
@@ -124,7 +133,7 @@ bench: deps
 	done; \
 	if [ $$found -eq 0 ]; then echo "bench: no benchmark programs in $(BUILD_DIR)/bin (bench_*)" >&2; exit 1; fi
 	/usr/bin/python3 bench/report.py --update docs/performance.md --command "make bench" $(RESULTS_DIR)/bench_*.json
-	@if ls $(BUILD_DIR)/python/acdf*.so >/dev/null 2>&1; then \
+	@if ls $(BUILD_DIR)/python/acdf/_acdf*.so >/dev/null 2>&1; then \
 	  echo "== bench_python.py -> $(RESULTS_DIR)/python.json"; \
 	  /usr/bin/python3 bench/bench_python.py --build $(BUILD_DIR) --json $(RESULTS_DIR)/python.json; \
 	fi
@@ -184,4 +193,4 @@ test-tsan: deps
 	  ctest --test-dir $(TSAN_DIR) -L concurrency --output-on-failure -j $(JOBS)
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(FUZZ_DIR) $(TSAN_DIR)
+	rm -rf $(BUILD_DIR) $(BUILD_DIR)-wheel $(ASAN_DIR) $(FUZZ_DIR) $(TSAN_DIR)

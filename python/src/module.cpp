@@ -1,4 +1,5 @@
-// The Python module acdf: numpy in, numpy out, batched (docs/python.md).
+// The compiled extension acdf._acdf behind the package acdf (python/acdf/__init__.py re-exports it):
+// numpy in, numpy out, batched (docs/python.md).
 #include <pybind11/pybind11.h>
 
 #include "acdf/sampling/file_error.h"
@@ -6,7 +7,13 @@
 
 namespace py = pybind11;
 
-PYBIND11_MODULE(acdf, m) {
+PYBIND11_MODULE(_acdf, m) {
+  // Classes, the exception and the signatures in docstrings take their module from __name__ when
+  // they are made: they should name the package users import (acdf.Cascade, acdf.FileError), not
+  // the private extension. The import system expects its own name back once the module is built.
+  const py::object extensionName = m.attr("__name__");
+  m.attr("__name__") = "acdf";
+  m.attr("__version__") = ACDF_VERSION;
   m.doc() = R"(acdf: adaptive cascaded numerical CDFs for importance sampling (Lawrence et al. 2005).
 
 Every call is batched: variates, points and directions are numpy arrays with one row per sample,
@@ -38,4 +45,5 @@ Errors
   acdf::python::bindEnvmap(m);
   acdf::python::bindBrdf(m);
   acdf::python::bindProductSampling(m);
+  m.attr("__name__") = extensionName;
 }

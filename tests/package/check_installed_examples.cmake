@@ -68,7 +68,7 @@ expect_agreement("${output}" "adaptive table" "cosine hemisphere")
 
 if(PYTHON)
   set(site ${prefix}/${PYTHON_SITE_DIR})
-  file(GLOB module ${site}/acdf*.so)
+  file(GLOB module ${site}/acdf/_acdf*.so)
   if(NOT module)
     message(FATAL_ERROR "the Python module is not installed in ${site}")
   endif()

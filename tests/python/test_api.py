@@ -1,4 +1,8 @@
 """The batched calls: domains, edge variates, broadcasting, threads, and the documented help."""
+import os
+import pydoc
+import subprocess
+
 import numpy as np
 
 import acdf
@@ -76,6 +80,22 @@ def test_help_states_the_conventions():
     assert "per steradian" in acdf.__doc__ and "lat-long" in acdf.__doc__
     for name in ["Cascade", "EnvironmentLight", "BrdfSampler", "TabulatedBrdfSampler", "SimplifyOptions"]:
         assert len(getattr(acdf, name).__doc__) > 200, name
+
+
+def test_the_package_and_the_program_are_the_ones_under_test():
+    # The build tree's (python.pytest) or the pip-installed ones (python.pip_installed).
+    assert os.path.dirname(acdf.__file__) == os.environ["ACDF_PACKAGE_DIR"]
+    version = subprocess.run([os.environ["ACDF_PROGRAM"], "--version"], check=True, capture_output=True,
+                             text=True).stdout
+    assert version == f"acdf {acdf.__version__}\n"
+
+
+def test_the_package_names_itself_and_the_project_version():
+    assert acdf.__version__ == os.environ["ACDF_VERSION"]
+    # help(acdf), reprs and signatures name the package users import, not the extension inside it.
+    assert acdf.Cascade.__module__ == "acdf" and acdf.FileError.__module__ == "acdf"
+    assert "acdf.SimplifyOptions" in acdf.Cascade.__init__.__doc__ and "_acdf" not in acdf.Cascade.__init__.__doc__
+    assert "class Cascade" in pydoc.render_doc(acdf, renderer=pydoc.plaintext)
 
 
 def test_simplify_options_reach_the_table(rng):
