@@ -143,7 +143,6 @@ std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d
 
 SphereChiSquareReport brdfChiSquareTest(const BrdfSampler& sampler, const Vec3d& wo, SphereChiSquareOptions options) {
   options.equalAreaRows = true;
-  options.allowedMismatchRate = std::max(options.allowedMismatchRate, BrdfSampler::kBoundaryRate);
   return sphereChiSquareTest(
       [&](float u0, float u1) {
         const BrdfSample s = sampler.sample(wo, u0, u1);

@@ -19,6 +19,12 @@ BrdfSample BrdfSampler::sample(const Vec3d& wo, float u0, float u1) const {
   return s;
 }
 
+SampledDirection BrdfSampler::reflected(const Vec3d& wo, const Vec3d& wi, const HalfVector& h, double density) const {
+  if (!h.roundTripExact())
+    if (const double p = pdf(wo, wi); p > 0.0) return {wi, p};
+  return {wi, density};
+}
+
 double CosineBrdfSampler::pdf(const Vec3d&, const Vec3d& wi) const { return cosineHemispherePdf(wi.z); }
 
 SampledDirection CosineBrdfSampler::sampleDirection(const Vec3d&, float u0, float u1) const {

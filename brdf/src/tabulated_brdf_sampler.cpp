@@ -26,6 +26,14 @@ constexpr double kTwoPi = 2.0 * kPi;
 using Layout = TabulatedBrdfOptions::Layout;
 using Clock = std::chrono::steady_clock;
 
+// How far inside its θh cell a sample stays, as a fraction of the cell in s. pdf() finds the cell
+// again from ωi = reflect(ωo, ωh), a round trip that moves θh by a few double ulps (more as
+// ωo·ωh → 0), so a sample on a boundary (fraction 0, which float coordinates often give) would
+// land in the neighbour. 1e-6 of a cell is 5e-11 rad at the first boundary of a 256-cell axis,
+// far above that rounding; it shifts the density at cell edges by 1e-6 of a cell, as the
+// environment light's pixel margin does.
+constexpr double kCellMargin = 1e-6;
+
 bool mirrored(const TabulatedBrdfOptions& o) { return o.layout == Layout::Isotropic && o.mirror; }
 
 // The azimuth axis of the half vector: φh (Full4D) or Δφ (Isotropic), in radians.
@@ -465,21 +473,23 @@ SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0
   const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))), negative ? 2.0f * u1 - 1.0f
                                                                                     : mirrored(options_) ? 2.0f * u1
                                                                                                          : u1};
-  const SampleND x = table_.sampleInSlice(outgoingCells_.sliceOf(wo), u);
-  const std::size_t k = table_.conditioningDims();
-  // x[0] is uniform in s within its cell; move it to the same fraction of the cell's solid angle.
-  const GridAxis& sAxis = table_.axes()[k];
-  const uint32_t cell = sAxis.cellOf(x.x[0]);
-  const double t = std::clamp(sAxis.gridCoordinate(x.x[0]) - cell, 0.0, 1.0);
+  const CellSample x = table_.sampleCellsInSlice(outgoingCells_.sliceOf(wo), u);
+  // The sample is uniform in s within its cell; move it to the same fraction of the cell's solid
+  // angle, kept a margin inside the cell, so that pdf() finds this cell again from ωi despite
+  // the rounding of the reflection and of θh. φ is found through its float coordinate (onAxis),
+  // as the table placed it.
+  const uint32_t cell = x.cells[0];
+  const double t = std::clamp(x.fractions[0], kCellMargin, 1.0 - kCellMargin);
   const double cap = capAreas_[cell] + t * (capAreas_[cell + 1] - capAreas_[cell]);  // 1 − cosθh
   const double sinTheta = std::sqrt(cap * (2.0 - cap));
   double phi = x.x[1];
   if (options_.layout == Layout::Isotropic) phi = azimuth(wo) + (negative ? -phi : phi);
   const Vec3d wh{sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0 - cap};
   const Vec3d wi = reflect(wo, wh);
+  const HalfVector h = sampledHalfVector(wo, wh);
   // The table's density at the sampled cell, and the cosine term at ωi: the two ways to reach ωi.
-  const double table = sampledHalfVector(wo, wh).incidentPdf(perSteradian(x.pdf, cell));
-  return {wi, w * cosineHemispherePdf(wi.z) + (1.0 - w) * table};
+  const double table = h.incidentPdf(perSteradian(x.pdf, cell));
+  return reflected(wo, wi, h, w * cosineHemispherePdf(wi.z) + (1.0 - w) * table);
 }
 
 // P(cell) / Ω(cell) per unit φ: density · Δs / Δ(1 − cosθh); half of it for each sign of a

@@ -173,13 +173,12 @@ EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
     pdf = probabilityPdf(pick.probability, p.row);
   } else {
     const float u[2] = {clampUnit(u0), clampUnit(u1)};
-    const SampleND s = cascade_->sample(u);
-    const std::vector<GridAxis>& axes = cascade_->axes();
-    p = {axes[0].cellOf(s.x[0]), axes[1].cellOf(s.x[1])};
+    const CellSample s = cascade_->sampleCells(u);
+    p = {s.cells[0], s.cells[1]};
     // Where the table put the sample inside its cell (uniformly): reused for the position in
     // the pixel, uniform in solid angle.
-    fractionDown = axes[0].gridCoordinate(s.x[0]) - p.row;
-    fractionRight = axes[1].gridCoordinate(s.x[1]) - p.column;
+    fractionDown = s.fractions[0];
+    fractionRight = s.fractions[1];
     pdf = s.pdf * pdfScale_[p.row];
   }
   return {map_->mapping().directionInPixel(p, fractionDown, fractionRight), p, pdf};

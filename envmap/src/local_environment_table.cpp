@@ -173,20 +173,15 @@ LocalEnvironmentTable::Sample LocalEnvironmentTable::sample(const Vec3d& normal,
   if (emitsNothing_) return {};
   const Cascade& blocks = slice(sliceOf(normal));
   const float u[2] = {clampUnit(u0), clampUnit(u1)};
-  const SampleND b = blocks.sample(u);
-  const std::vector<GridAxis>& blockAxes = blocks.axes();
-  const uint32_t br = blockAxes[0].cellOf(b.x[0]), bc = blockAxes[1].cellOf(b.x[1]);
+  const CellSample b = blocks.sampleCells(u);
+  const uint32_t br = b.cells[0], bc = b.cells[1];
   // Where the block table put the sample inside its cell (uniformly): reused for the pixel.
-  const float inBlock[2] = {clampUnit(static_cast<float>(blockAxes[0].gridCoordinate(b.x[0]) - br)),
-                            clampUnit(static_cast<float>(blockAxes[1].gridCoordinate(b.x[1]) - bc))};
-  const SampleND q = pixels_->sampleInSlice(blockIndex(br, bc), inBlock);
-  const std::vector<GridAxis>& pixelAxes = pixels_->axes();
-  const uint32_t i = pixelAxes[2].cellOf(q.x[0]), j = pixelAxes[3].cellOf(q.x[1]);
-  const PixelIndex p = pixelOf(br, bc, i, j);
-  const double down = pixelAxes[2].gridCoordinate(q.x[0]) - i;
-  const double right = pixelAxes[3].gridCoordinate(q.x[1]) - j;
+  const float inBlock[2] = {clampUnit(static_cast<float>(b.fractions[0])),
+                            clampUnit(static_cast<float>(b.fractions[1]))};
+  const CellSample q = pixels_->sampleCellsInSlice(blockIndex(br, bc), inBlock);
+  const PixelIndex p = pixelOf(br, bc, q.cells[0], q.cells[1]);
   const double pdf = static_cast<double>(b.pdf) * q.pdf * pdfScale_[p.row];
-  return {map_->mapping().directionInPixel(p, down, right), p, pdf};
+  return {map_->mapping().directionInPixel(p, q.fractions[0], q.fractions[1]), p, pdf};
 }
 
 double LocalEnvironmentTable::pdf(const Vec3d& normal, const Vec3d& w) const {

@@ -515,6 +515,20 @@ SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) con
   return result;
 }
 
+CellSample Cascade::sampleCellsInSlice(std::size_t slice, std::span<const float> u) const {
+  const SampleND s = sampleInSlice(slice, u);
+  CellSample c;
+  c.dims = s.dims;
+  c.x = s.x;
+  c.pdf = s.pdf;
+  for (std::size_t d = 0; d < s.dims; ++d) {
+    const GridAxis& axis = axes_[conditioningDims_ + d];
+    c.cells[d] = axis.cellOf(s.x[d]);
+    c.fractions[d] = axis.gridCoordinate(s.x[d]) - c.cells[d];
+  }
+  return c;
+}
+
 float Cascade::pdfInSlice(std::size_t slice, std::span<const float> x) const {
   requireSlice(slice);
   requireArity(x.size(), sampledDims(), "coordinates");

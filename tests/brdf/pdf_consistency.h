@@ -1,8 +1,8 @@
 #pragma once
 // The contract of BrdfSampler::sample() (brdf_sampler.h) measured: the pdf a sample reports,
 // computed along the sampling path, against pdf(ωo, ωi) at the sampled ωi, over random ωo
-// (cosine-distributed above the horizon) and variates. Away from cell boundaries the two differ
-// by the round trip's float rounding; on a boundary pdf() may read the neighbouring cell.
+// (cosine-distributed above the horizon) and variates. They differ by the round trip's float
+// rounding only.
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +15,8 @@ namespace acdf::test {
 
 struct PdfConsistency {
   uint64_t samples = 0;
-  uint64_t boundary = 0;  // relative difference above the tolerance
-  double worst = 0;       // the largest relative difference of the others
+  uint64_t mismatches = 0;  // relative difference above the tolerance
+  double worst = 0;         // the largest relative difference of the others
 };
 
 inline PdfConsistency measurePdfConsistency(const BrdfSampler& sampler, uint64_t samples, double tolerance,
@@ -30,7 +30,7 @@ inline PdfConsistency measurePdfConsistency(const BrdfSampler& sampler, uint64_t
     const BrdfSample s = sampler.sample(wo, u0, u1);
     const double relative = std::fabs(sampler.pdf(wo, s.wi) - s.pdf) / s.pdf;
     if (relative > tolerance)
-      ++c.boundary;
+      ++c.mismatches;
     else
       c.worst = std::max(c.worst, relative);
   }

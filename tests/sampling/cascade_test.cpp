@@ -299,6 +299,37 @@ TEST(CascadeConditioning, PdfOfCellsIsThePdfInThoseCells) {
   }
 }
 
+TEST(CascadeConditioning, SampleCellsAreTheCellsOfTheSampleWithTheirPdf) {
+  // sampleCellsInSlice is sampleInSlice's point, its cells, where in them it lies and the cells'
+  // pdf bit for bit, in every slice, on random variates and the extreme ones; uniform and adaptive
+  // levels on shifted axes.
+  const std::vector<GridAxis> axes = {GridAxis(4, 0.0f, 1.0f), GridAxis(16, 10.0f, 12.0f), GridAxis(12, -1.0f, -0.5f)};
+  for (const std::vector<DM>& methods : {std::vector<DM>{DM::Uniform, DM::Uniform}, {DM::Adaptive, DM::Adaptive}}) {
+    CascadeOptions options = withMethods(methods, 1);
+    options.simplify.epsilon = 0.01;
+    const std::vector<uint32_t> dims = {4, 16, 12};
+    const Cascade c(makeFixture(Fixture::ZerosWithIslands, dims), axes, options);
+    Pcg32 rng(3);
+    for (std::size_t slice = 0; slice < c.slices(); ++slice)
+      for (int n = 0; n < 2000; ++n) {
+        const float u[] = {n < 4 ? (n & 1 ? kOneMinusEpsilon : 0.0f) : rng.nextFloat(),
+                           n < 4 ? (n & 2 ? kOneMinusEpsilon : 0.0f) : rng.nextFloat()};
+        const SampleND s = c.sampleInSlice(slice, u);
+        const CellSample cells = c.sampleCellsInSlice(slice, u);
+        ASSERT_EQ(cells.dims, 2u);
+        ASSERT_EQ(cells.pdf, s.pdf);
+        for (std::size_t d = 0; d < 2; ++d) {
+          const GridAxis& axis = axes[1 + d];
+          ASSERT_EQ(cells.x[d], s.x[d]);
+          ASSERT_EQ(cells.cells[d], axis.cellOf(s.x[d])) << "slice " << slice << " u " << u[0] << ", " << u[1];
+          ASSERT_TRUE(cells.fractions[d] >= 0.0 && cells.fractions[d] < 1.0) << cells.fractions[d];
+          ASSERT_NEAR(axis.lo() + (cells.cells[d] + cells.fractions[d]) * axis.cellWidth(), s.x[d], 1e-12);
+        }
+        ASSERT_EQ(c.pdfOfCellsInSlice(slice, std::span<const uint32_t>(cells.cells.data(), 2)), cells.pdf);
+      }
+  }
+}
+
 TEST(CascadeConditioning, AllZeroSliceIsUniform) {
   const auto v = makeFixture(Fixture::ZerosWithIslands, k4D);
   const auto c = std::make_shared<const Cascade>(v, unitAxes(k4D), withMethods({}, 2));

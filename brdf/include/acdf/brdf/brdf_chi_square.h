@@ -23,9 +23,7 @@
 
 namespace acdf {
 
-// options.equalAreaRows is forced on, and allowedMismatchRate raised to BrdfSampler::kBoundaryRate
-// (samples on a cell boundary, brdf_sampler.h); options.subPoints are the sub-cells per table
-// cell per axis.
+// options.equalAreaRows is forced on; options.subPoints are the sub-cells per table cell per axis.
 SphereChiSquareReport brdfChiSquareTest(const BrdfSampler& sampler, const Vec3d& wo, SphereChiSquareOptions options);
 
 // The expected probability of each bin (as sphereBinOf() numbers them) under sampler's pdf(ωo, ·).

@@ -22,6 +22,12 @@ struct HalfVector {
 
   // The density of ωi of a half-vector density p(ωh) at this half vector, both per steradian.
   double incidentPdf(double halfVectorPdf) const { return halfVectorPdf / (4.0 * cosOut); }
+
+  // Whether ωi's density can be found again from ωi alone: as ωh turns perpendicular to ωo, ωi
+  // nears −ωo and normalize(ωi + ωo) recovers ωh, and with it 1/(4|ωo·ωh|), only to about
+  // 1e-16 / (ωo·ωh)² relative. Below |ωo·ωh| = 1e-3 a sampler reports pdf(ωo, ωi) itself (where
+  // positive), so that its samples' densities and pdf() agree on every sample.
+  bool roundTripExact() const { return cosOut >= 1e-3; }
 };
 
 // A half vector ωh (unit, z >= 0) a sampler drew to reflect ωo about: its density converts to

@@ -22,6 +22,7 @@
 // Zero mass: a slice (or sub-block) with no mass gets a uniform distribution of two points;
 // isUniformFallback(slice) reports it.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -82,6 +83,17 @@ void validate(const CascadeOptions& options, std::size_t axes);
 class ByteReader;
 class ByteWriter;
 
+// A sample of a Cascade given by the grid cells it lies in: for callers that map each cell to
+// their own domain (a pixel, a cap of half vectors) and must not find the cells again from float
+// coordinates, where a point on a cell boundary may land in the neighbour.
+struct CellSample {
+  std::array<uint32_t, kMaxDims> cells{};    // per sampled axis: the cell of sample()'s point
+  std::array<double, kMaxDims> fractions{};  // where in its cell, in [0, 1): 0 at the low edge
+  std::array<float, kMaxDims> x{};           // sample()'s coordinates, in those cells
+  float pdf = 0;                             // sample()'s density: that of the cells
+  uint8_t dims = 0;
+};
+
 class Cascade {
  public:
   // values.size() must equal the product of the axes' cell counts; 1 <= axes.size() <= kMaxDims;
@@ -116,6 +128,11 @@ class Cascade {
   // Throws std::out_of_range for slice >= slices().
   SampleND sampleInSlice(std::size_t slice, std::span<const float> u) const;
   float pdfInSlice(std::size_t slice, std::span<const float> x) const;
+  // sampleInSlice's point with its cells and the fractions within them: pdfOfCellsInSlice(slice,
+  // cells) is its pdf, bit for bit. A fraction may be 0 (a point on a cell's low edge); a caller
+  // whose mapping rounds keeps its point a margin inside the cell.
+  CellSample sampleCellsInSlice(std::size_t slice, std::span<const float> u) const;
+  CellSample sampleCells(std::span<const float> u) const { return sampleCellsInSlice(0, u); }
   // pdfInSlice at any point of the sampled grid cell `cells` (one cell per sampled axis): the
   // density is constant on grid cells, so a caller that knows its point's cells needs no
   // coordinates. 0 for a cell outside its axis, as pdfInSlice outside the domain.

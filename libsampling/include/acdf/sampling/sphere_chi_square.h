@@ -11,9 +11,7 @@
 //
 // Every sample is also checked: finite unit direction (|‖ω‖ − 1| ≤ 1e-6), finite pdf > 0, and
 // |pdf(ω) − returned pdf| ≤ pdfTolerance · returned pdf. So are the four corner variates
-// (0 and kOneMinusEpsilon in each coordinate), which must give valid samples too. A sampler may
-// be allowed a fraction of mismatches: one whose pdf() can read the other side of a cell boundary
-// a sample lies on (brdf_sampler.h).
+// (0 and kOneMinusEpsilon in each coordinate), which must give valid samples too.
 //
 // Deterministic for a fixed seed and any thread count: samples are drawn in fixed chunks, each
 // with its own Pcg32 stream.
@@ -44,22 +42,20 @@ struct SphereChiSquareOptions {
   bool equalAreaRows = false;
   double alpha = 0.01;  // level of this one test (apply sidakAlpha() for a family first)
   double pdfTolerance = 1e-4;
-  double allowedMismatchRate = 0;  // mismatches allowed, as a fraction of `samples`
 };
 
 struct SphereChiSquareReport {
   ChiSquareResult chi2;
   double alpha = 0;
   uint64_t samples = 0;
-  uint64_t invalidSamples = 0;   // direction not finite and unit, or pdf not finite and > 0
-  uint64_t pdfMismatch = 0;      // |pdf(ω) − returned| > tolerance · returned
-  uint64_t allowedMismatch = 0;  // of them (allowedMismatchRate · samples)
-  double worstPdfMismatch = 0;   // largest relative mismatch seen
-  double pdfIntegral = 0;        // ∫ pdf over the sphere by the midpoint rule
-  std::string firstProblem;      // the first invalid or mismatched sample, described
+  uint64_t invalidSamples = 0;  // direction not finite and unit, or pdf not finite and > 0
+  uint64_t pdfMismatch = 0;     // |pdf(ω) − returned| > tolerance · returned
+  double worstPdfMismatch = 0;  // largest relative mismatch seen
+  double pdfIntegral = 0;       // ∫ pdf over the sphere by the midpoint rule
+  std::string firstProblem;     // the first invalid or mismatched sample, described
 
   bool chiSquarePassed() const { return chi2.pvalue >= alpha; }
-  bool samplesValid() const { return invalidSamples == 0 && pdfMismatch <= allowedMismatch; }
+  bool samplesValid() const { return invalidSamples == 0 && pdfMismatch == 0; }
   bool passed() const { return chiSquarePassed() && samplesValid(); }
   std::string summary() const;
 };
