@@ -222,7 +222,7 @@ class ErrorBenchmark {
     sceneSeed_ = scene.settings.seed;
     if (samplers_.empty()) samplers_ = {scene.settings.sampler};
     product_ = scene.settings.product;
-    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, samplers_, scene.hasMeasuredMaterial(), directs_);
+    StrategyPlan plan = planStrategies(bsdfs_, envs_, mises_, samplers_, scene.usesMeasuredMaterial, directs_);
     plan_ = std::move(plan.render);
     skipped_ = std::move(plan.skipped);
     if (!options_.reference.empty()) loadGivenReference();

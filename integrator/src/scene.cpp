@@ -1,6 +1,5 @@
 #include <set>
 
-#include "acdf/brdf/merl.h"
 #include "acdf/integrator/scene.h"
 
 namespace acdf {
@@ -16,12 +15,6 @@ Scene::TableBytes Scene::tableBytes() const {
 
 void Scene::buildDeferredTables() const {
   if (const LocalEnvironmentTable* local = environment->localTable()) local->buildAll();
-}
-
-bool Scene::hasMeasuredMaterial() const {
-  for (const auto& material : bsdfSamplers)
-    if (dynamic_cast<const MerlBrdf*>(&material->model()) != nullptr) return true;
-  return false;
 }
 
 }  // namespace acdf

@@ -264,11 +264,12 @@ struct MaterialSpec {
   std::string path;              // JSON path, for messages
   std::optional<fs::path> file;  // the data file it needs, checked once the material is used
   std::function<std::shared_ptr<const BrdfSampler>(SceneAssets&)> build;
+  bool measured = false;  // "type": "measured": its sampler is the BRDF sampling strategy's
 };
 
 MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const SceneOverrides& overrides) {
   const std::string type = node["type"].string();
-  MaterialSpec spec{node.path(), std::nullopt, {}};
+  MaterialSpec spec{node.path(), std::nullopt, {}, type == "measured"};
   if (type == "diffuse") {
     node.object({"type", "albedo"});
     const std::array<double, 3> a = node["albedo"].color(1.0);
@@ -550,7 +551,10 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   // ---- Build what is used ----
   for (const MaterialSpec* spec : used)
     if (spec->file) Node::requireFile(*spec->file, spec->path + ".file");
-  for (const MaterialSpec* spec : used) scene.bsdfSamplers.push_back(spec->build(tables));
+  for (const MaterialSpec* spec : used) {
+    scene.bsdfSamplers.push_back(spec->build(tables));
+    scene.usesMeasuredMaterial = scene.usesMeasuredMaterial || spec->measured;
+  }
   const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
   scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {

@@ -105,6 +105,27 @@ TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {
   EXPECT_EQ(tables.tablesBuilt().size(), 2u);
 }
 
+// A scene uses a measured material when a shape has one of "type": "measured", of either file
+// format or a preset (bench-error then varies its BRDF sampling); diffuse and GGX materials are
+// not, nor a measured material no shape uses.
+TEST(SceneTables, MeasuredMaterialsOfEitherFormatAreMeasured) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "acdf_scene_tables_measured.bsdf";
+  synthesizeRgl(AnalyticBrdf::preset("gold"), {.thetaIn = 4, .ndf = 64, .vndf = 32, .reflectance = 16}, "gold")
+      .save(file);
+  nlohmann::json scene = mapScene("adaptive", "power");
+  scene["materials"]["rgl"] = {{"type", "measured"}, {"file", file.string()}, {"sampling", "rgl"}};
+  scene["materials"]["ggx"] = {{"type", "ggx-conductor"}, {"preset", "gold"}};
+  SceneAssets tables(TableCache::disabled());
+  EXPECT_FALSE(load(scene, tables).usesMeasuredMaterial) << "the RGL material is not used";
+  scene["shapes"][0]["material"] = "ggx";
+  EXPECT_FALSE(load(scene, tables).usesMeasuredMaterial) << "GGX";
+  scene["shapes"][0]["material"] = "rgl";
+  EXPECT_TRUE(load(scene, tables).usesMeasuredMaterial) << "an RGL file";
+  scene["materials"]["rgl"] = {{"type", "measured"}, {"preset", "gold"}, {"table", {{"layout", "isotropic"}}}};
+  EXPECT_TRUE(load(scene, tables).usesMeasuredMaterial) << "a preset";
+  std::filesystem::remove(file);
+}
+
 }  // namespace
 }  // namespace acdf
 

@@ -106,9 +106,9 @@ struct Scene {
   // Builds now, in parallel, what a render would build on first use (the local environment
   // table's slices), so that a timed render measures sampling alone.
   void buildDeferredTables() const;
-  // Whether a material is measured (a MERL table): only then does the BRDF sampling strategy
-  // change the image.
-  bool hasMeasuredMaterial() const;
+  // Whether a shape uses a measured material (a MERL or RGL file, or a preset tabulated in the
+  // MERL layout): only then does the BRDF sampling strategy (--bsdf-sampling) change the image.
+  bool usesMeasuredMaterial = false;
 };
 
 // Throws FileError for any problem with the scene or a file it names; a problem in the scene
