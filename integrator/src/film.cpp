@@ -1,8 +1,18 @@
 #include "acdf/integrator/film.h"
 
+#include <unistd.h>
+
 #include <cmath>
 
 namespace acdf {
+
+double Film::bytesFor(uint32_t width, uint32_t height) {
+  return static_cast<double>(width) * height * (sizeof(Pixel) + 3 * sizeof(float));
+}
+
+double Film::physicalMemoryBytes() {
+  return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+}
 
 Rgb Film::mean(uint32_t x, uint32_t y) const {
   const Pixel& p = pixels_[std::size_t{y} * width_ + x];

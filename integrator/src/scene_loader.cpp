@@ -19,6 +19,7 @@
 #include "acdf/brdf/ggx_sampler.h"
 #include "acdf/brdf/lambertian.h"
 #include "acdf/envmap/image_file.h"
+#include "acdf/integrator/film.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/sampling/enum_names.h"
 #include "acdf/sampling/transform.h"
@@ -495,6 +496,11 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   } catch (const std::invalid_argument& e) {
     cam.fail(e.what());
   }
+  // Refused before anything is allocated, rather than ending in an out-of-memory error.
+  const double filmBytes = Film::bytesFor(crop.width(), crop.height()), memory = Film::physicalMemoryBytes();
+  if (filmBytes > memory)
+    cam.fail(fmt::format("a {} × {} film needs {:.1f} GiB, more than this machine's {:.1f} GiB of memory", crop.width(),
+                         crop.height(), filmBytes / 0x1p30, memory / 0x1p30));
 
   const EnvironmentSpec envSpec = [&] {
     EnvironmentSpec s = readEnvironment(root["environment"], baseDir);

@@ -235,6 +235,17 @@ TEST_F(RenderCli, WrongTypeNamesItsPath) {
   expectNoOutputs();
 }
 
+// A film larger than the machine's memory is refused with its size, before anything is
+// allocated (it ended in "acdf: out of memory", exit 1).
+TEST_F(RenderCli, FilmTooLargeForMemoryNamesItsSize) {
+  nlohmann::json scene = tinyScene();
+  scene["camera"]["width"] = 100000;
+  scene["camera"]["height"] = 100000;
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr")}, dir_), "acdf: " + path("scene.json"),
+                       "$.camera: a 100000 × 100000 film needs 633.3 GiB, more than this machine's");
+  expectNoOutputs();
+}
+
 // A scale beyond float would make the light's radiance infinite: refused with its path, for every
 // strategy (it was an internal error, exit 1, or with uniform-sphere sampling an image of Inf).
 TEST_F(RenderCli, EnvironmentScaleBeyondFloatNamesItsPath) {

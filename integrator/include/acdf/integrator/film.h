@@ -20,6 +20,12 @@ class Film {
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
 
+  // The memory a width × height film takes while it renders and is written: its pixels and the
+  // float image written from them.
+  static double bytesFor(uint32_t width, uint32_t height);
+  // This machine's physical memory, for refusing a film before allocating it.
+  static double physicalMemoryBytes();
+
   // Not thread-safe for one pixel; distinct pixels may be added to concurrently.
   void add(uint32_t x, uint32_t y, const Rgb& sample) {
     Pixel& p = pixels_[std::size_t{y} * width_ + x];
