@@ -59,11 +59,11 @@ struct TabulatedBrdfOptions {
 
   Layout layout = Layout::Full4D;
   DimensionMethod method = DimensionMethod::Adaptive;  // for both half-vector axes
-  // Adaptive only. Defaults measured on the paper's three materials (docs/engine.md): the χ²
-  // metric puts points where the variance is; MassScaled spends them where the mass is; the
-  // weight bound costs a third more storage here without lowering the variance (the cosine
-  // mixture already bounds the weights where the table is coarse). ε = 5e-5 keeps nickel within
-  // the 1.1× of the uniform table's variance (1.083×) at 22× less storage.
+  // Adaptive only. Defaults chosen on the paper's three materials (their figures in
+  // docs/engine.md): the χ² metric puts points where the variance is; MassScaled spends them where
+  // the mass is; the weight bound costs storage here without lowering the variance (the cosine
+  // mixture already bounds the weights where the table is coarse); ε = 5e-5 keeps nickel's
+  // variance close to the uniform table's at a small fraction of its storage.
   SimplifyOptions simplify = {.metric = ErrorMetric::ChiSquare, .epsilon = 5e-5, .weightBound = 0.0};
   ConditionalTolerance tolerance = ConditionalTolerance::MassScaled;
   // Cells of θo in [0, π/2), φo in [0, 2π) (Full4D only), s in [0, 1) and φh in [0, 2π). An
