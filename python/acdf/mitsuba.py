@@ -83,6 +83,7 @@ def _refuse(plugin, problem):
 
 def _make_envmap_class():
     mi = _mi()
+    import drjit as dr
 
     class AcdfEnvmap(mi.Emitter):
         def __init__(self, props):
@@ -145,7 +146,8 @@ def _make_envmap_class():
             p = _rows_like(it.p, len(pdf))
             dist = 2.0 * np.maximum(self.radius, np.linalg.norm(p - self.center, axis=1))
             weight = np.where(pdf[:, None] > 0, radiance / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
-            ds = mi.DirectionSample3f()
+            jit = dr.is_jit_v(mi.Float)
+            ds = dr.zeros(mi.DirectionSample3f, len(pdf)) if jit else mi.DirectionSample3f()
             d = _vector(mi, world)
             ds.d = d
             ds.dist = _float(mi, dist)
@@ -154,6 +156,7 @@ def _make_envmap_class():
             ds.pdf = _float(mi, pdf)
             ds.time = it.time
             ds.delta = False
+            ds.emitter = mi.EmitterPtr(self) if jit else self
             return ds, _color(mi, weight)
 
         def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
