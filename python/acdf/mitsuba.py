@@ -183,11 +183,101 @@ def _make_envmap_class():
     return AcdfEnvmap
 
 
+_SAMPLINGS = ("adaptive", "uniform", "rgl", "cosine")
+
+
+def _usable(rows):
+    """Rows that are directions (finite, not zero: a wavefront's inactive lanes may be neither),
+    and the rows with the others replaced by +z so that acdf accepts them."""
+    ok = np.all(np.isfinite(rows), axis=1) & (np.linalg.norm(rows, axis=1) > 0.5)
+    return ok, np.where(ok[:, None], rows, [[0.0, 0.0, 1.0]])
+
+
+def _make_measured_class():
+    mi = _mi()
+    import drjit as dr
+
+    class AcdfMeasured(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            name = "acdf_measured"
+            if "filename" not in props:
+                _refuse(name, "needs a filename (MERL .binary or RGL .bsdf)")
+            filename = str(props["filename"])
+            sampling = str(props["sampling"]) if "sampling" in props else "adaptive"
+            if sampling not in _SAMPLINGS:
+                _refuse(name, f"unknown sampling {sampling!r}; one of {', '.join(_SAMPLINGS)}")
+            if filename.endswith(".binary"):
+                model = acdf.MerlBrdf.load(filename)
+            elif filename.endswith(".bsdf"):
+                model = acdf.RglBrdf.load(filename)  # refuses anisotropic files, naming the file
+            else:
+                _refuse(name, f"{filename}: expected a MERL .binary or an RGL .bsdf file")
+            if sampling == "rgl":
+                if not isinstance(model, acdf.RglBrdf):
+                    _refuse(name, "sampling 'rgl' needs an RGL .bsdf file")
+                self.sampler = acdf.RglBrdfSampler(model)
+            elif sampling == "cosine":
+                self.sampler = acdf.CosineBrdfSampler(model)
+            else:
+                layout = "isotropic" if model.isotropic else "4d"
+                self.sampler = acdf.TabulatedBrdfSampler(model, layout=layout, method=sampling)
+            self.sampling = sampling
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        # Mitsuba's si.wi points to the viewer and its wo to the light; acdf's wo is the viewer
+        # and wi the light. Mitsuba's eval includes the cosine of the light direction; acdf's does not.
+        def _pair(self, si, wo):
+            viewer, light = _rows(si.wi), _rows(wo)
+            n = max(len(viewer), len(light))
+            viewer, light = np.broadcast_to(viewer, (n, 3)), np.broadcast_to(light, (n, 3))
+            ok_v, viewer = _usable(viewer)
+            ok_l, light = _usable(light)
+            up = ok_v & ok_l & (viewer[:, 2] > 0) & (light[:, 2] > 0)
+            return up, viewer, light
+
+        def eval(self, ctx, si, wo, active=True):
+            up, viewer, light = self._pair(si, wo)
+            f = self.sampler.eval(viewer, light) * np.maximum(light[:, 2], 0.0)[:, None]
+            return _color(mi, np.where(up[:, None], f, 0.0))
+
+        def pdf(self, ctx, si, wo, active=True):
+            up, viewer, light = self._pair(si, wo)
+            return _float(mi, np.where(up, self.sampler.pdf(viewer, light), 0.0))
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            u = _variates(sample2)
+            ok, viewer = _usable(np.broadcast_to(_rows(si.wi), (len(u), 3)))
+            ok &= viewer[:, 2] > 0
+            light, weight, pdf = self.sampler.sample(viewer, u)
+            ok &= (pdf > 0) & (light[:, 2] > 0)
+            jit = dr.is_jit_v(mi.Float)
+            bs = dr.zeros(mi.BSDFSample3f, len(u)) if jit else mi.BSDFSample3f()
+            bs.wo = _vector(mi, light)
+            bs.pdf = _float(mi, np.where(ok, pdf, 0.0))
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            return bs, _color(mi, np.where(ok[:, None], weight, 0.0))
+
+        def to_string(self):
+            return f"AcdfMeasured[sampling={self.sampling}, bytes={self.sampler.bytes}]"
+
+    return AcdfMeasured
+
+
 def register():
-    """Registers acdf_envmap with Mitsuba for the current variant (call after mi.set_variant) and,
-    in JIT variants, turns on the evaluated mode Python plugins need."""
+    """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
+    mi.set_variant) and, in JIT variants, turns on the evaluated mode Python plugins need."""
     mi = _mi()
     if not mi.variant().startswith("scalar"):
         evaluated_mode()
     envmap = _make_envmap_class()
+    measured = _make_measured_class()
     mi.register_emitter("acdf_envmap", lambda props: envmap(props))
+    mi.register_bsdf("acdf_measured", lambda props: measured(props))
