@@ -1,4 +1,4 @@
-"""acdf's environment light as a Mitsuba 3 plugin, written over the batched module.
+"""acdf's environment light and BRDF samplers as Mitsuba 3 plugins, over the batched module.
 
     import mitsuba as mi
     mi.set_variant("scalar_rgb")          # or "llvm_ad_rgb", see below
@@ -13,6 +13,10 @@ uniform-sphere) and `epsilon` (the adaptive tables' tolerance). The map's frame 
 +Y up, phi = 0 along -Z, phi growing towards +X. The radiance of a direction is acdf's: the
 nearest pixel times the scale, the function the tables are built for (Mitsuba's `envmap`
 interpolates bilinearly, so the two agree wherever the map is constant around a direction).
+
+`acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf) and `sampling` (adaptive,
+uniform, rgl, cosine). Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
+the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
 In the LLVM variants every call receives a whole wavefront and makes one batched acdf call. Python
 plugins need evaluated mode there, because their arrays are read into numpy:
@@ -120,7 +124,9 @@ def _make_envmap_class():
                 self.radius = max(float(sphere.radius) * (1 + 1e-4), 1e-4)
 
         def _to_map(self, world_dirs):
-            return _rows(world_dirs) @ self.map_from_world.T
+            """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
+            ok, rows = _usable(_rows(world_dirs))
+            return ok, rows @ self.map_from_world.T
 
         def _normals(self, it):
             if self.strategy != "local":
@@ -131,14 +137,19 @@ def _make_envmap_class():
             n = n @ self.map_from_world.T
             return n if np.all(np.isfinite(n)) and np.all(np.linalg.norm(n, axis=1) > 0.5) else None
 
+        def _radiance(self, world_dirs):
+            ok, dirs = self._to_map(world_dirs)
+            return _color(mi, np.where(ok[:, None], self.light.eval(dirs), 0.0))
+
         def eval(self, si, active=True):
-            return _color(mi, self.light.eval(self._to_map(-si.wi)))
+            return self._radiance(-si.wi)
 
         def eval_direction(self, it, ds, active=True):
-            return _color(mi, self.light.eval(self._to_map(ds.d)))
+            return self._radiance(ds.d)
 
         def pdf_direction(self, it, ds, active=True):
-            return _float(mi, self.light.pdf(self._to_map(ds.d), normal=self._normals(it)))
+            ok, dirs = self._to_map(ds.d)
+            return _float(mi, np.where(ok, self.light.pdf(dirs, normal=self._normals(it)), 0.0))
 
         def sample_direction(self, it, sample, active=True):
             dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it))
