@@ -1,0 +1,294 @@
+"""acdf's environment light and BRDF samplers as Mitsuba 3 plugins, over the batched module.
+
+    import mitsuba as mi
+    mi.set_variant("scalar_rgb")          # or "llvm_ad_rgb", see below
+    import acdf.mitsuba
+    acdf.mitsuba.register()
+    emitter = mi.load_dict({"type": "acdf_envmap", "filename": "sky.exr", "strategy": "adaptive"})
+
+`acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
+(a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (the names
+of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, alias, hierarchical,
+uniform-sphere) and `epsilon` (the adaptive tables' tolerance). The map's frame is Mitsuba's:
++Y up, phi = 0 along -Z, phi growing towards +X. The radiance of a direction is acdf's: the
+nearest pixel times the scale, the function the tables are built for (Mitsuba's `envmap`
+interpolates bilinearly, so the two agree wherever the map is constant around a direction).
+
+`acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf) and `sampling` (adaptive,
+uniform, rgl, cosine). Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
+the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
+
+In the LLVM variants every call receives a whole wavefront and makes one batched acdf call. Python
+plugins need evaluated mode there, because their arrays are read into numpy:
+`acdf.mitsuba.register()` turns drjit's symbolic loops and calls off (`evaluated_mode()`).
+"""
+
+import numpy as np
+
+import acdf
+
+_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "local", "compensated", "hierarchical")
+
+
+def _mi():
+    import mitsuba as mi  # imported late: acdf itself does not need mitsuba
+
+    return mi
+
+
+def evaluated_mode():
+    """Lets Python plugins read their arguments: drjit loops and virtual calls are evaluated
+    wavefront by wavefront instead of recorded as symbolic kernels (JIT variants only)."""
+    import drjit as dr
+
+    dr.set_flag(dr.JitFlag.SymbolicLoops, False)
+    dr.set_flag(dr.JitFlag.SymbolicCalls, False)
+    dr.set_flag(dr.JitFlag.SymbolicConditionals, False)
+
+
+def _rows(vector):
+    """A drjit 3-vector (scalar or wide) as a float64 (n, 3) numpy array."""
+    a = np.asarray(vector, dtype=np.float64)
+    return a.reshape(1, 3) if a.ndim == 1 else np.ascontiguousarray(a.T)
+
+
+def _rows_like(vector, n):
+    """_rows of a field of an interaction, broadcast to n rows (a default interaction's fields are
+    empty in JIT variants: those count as zero)."""
+    a = _rows(vector)
+    return np.zeros((n, 3)) if a.size == 0 else np.broadcast_to(a, (n, 3))
+
+
+def _variates(point):
+    a = np.asarray(point, dtype=np.float32)
+    return a.reshape(1, 2) if a.ndim == 1 else np.ascontiguousarray(a.T)
+
+
+def _vector(mi, rows):
+    if not mi.variant().startswith("scalar"):
+        return mi.Vector3f(rows[:, 0], rows[:, 1], rows[:, 2])
+    return mi.Vector3f(*rows[0])
+
+
+def _float(mi, values):
+    return mi.Float(values) if not mi.variant().startswith("scalar") else mi.Float(values[0])
+
+
+def _color(mi, rows):
+    rows = np.asarray(rows, dtype=np.float32)
+    if not mi.variant().startswith("scalar"):
+        return mi.Color3f(rows[:, 0], rows[:, 1], rows[:, 2])
+    return mi.Color3f(*rows[0])
+
+
+def _refuse(plugin, problem):
+    raise ValueError(f"{plugin}: {problem}")
+
+
+def _make_envmap_class():
+    mi = _mi()
+    import drjit as dr
+
+    class AcdfEnvmap(mi.Emitter):
+        def __init__(self, props):
+            mi.Emitter.__init__(self, props)
+            name = "acdf_envmap"
+            if not "filename" in props:
+                _refuse(name, "needs a filename")
+            filename = str(props["filename"])
+            scale = props["scale"] if "scale" in props else 1.0
+            if isinstance(scale, bool) or not isinstance(scale, (int, float)):
+                _refuse(name, f"scale must be a number (textured scales are not supported), got {type(scale).__name__}")
+            strategy = str(props["strategy"]) if "strategy" in props else "adaptive"
+            if strategy not in _STRATEGIES:
+                _refuse(name, f"unknown strategy {strategy!r}; one of {', '.join(_STRATEGIES)}")
+            epsilon = float(props["epsilon"]) if "epsilon" in props else None
+            to_world = props["to_world"] if "to_world" in props else mi.ScalarTransform4f()
+            linear = np.array(to_world.matrix, dtype=np.float64)[:3, :3]
+            if not np.allclose(linear @ linear.T, np.eye(3), atol=1e-5):
+                _refuse(name, "to_world must be a rotation")
+            self.world_from_map = linear
+            self.map_from_world = linear.T
+            self.strategy = strategy
+            # acdf.FileError (an OSError) names the file; bad options raise ValueError.
+            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), epsilon=epsilon)
+            self.radius = 1.0
+            self.center = np.zeros(3)
+            self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
+
+        def set_scene(self, scene):
+            box = scene.bbox()
+            if box.valid():
+                sphere = box.bounding_sphere()
+                self.center = np.asarray(sphere.center, dtype=np.float64).reshape(3)
+                self.radius = max(float(sphere.radius) * (1 + 1e-4), 1e-4)
+
+        def _to_map(self, world_dirs):
+            """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
+            ok, rows = _usable(_rows(world_dirs))
+            return ok, rows @ self.map_from_world.T
+
+        def _normals(self, it):
+            if self.strategy != "local":
+                return None
+            n = _rows(it.n)
+            if n.size == 0:
+                return None
+            n = n @ self.map_from_world.T
+            return n if np.all(np.isfinite(n)) and np.all(np.linalg.norm(n, axis=1) > 0.5) else None
+
+        def _radiance(self, world_dirs):
+            ok, dirs = self._to_map(world_dirs)
+            return _color(mi, np.where(ok[:, None], self.light.eval(dirs), 0.0))
+
+        def eval(self, si, active=True):
+            return self._radiance(-si.wi)
+
+        def eval_direction(self, it, ds, active=True):
+            return self._radiance(ds.d)
+
+        def pdf_direction(self, it, ds, active=True):
+            ok, dirs = self._to_map(ds.d)
+            return _float(mi, np.where(ok, self.light.pdf(dirs, normal=self._normals(it)), 0.0))
+
+        def sample_direction(self, it, sample, active=True):
+            dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it))
+            world = dirs @ self.world_from_map.T
+            p = _rows_like(it.p, len(pdf))
+            dist = 2.0 * np.maximum(self.radius, np.linalg.norm(p - self.center, axis=1))
+            weight = np.where(pdf[:, None] > 0, radiance / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
+            jit = dr.is_jit_v(mi.Float)
+            ds = dr.zeros(mi.DirectionSample3f, len(pdf)) if jit else mi.DirectionSample3f()
+            d = _vector(mi, world)
+            ds.d = d
+            ds.dist = _float(mi, dist)
+            ds.p = _vector(mi, p + world * dist[:, None])
+            ds.n = -d
+            ds.pdf = _float(mi, pdf)
+            ds.time = it.time
+            ds.delta = False
+            ds.emitter = mi.EmitterPtr(self) if jit else self
+            return ds, _color(mi, weight)
+
+        def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
+            offset = _variates(mi.warp.square_to_uniform_disk_concentric(sample2)).astype(np.float64)
+            dirs, radiance, pdf = self.light.sample(_variates(sample3))
+            d = -(dirs @ self.world_from_map.T)  # the ray travels away from the light's direction
+            # An orthonormal basis perpendicular to d: the ray starts on the disk of the scene's sphere.
+            helper = np.where(np.abs(d[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+            s = np.cross(d, helper)
+            s /= np.linalg.norm(s, axis=1, keepdims=True)
+            t = np.cross(d, s)
+            origin = self.center + (offset[:, :1] * s + offset[:, 1:] * t - d) * self.radius
+            area = np.pi * self.radius**2
+            weight = np.where(pdf[:, None] > 0, radiance * area / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
+            ray = mi.Ray3f(_vector(mi, origin), _vector(mi, d), time)
+            return ray, _color(mi, weight)
+
+        def bbox(self):
+            return mi.ScalarBoundingBox3f()
+
+        def to_string(self):
+            return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.light.bytes}]"
+
+    return AcdfEnvmap
+
+
+_SAMPLINGS = ("adaptive", "uniform", "rgl", "cosine")
+
+
+def _usable(rows):
+    """Rows that are directions (finite, not zero: a wavefront's inactive lanes may be neither),
+    and the rows with the others replaced by +z so that acdf accepts them."""
+    ok = np.all(np.isfinite(rows), axis=1) & (np.linalg.norm(rows, axis=1) > 0.5)
+    return ok, np.where(ok[:, None], rows, [[0.0, 0.0, 1.0]])
+
+
+def _make_measured_class():
+    mi = _mi()
+    import drjit as dr
+
+    class AcdfMeasured(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            name = "acdf_measured"
+            if "filename" not in props:
+                _refuse(name, "needs a filename (MERL .binary or RGL .bsdf)")
+            filename = str(props["filename"])
+            sampling = str(props["sampling"]) if "sampling" in props else "adaptive"
+            if sampling not in _SAMPLINGS:
+                _refuse(name, f"unknown sampling {sampling!r}; one of {', '.join(_SAMPLINGS)}")
+            if filename.endswith(".binary"):
+                model = acdf.MerlBrdf.load(filename)
+            elif filename.endswith(".bsdf"):
+                model = acdf.RglBrdf.load(filename)  # refuses anisotropic files, naming the file
+            else:
+                _refuse(name, f"{filename}: expected a MERL .binary or an RGL .bsdf file")
+            if sampling == "rgl":
+                if not isinstance(model, acdf.RglBrdf):
+                    _refuse(name, "sampling 'rgl' needs an RGL .bsdf file")
+                self.sampler = acdf.RglBrdfSampler(model)
+            elif sampling == "cosine":
+                self.sampler = acdf.CosineBrdfSampler(model)
+            else:
+                layout = "isotropic" if model.isotropic else "4d"
+                self.sampler = acdf.TabulatedBrdfSampler(model, layout=layout, method=sampling)
+            self.sampling = sampling
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        # Mitsuba's si.wi points to the viewer and its wo to the light; acdf's wo is the viewer
+        # and wi the light. Mitsuba's eval includes the cosine of the light direction; acdf's does not.
+        def _pair(self, si, wo):
+            viewer, light = _rows(si.wi), _rows(wo)
+            n = max(len(viewer), len(light))
+            viewer, light = np.broadcast_to(viewer, (n, 3)), np.broadcast_to(light, (n, 3))
+            ok_v, viewer = _usable(viewer)
+            ok_l, light = _usable(light)
+            up = ok_v & ok_l & (viewer[:, 2] > 0) & (light[:, 2] > 0)
+            return up, viewer, light
+
+        def eval(self, ctx, si, wo, active=True):
+            up, viewer, light = self._pair(si, wo)
+            f = self.sampler.eval(viewer, light) * np.maximum(light[:, 2], 0.0)[:, None]
+            return _color(mi, np.where(up[:, None], f, 0.0))
+
+        def pdf(self, ctx, si, wo, active=True):
+            up, viewer, light = self._pair(si, wo)
+            return _float(mi, np.where(up, self.sampler.pdf(viewer, light), 0.0))
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            u = _variates(sample2)
+            ok, viewer = _usable(np.broadcast_to(_rows(si.wi), (len(u), 3)))
+            ok &= viewer[:, 2] > 0
+            light, weight, pdf = self.sampler.sample(viewer, u)
+            ok &= (pdf > 0) & (light[:, 2] > 0)
+            jit = dr.is_jit_v(mi.Float)
+            bs = dr.zeros(mi.BSDFSample3f, len(u)) if jit else mi.BSDFSample3f()
+            bs.wo = _vector(mi, light)
+            bs.pdf = _float(mi, np.where(ok, pdf, 0.0))
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            return bs, _color(mi, np.where(ok[:, None], weight, 0.0))
+
+        def to_string(self):
+            return f"AcdfMeasured[sampling={self.sampling}, bytes={self.sampler.bytes}]"
+
+    return AcdfMeasured
+
+
+def register():
+    """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
+    mi.set_variant) and, in JIT variants, turns on the evaluated mode Python plugins need."""
+    mi = _mi()
+    if not mi.variant().startswith("scalar"):
+        evaluated_mode()
+    envmap = _make_envmap_class()
+    measured = _make_measured_class()
+    mi.register_emitter("acdf_envmap", lambda props: envmap(props))
+    mi.register_bsdf("acdf_measured", lambda props: measured(props))
