@@ -9,10 +9,18 @@
 `acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
 (a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (the names
 of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, alias, hierarchical,
-uniform-sphere) and `epsilon` (the adaptive tables' tolerance). The map's frame is Mitsuba's:
+uniform-sphere) and `epsilon` (the adaptive tables' tolerance). `compensated` is Mitsuba's
+`mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
+mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
+BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
+light (`sample_ray`) use the complete table. The map's frame is Mitsuba's:
 +Y up, phi = 0 along -Z, phi growing towards +X. The radiance of a direction is acdf's: the
 nearest pixel times the scale, the function the tables are built for (Mitsuba's `envmap`
 interpolates bilinearly, so the two agree wherever the map is constant around a direction).
+
+Mitsuba does not tell Python emitters the scene's bounds: load scenes with `acdf.mitsuba.load_dict`
+or `load_file` (mi.load_* that then give them to acdf_envmap) where rays leave the light
+(`sample_ray`, light tracing); path tracing needs no bounds.
 
 `acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf) and `sampling` (adaptive,
 uniform, rgl, cosine). Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
@@ -110,18 +118,19 @@ def _make_envmap_class():
             self.world_from_map = linear
             self.map_from_world = linear.T
             self.strategy = strategy
+            self.incomplete = strategy == "compensated"
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
             self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), epsilon=epsilon)
-            self.radius = 1.0
-            self.center = np.zeros(3)
+            self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
             self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
 
         def set_scene(self, scene):
+            """Mitsuba calls this on its C++ emitters only; load_dict and load_file below call it."""
             box = scene.bbox()
             if box.valid():
                 sphere = box.bounding_sphere()
-                self.center = np.asarray(sphere.center, dtype=np.float64).reshape(3)
-                self.radius = max(float(sphere.radius) * (1 + 1e-4), 1e-4)
+                self.bounds = (np.asarray(sphere.center, dtype=np.float64).reshape(3),
+                               max(float(sphere.radius) * (1 + 1e-4), 1e-4))
 
         def _to_map(self, world_dirs):
             """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
@@ -149,13 +158,18 @@ def _make_envmap_class():
 
         def pdf_direction(self, it, ds, active=True):
             ok, dirs = self._to_map(ds.d)
-            return _float(mi, np.where(ok, self.light.pdf(dirs, normal=self._normals(it)), 0.0))
+            pdf = self.light.pdf(dirs, normal=self._normals(it), allow_incomplete_pdf=self.incomplete)
+            return _float(mi, np.where(ok, pdf, 0.0))
 
         def sample_direction(self, it, sample, active=True):
-            dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it))
+            dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it),
+                                                   allow_incomplete_pdf=self.incomplete)
             world = dirs @ self.world_from_map.T
             p = _rows_like(it.p, len(pdf))
-            dist = 2.0 * np.maximum(self.radius, np.linalg.norm(p - self.center, axis=1))
+            # Beyond any scene: the shadow ray must reach past every occluder, and the scene's
+            # bounds are not known here (set_scene is not called on Python emitters). 1e15 keeps
+            # |p - ds.p|^2 finite in single precision and the direction exact to rounding.
+            dist = np.full(len(pdf), _FAR)
             weight = np.where(pdf[:, None] > 0, radiance / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
             jit = dr.is_jit_v(mi.Float)
             ds = dr.zeros(mi.DirectionSample3f, len(pdf)) if jit else mi.DirectionSample3f()
@@ -171,6 +185,10 @@ def _make_envmap_class():
             return ds, _color(mi, weight)
 
         def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
+            if self.bounds is None:
+                _refuse("acdf_envmap", "rays leaving the light need the scene's bounding sphere, which Mitsuba "
+                        "does not give Python emitters: load the scene with acdf.mitsuba.load_dict or load_file")
+            center, radius = self.bounds
             offset = _variates(mi.warp.square_to_uniform_disk_concentric(sample2)).astype(np.float64)
             dirs, radiance, pdf = self.light.sample(_variates(sample3))
             d = -(dirs @ self.world_from_map.T)  # the ray travels away from the light's direction
@@ -179,8 +197,8 @@ def _make_envmap_class():
             s = np.cross(d, helper)
             s /= np.linalg.norm(s, axis=1, keepdims=True)
             t = np.cross(d, s)
-            origin = self.center + (offset[:, :1] * s + offset[:, 1:] * t - d) * self.radius
-            area = np.pi * self.radius**2
+            origin = center + (offset[:, :1] * s + offset[:, 1:] * t - d) * radius
+            area = np.pi * radius**2
             weight = np.where(pdf[:, None] > 0, radiance * area / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
             ray = mi.Ray3f(_vector(mi, origin), _vector(mi, d), time)
             return ray, _color(mi, weight)
@@ -193,6 +211,9 @@ def _make_envmap_class():
 
     return AcdfEnvmap
 
+
+_FAR = 1e15
+_envmap_classes = []  # AcdfEnvmap of each variant register() was called in
 
 _SAMPLINGS = ("adaptive", "uniform", "rgl", "cosine")
 
@@ -289,6 +310,25 @@ def register():
     if not mi.variant().startswith("scalar"):
         evaluated_mode()
     envmap = _make_envmap_class()
+    _envmap_classes.append(envmap)
     measured = _make_measured_class()
     mi.register_emitter("acdf_envmap", lambda props: envmap(props))
     mi.register_bsdf("acdf_measured", lambda props: measured(props))
+
+
+def _with_bounds(scene):
+    for emitter in scene.emitters():
+        if isinstance(emitter, tuple(_envmap_classes)):
+            emitter.set_scene(scene)
+    return scene
+
+
+def load_dict(scene_dict, **kwargs):
+    """mi.load_dict, then gives acdf_envmap emitters the scene's bounding sphere (needed by
+    sample_ray: light tracing, e.g. Mitsuba's ptracer; path tracing does not need it)."""
+    return _with_bounds(_mi().load_dict(scene_dict, **kwargs))
+
+
+def load_file(path, **kwargs):
+    """mi.load_file, then as load_dict."""
+    return _with_bounds(_mi().load_file(path, **kwargs))
