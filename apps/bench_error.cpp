@@ -16,6 +16,7 @@
 
 #include "acdf/experiments/error_benchmark.h"
 #include "errors.h"
+#include "files.h"
 #include "options.h"
 #include "scene_cli.h"
 
@@ -43,7 +44,7 @@ struct BenchErrorArgs {
   std::vector<std::string> merge;  // shard output directories to join
   uint32_t threads = 0;
   bool noCache = false, noPlot = false;
-  std::string plotScript = ACDF_BENCH_ERROR_SCRIPT, python = "/usr/bin/python3";
+  std::string plotScript = bundledFile("error_report.py", ACDF_BENCH_ERROR_SCRIPT), python = "/usr/bin/python3";
 };
 
 // The names parsed, repeats dropped (none given: empty, i.e. every strategy).
@@ -209,7 +210,8 @@ Command addBenchError(CLI::App& parent) {
   app->add_flag("--no-cache", args->noCache, "Neither read nor store tables in the table cache");
   app->add_flag("--no-plot", args->noPlot, "Do not run the plot script");
   app->add_option("--plot-script", args->plotScript,
-                  "The plot script (default: bench/error_report.py of the source tree)");
+                  "The plot script (default: the one installed beside the program, else the source tree's)")
+      ->capture_default_str();
   app->add_option("--python", args->python, "Python with matplotlib (default /usr/bin/python3)");
   return Command{app, [args] {
                    try {

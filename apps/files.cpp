@@ -36,4 +36,14 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
   return bytes;
 }
 
+std::string bundledFile(const std::string& name, const std::string& sourceTreePath) {
+  std::error_code ec;
+  const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = program.parent_path().parent_path() / "share" / "acdf" / name;
+    if (fs::is_regular_file(installed, ec)) return installed.string();
+  }
+  return sourceTreePath;
+}
+
 }  // namespace acdf::app

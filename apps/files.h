@@ -15,4 +15,9 @@ std::uintmax_t checkInputFile(const std::string& path);
 // The whole file, after checkInputFile(). Throws FileError if it cannot be read.
 std::vector<unsigned char> readFileBytes(const std::string& path);
 
+// A file the program ships with (the neural BRDF fits, the plot script): <the running program's
+// directory>/../share/acdf/<name> where an install put it there (the wheel does), else
+// `sourceTreePath`, the copy in the source tree the build was configured from.
+std::string bundledFile(const std::string& name, const std::string& sourceTreePath);
+
 }  // namespace acdf::app

@@ -14,6 +14,7 @@
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/nbrdf.h"
 #include "errors.h"
+#include "files.h"
 
 #ifndef ACDF_NBRDF_WEIGHTS
 #error "ACDF_NBRDF_WEIGHTS (the bundled data/merl-nbrdf/merl_nbrdf_weights.json) must be defined"
@@ -26,7 +27,7 @@ namespace {
 struct MerlGenArgs {
   std::string material;
   std::string preset;
-  std::string weights = ACDF_NBRDF_WEIGHTS;
+  std::string weights = bundledFile("merl_nbrdf_weights.json", ACDF_NBRDF_WEIGHTS);
   std::string output;
   bool list = false;
 };

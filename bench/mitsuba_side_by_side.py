@@ -1,81 +1,211 @@
-"""Mitsuba's envmap against acdf_envmap in the same Mitsuba scene: relMSE at equal spp, table bytes,
-render time per spp (llvm_ad_rgb).
+"""Mitsuba 3's envmap and measured against acdf_envmap and acdf_measured in the same Mitsuba scenes
+and the same `path` integrator (llvm_ad_rgb): image means, relMSE at equal spp, table bytes, time.
 
-    PYTHONPATH=build/python .venv/bin/python bench/mitsuba_side_by_side.py MAP.exr... [--spp 16] [--seeds 4]
+    PYTHONPATH=build/python .venv/bin/python bench/mitsuba_side_by_side.py \\
+        --maps MAP.exr... --rgl FILE.bsdf... [--spp 16] [--seeds 16] [--reference-spp 1024] [--res 64]
 
-Each emitter is judged against its own reference (the same emitter at --reference-spp), since
-envmap interpolates the map bilinearly and acdf_envmap takes the nearest pixel. relMSE is the
-mean over pixels and channels of (I - R)^2 / (R^2 + 1e-2); its mean over seeds and, because
-the glossy sphere's fireflies make it heavy-tailed, its median. The scene: a
-diffuse floor and a rough gold sphere (GGX, Mitsuba's roughconductor), MIS path tracing, depth 3;
-the map is not seen directly. Times are wall clock of mi.render after one warm-up render,
-including acdf_envmap's Python overhead.
+Environment lights: a diffuse floor and a rough gold sphere (Mitsuba's roughconductor, GGX
+alpha 0.1), depth 3, the map not seen directly. Each emitter is judged against its own reference
+(the same emitter at --reference-spp): envmap interpolates the map bilinearly, acdf_envmap takes
+the nearest pixel, so their images differ slightly where the map varies within a pixel.
+Measured materials: a sphere of the material on a diffuse floor under Mitsuba's envmap of
+--bsdf-map, depth 3; every BSDF is judged against Mitsuba's measured at --reference-spp, since
+acdf_measured evaluates the file as measured does (tests/python/test_mitsuba.py).
+
+Per row: relMSE = mean over pixels and channels of (I - R)^2 / (R^2 + 1e-2) of one --spp image,
+its mean over seeds with the standard error, and its median (the glossy sphere's fireflies make it
+heavy-tailed); the largest |z| of the image means against Mitsuba's plugin, over the frame and
+4 x 4 blocks per channel, with the Sidak bound at alpha 0.01 (means and variances from the seeds'
+images); table bytes; wall time per spp of mi.render after a warm-up render, and how much of it
+was spent inside acdf's batched calls (the rest of the difference to Mitsuba's plugin is the
+Python glue: numpy and drjit round trips).
 """
 import argparse
 import time
 
 import mitsuba as mi
 import numpy as np
+from scipy.stats import norm
+
+BLOCKS = 4
 
 
-def scene(emitter, res):
-    return mi.load_dict({
+class TimedCalls:
+    """An acdf object whose batched calls are timed: the plugin's time inside acdf."""
+
+    def __init__(self, inner, names):
+        self.inner, self.names, self.seconds = inner, names, 0.0
+
+    def __getattr__(self, name):
+        value = getattr(self.inner, name)
+        if name not in self.names:
+            return value
+
+        def timed(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return value(*args, **kwargs)
+            finally:
+                self.seconds += time.perf_counter() - start
+
+        return timed
+
+
+def envmap_scene(emitter, res):
+    return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 3},
-        "sensor": {"type": "perspective", "fov": 40,
-                   "to_world": mi.ScalarTransform4f().look_at(origin=[0, 4, 4], target=[0, 0.5, 0], up=[0, 1, 0]),
-                   "film": {"type": "hdrfilm", "width": res, "height": res, "rfilter": {"type": "box"}},
-                   "sampler": {"type": "independent"}},
+        "sensor": sensor([0, 4, 4], [0, 0.5, 0], res),
         "ball": {"type": "sphere", "center": [0, 1, 0], "radius": 1,
                  "bsdf": {"type": "roughconductor", "material": "Au", "alpha": 0.1}},
-        "floor": {"type": "rectangle", "bsdf": {"type": "diffuse"},
-                  "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(20)},
+        "floor": floor(),
         "light": emitter,
-    })
+    }
 
 
-def render(s, spp, seed):
-    return np.asarray(mi.render(s, spp=spp, seed=seed), dtype=np.float64)
+def material_scene(bsdf, light_map, res):
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 3},
+        "sensor": sensor([0, 2.5, 3.5], [0, 0.8, 0], res),
+        "ball": {"type": "sphere", "center": [0, 1, 0], "radius": 1, "bsdf": bsdf},
+        "floor": floor(),
+        "light": {"type": "envmap", "filename": light_map},
+    }
+
+
+def sensor(origin, target, res):
+    return {"type": "perspective", "fov": 40,
+            "to_world": mi.ScalarTransform4f().look_at(origin=origin, target=target, up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": res, "height": res, "rfilter": {"type": "box"}},
+            "sampler": {"type": "independent"}}
+
+
+def floor():
+    return {"type": "rectangle", "bsdf": {"type": "diffuse"},
+            "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(20)}
+
+
+def render(scene, spp, seed):
+    return np.asarray(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)
+
+
+def rel_mse(image, reference):
+    return float(np.mean((image - reference) ** 2 / (reference**2 + 1e-2)))
+
+
+def region_means(images):
+    """Per seed, the frame's mean and the BLOCKS x BLOCKS blocks' means, per channel: (seeds, regions*3)."""
+    seeds, h, w, c = images.shape
+    blocks = images[:, : h - h % BLOCKS, : w - w % BLOCKS].reshape(seeds, BLOCKS, h // BLOCKS, BLOCKS, w // BLOCKS, c)
+    return np.concatenate([images.mean((1, 2)), blocks.mean((2, 4)).reshape(seeds, -1)], axis=1)
+
+
+def max_z(images, baseline):
+    """The largest |z| of the region means against the baseline's (Welch, over seeds), its Sidak
+    bound, and the channel it is in."""
+    a, b = region_means(images), region_means(baseline)
+    se = np.sqrt(a.var(0, ddof=1) / len(a) + b.var(0, ddof=1) / len(b))
+    z = np.abs(a.mean(0) - b.mean(0)) / np.maximum(se, 1e-300)
+    tests = a.shape[1]
+    return float(z.max()), float(norm.ppf(1 - (1 - (1 - 0.01) ** (1 / tests)) / 2)), "RGB"[int(z.argmax()) % 3]
+
+
+def measure(scene, reference, args, timed=None):
+    render(scene, args.spp, 999)  # warm-up: kernels compiled and cached
+    if timed is not None:
+        timed.seconds = 0.0
+    images, seconds = [], 0.0
+    for seed in range(args.seeds):
+        start = time.perf_counter()
+        images.append(render(scene, args.spp, seed))
+        seconds += time.perf_counter() - start
+    errors = np.array([rel_mse(image, reference) for image in images])
+    per_spp = 1000.0 / (args.seeds * args.spp)
+    inside = f"{timed.seconds * per_spp:.2f}" if timed is not None else "-"
+    return np.stack(images), errors, f"{seconds * per_spp:.2f}", inside
+
+
+def report(source, name, errors, z, table, ms, inside):
+    mean, se = errors.mean(), errors.std(ddof=1) / np.sqrt(len(errors))
+    z = "-" if z is None else f"{z[0]:.2f} {z[2]} (bound {z[1]:.2f})"
+    print(f"{source} | {name} | {mean:.5f} ± {se:.5f} | {np.median(errors):.5f} | {z} "
+          f"| {table} | {ms} | {inside}", flush=True)
+
+
+def hierarchical_bytes(path):
+    """Mitsuba's envmap warp (Hierarchical2D over the map padded to powers of two), estimated from
+    its structure: float levels summing to 4/3 of the finest. Mitsuba does not report it."""
+    bitmap = mi.Bitmap(path)
+    w, h = bitmap.size()
+    finest = (1 << int(np.ceil(np.log2(w)))) * (1 << int(np.ceil(np.log2(h))))
+    return f"~{int(4 * finest * 4 / 3)}"
+
+
+def compare_envmaps(args, acdf):
+    print(f"\n## envmap vs acdf_envmap: {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
+          f"references at {args.reference_spp} spp")
+    print("map | emitter | relMSE mean ± se | median | max |z| of means vs envmap | table bytes | ms/spp | in acdf")
+    for path in args.maps:
+        source = path.split("/")[-1]
+        theirs = mi.load_dict(envmap_scene({"type": "envmap", "filename": path}, args.res))
+        reference = render(theirs, args.reference_spp, 1000)
+        baseline, errors, ms, _ = measure(theirs, reference, args)
+        report(source, "envmap", errors, None, hierarchical_bytes(path), ms, "-")
+        for strategy in args.strategies:
+            scene = mi.load_dict(envmap_scene({"type": "acdf_envmap", "filename": path, "strategy": strategy}, args.res))
+            emitter = scene.emitters()[0]
+            emitter.light = timed = TimedCalls(emitter.light, {"sample", "pdf", "eval"})
+            reference = render(scene, args.reference_spp, 1000)
+            images, errors, ms, inside = measure(scene, reference, args, timed)
+            report(source, f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside)
+
+
+def compare_materials(args, acdf):
+    print(f"\n## measured vs acdf_measured under {args.bsdf_map.split('/')[-1]}: {args.res}x{args.res}, "
+          f"{args.spp} spp x {args.seeds} seeds, all against measured at {args.reference_spp} spp")
+    print("file | bsdf | relMSE mean ± se | median | max |z| of means vs measured | table bytes | ms/spp | in acdf")
+    for path in args.rgl:
+        source = path.split("/")[-1]
+        theirs = mi.load_dict(material_scene({"type": "measured", "filename": path}, args.bsdf_map, args.res))
+        reference = render(theirs, args.reference_spp, 1000)
+        baseline, errors, ms, _ = measure(theirs, reference, args)
+        warps = acdf.RglBrdfSampler(acdf.RglBrdf.load(path)).bytes
+        report(source, "measured", errors, None, f"{warps} (its warps)", ms, "-")
+        for sampling in args.samplings:
+            bsdf = {"type": "acdf_measured", "filename": path, "sampling": sampling}
+            scene = mi.load_dict(material_scene(bsdf, args.bsdf_map, args.res))
+            plugin = next(s.bsdf() for s in scene.shapes() if "Acdf" in str(s.bsdf()))
+            plugin.sampler = timed = TimedCalls(plugin.sampler, {"sample", "pdf", "eval"})
+            images, errors, ms, inside = measure(scene, reference, args, timed)
+            table = f"{plugin.sampler.bytes} (1/{warps / plugin.sampler.bytes:.1f})"
+            report(source, f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("maps", nargs="+")
+    parser.add_argument("--maps", nargs="*", default=[])
+    parser.add_argument("--strategies", nargs="+", default=["adaptive", "local", "compensated"])
+    parser.add_argument("--rgl", nargs="*", default=[])
+    parser.add_argument("--samplings", nargs="+", default=["adaptive", "uniform", "rgl"])
+    parser.add_argument("--bsdf-map", help="the envmap the measured materials are lit by")
     parser.add_argument("--spp", type=int, default=16)
-    parser.add_argument("--seeds", type=int, default=4)
-    parser.add_argument("--reference-spp", type=int, default=2048)
-    parser.add_argument("--res", type=int, default=96)
+    parser.add_argument("--seeds", type=int, default=16)
+    parser.add_argument("--reference-spp", type=int, default=1024)
+    parser.add_argument("--res", type=int, default=64)
     args = parser.parse_args()
+    if args.rgl and not args.bsdf_map:
+        parser.error("--rgl needs --bsdf-map")
     mi.set_variant("llvm_ad_rgb")
     import acdf
     import acdf.mitsuba
 
     acdf.mitsuba.register()
-    print(f"mitsuba {mi.__version__}, {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
-          f"references at {args.reference_spp} spp")
-    print("map | emitter | relMSE mean | relMSE median over seeds | table bytes | ms per spp")
-    for path in args.maps:
-        emitters = {"envmap": {"type": "envmap", "filename": path}}
-        for strategy in ("uniform", "adaptive", "compensated"):
-            emitters[f"acdf_envmap {strategy}"] = {"type": "acdf_envmap", "filename": path, "strategy": strategy}
-        for name, emitter in emitters.items():
-            s = scene(emitter, args.res)
-            reference = render(s, args.reference_spp, 1000)
-            render(s, args.spp, 999)  # warm-up: kernels compiled and cached
-            errors, seconds = [], 0.0
-            for seed in range(args.seeds):
-                t = time.perf_counter()
-                image = render(s, args.spp, seed)
-                seconds += time.perf_counter() - t
-                errors.append(np.mean((image - reference) ** 2 / (reference**2 + 1e-2)))
-            if name == "envmap":
-                table = "n/a"  # Mitsuba does not report its Hierarchical2D's size
-            else:
-                light = acdf.EnvironmentLight.load(path, strategy=emitter["strategy"])
-                table = str(light.bytes)
-            ms = 1000 * seconds / (args.seeds * args.spp)
-            print(f"{path.split('/')[-1]} | {name} | {np.mean(errors):.5f} | {np.median(errors):.5f} | {table} | {ms:.2f}",
-                  flush=True)
+    print(f"mitsuba {mi.__version__}, acdf {acdf.__version__}")
+    if args.maps:
+        compare_envmaps(args, acdf)
+    if args.rgl:
+        compare_materials(args, acdf)
 
 
 if __name__ == "__main__":

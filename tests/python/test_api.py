@@ -4,6 +4,7 @@ import pydoc
 import subprocess
 
 import numpy as np
+import pytest
 
 import acdf
 
@@ -88,6 +89,22 @@ def test_the_package_and_the_program_are_the_ones_under_test():
     version = subprocess.run([os.environ["ACDF_PROGRAM"], "--version"], check=True, capture_output=True,
                              text=True).stdout
     assert version == f"acdf {acdf.__version__}\n"
+
+
+def test_the_program_finds_its_bundled_files_where_it_is_installed(tmp_path):
+    # Installed (the wheel), merl-gen's fits and bench-error's plot script are the copies beside the
+    # program (<prefix>/share/acdf), so that the program works without the source tree.
+    program = os.environ["ACDF_PROGRAM"]
+    beside = os.path.join(os.path.dirname(os.path.dirname(program)), "share", "acdf")
+    if not os.path.isdir(beside):
+        pytest.skip(f"{program} is the build tree's (no {beside}): its defaults are the source tree's")
+    help_text = subprocess.run([program, "merl-gen", "--help"], check=True, capture_output=True, text=True).stdout
+    assert os.path.join(beside, "merl_nbrdf_weights.json") in help_text
+    subprocess.run([program, "merl-gen", "--nbrdf", "nickel", "-o", str(tmp_path / "nickel.binary")], check=True,
+                   capture_output=True)
+    assert os.path.getsize(tmp_path / "nickel.binary") == 12 + 3 * 8 * 90 * 90 * 180
+    assert os.path.join(beside, "error_report.py") in subprocess.run(
+        [program, "bench-error", "--help"], check=True, capture_output=True, text=True).stdout
 
 
 def test_the_package_names_itself_and_the_project_version():
