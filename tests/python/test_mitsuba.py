@@ -294,6 +294,53 @@ def test_shadow_rays_reach_past_a_large_scene(variant, block_map):
         assert np.all(np.asarray(ds.dist) > 1e3)
 
 
+_ELEMENT_BYTES = {1: 1, 2: 1, 3: 2, 4: 2, 5: 4, 6: 4, 7: 8, 8: 8, 9: 2, 10: 4, 11: 8}
+
+
+def with_field(path, out_path, name, values):
+    """Copies the tensor file (RGL .bsdf) `path` to `out_path` with field `name` replaced by `values`
+    (1D, the field's dtype)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    count = int.from_bytes(data[14:18], "little")
+    at, fields = 18, []
+    for _ in range(count):
+        n = int.from_bytes(data[at:at + 2], "little")
+        key = data[at + 2:at + 2 + n].decode()
+        at += 2 + n
+        ndim, code = int.from_bytes(data[at:at + 2], "little"), data[at + 2]
+        offset = int.from_bytes(data[at + 3:at + 11], "little")
+        shape = [int.from_bytes(data[at + 11 + 8 * d:at + 19 + 8 * d], "little") for d in range(ndim)]
+        at += 11 + 8 * ndim
+        size = _ELEMENT_BYTES[code] * int(np.prod(shape, dtype=np.int64))
+        fields.append([key, code, shape, data[offset:offset + size]])
+    for field in fields:
+        if field[0] == name:
+            dtype = {10: "<f4", 11: "<f8"}[field[1]]
+            field[2], field[3] = [len(values)], np.asarray(values, dtype=dtype).tobytes()
+    align = lambda n: (n + 7) // 8 * 8  # noqa: E731
+    header = 18 + sum(2 + len(key) + 2 + 1 + 8 + 8 * len(shape) for key, _, shape, _ in fields)
+    out, offset = bytearray(data[:18]), align(header)
+    for key, code, shape, payload in fields:
+        out += len(key).to_bytes(2, "little") + key.encode() + len(shape).to_bytes(2, "little") + bytes([code])
+        out += offset.to_bytes(8, "little") + b"".join(e.to_bytes(8, "little") for e in shape)
+        offset = align(offset + len(payload))
+    for _, _, _, payload in fields:
+        out += bytes(align(len(out)) - len(out)) + payload
+    with open(out_path, "wb") as f:
+        f.write(bytes(out))
+
+
+def test_anisotropic_rgl_file_is_refused_naming_it(variant, rgl_files, tmp_path):
+    same = str(tmp_path / "same.bsdf")
+    with_field(rgl_files[0], same, "phi_i", [0.0])  # the reader's own value: the copy must load
+    mi.load_dict({"type": "acdf_measured", "filename": same})
+    anisotropic = str(tmp_path / "anisotropic.bsdf")
+    with_field(rgl_files[0], anisotropic, "phi_i", [0.0, np.pi, 2 * np.pi])
+    with pytest.raises(Exception, match="anisotropic.bsdf.*anisotropic"):
+        mi.load_dict({"type": "acdf_measured", "filename": anisotropic})
+
+
 def test_measured_merl_renders_the_same_under_every_sampling(variant, tmp_path):
     """A MERL material through acdf_measured in mi.render: a sphere under a constant sky (direct
     light, MIS) has the same image mean whichever of acdf's samplers draws the BSDF's directions,
