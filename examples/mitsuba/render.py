@@ -1,7 +1,7 @@
 """Renders a Mitsuba 3 scene lit by acdf_envmap with a sphere of acdf_measured on a diffuse floor.
 
     PYTHONPATH=build/python .venv/bin/python examples/mitsuba/render.py MAP.exr MATERIAL.bsdf out.exr \
-        [--variant llvm_ad_rgb] [--spp 64] [--strategy adaptive] [--sampling adaptive]
+        [--variant llvm_ad_rgb] [--spp 64] [--strategy compensated] [--sampling adaptive]
 
 MATERIAL is a MERL .binary or an RGL .bsdf file (`acdf rgl-gen --preset gold -o gold.bsdf` writes
 one). The scene is a Python dict passed to mi.load_dict; the image is written by Mitsuba.
@@ -37,7 +37,8 @@ def main():
     parser.add_argument("output")
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--spp", type=int, default=64)
-    parser.add_argument("--strategy", default="adaptive", help="acdf_envmap's strategy")
+    parser.add_argument("--strategy", default="compensated",
+                        help="acdf_envmap's strategy (compensated: the lowest error under path, docs/performance.md)")
     parser.add_argument("--sampling", default="adaptive", help="acdf_measured's sampling")
     args = parser.parse_args()
 
