@@ -67,15 +67,21 @@ TEST(ErrorBenchmark, ShardsSplitTheRows) {
 
 class ErrorBenchmarkRun : public apptest::TempDirTest {};
 
-TEST_F(ErrorBenchmarkRun, RendersTheMatrixItReportsThroughTheGivenRenderer) {
-  const nlohmann::json scene = {
-      {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", 16}, {"height", 8}}},
+// A diffuse sphere under a constant sky: 2 spp, depth 2, plus `render` settings.
+nlohmann::json greySphereUnderConstantSky(int width, int height, const nlohmann::json& render) {
+  nlohmann::json scene = {
+      {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", width}, {"height", height}}},
       {"render", {{"spp", 2}, {"seed", 3}, {"max_depth", 2}}},
       {"environment", {{"type", "constant"}, {"radiance", 1.0}}},
       {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
       {"shapes", {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "grey"}}}},
   };
-  apptest::writeFile(path("scene.json"), scene.dump(2));
+  scene["render"].update(render);
+  return scene;
+}
+
+TEST_F(ErrorBenchmarkRun, RendersTheMatrixItReportsThroughTheGivenRenderer) {
+  apptest::writeFile(path("scene.json"), greySphereUnderConstantSky(16, 8, nlohmann::json::object()).dump(2));
 
   ErrorBenchmarkOptions options;
   options.scene = path("scene.json");
@@ -123,14 +129,7 @@ TEST_F(ErrorBenchmarkRun, RendersTheMatrixItReportsThroughTheGivenRenderer) {
 // --direct mis,product: product rows with the first MIS mode only (it uses none), each row naming
 // its direct lighting, and the scene's product options in the settings.
 TEST_F(ErrorBenchmarkRun, DirectLightingIsAnAxis) {
-  const nlohmann::json scene = {
-      {"camera", {{"eye", {0, 0.6, 4}}, {"target", {0, 0.3, 0}}, {"fov", 40}, {"width", 8}, {"height", 4}}},
-      {"render", {{"spp", 2}, {"seed", 3}, {"max_depth", 2}, {"candidates", 3}}},
-      {"environment", {{"type", "constant"}, {"radiance", 1.0}}},
-      {"materials", {{"grey", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
-      {"shapes", {{{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "grey"}}}},
-  };
-  apptest::writeFile(path("scene.json"), scene.dump(2));
+  apptest::writeFile(path("scene.json"), greySphereUnderConstantSky(8, 4, {{"candidates", 3}}).dump(2));
   ErrorBenchmarkOptions options;
   options.scene = path("scene.json");
   options.out = path("out");
