@@ -275,6 +275,55 @@ def test_sample_ray_carries_the_lights_power(variant, block_map):
     assert np.all(np.abs(z) < bound), f"z = {z}, bound {bound:.2f}"
 
 
+class CountedCalls:
+    """An acdf object whose calls are counted by name, with the number of rows each was given."""
+
+    def __init__(self, inner):
+        self.inner, self.calls = inner, []
+
+    def __getattr__(self, name):
+        value = getattr(self.inner, name)
+        if not callable(value):
+            return value
+
+        def counted(*args, **kwargs):
+            self.calls.append((name, len(args[0]) if args and hasattr(args[0], "__len__") else 1))
+            return value(*args, **kwargs)
+
+        return counted
+
+
+def test_llvm_renders_make_one_acdf_call_per_wavefront(tmp_path, block_map):
+    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes) calls acdf a few times per
+    bounce, each call with every lane still active (thousands of rows), never once per lane."""
+    if "llvm_ad_rgb" not in mi.variants():
+        pytest.skip("mitsuba has no llvm_ad_rgb variant")
+    mi.set_variant("llvm_ad_rgb")
+    acdf.mitsuba.register()
+    path, _ = block_map
+    program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
+    material = str(tmp_path / "aluminium.bsdf")
+    subprocess.run([program, "rgl-gen", "--preset", "rough-aluminium", "-o", material], check=True, capture_output=True)
+    scene = mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 3},
+        "sensor": {"type": "perspective", "fov": 40,
+                   "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
+                   "sampler": {"type": "independent", "sample_count": 4}},
+        "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
+        "light": {"type": "acdf_envmap", "filename": path},
+    })
+    emitter = scene.emitters()[0]
+    bsdf = scene.shapes()[0].bsdf()
+    emitter.light, bsdf.sampler = CountedCalls(emitter.light), CountedCalls(bsdf.sampler)
+    mi.render(scene)
+    calls = emitter.light.calls + bsdf.sampler.calls
+    lanes = 32 * 32 * 4
+    assert 0 < len(calls) <= 40, calls
+    assert max(rows for _, rows in calls) > lanes // 4, calls
+
+
 def test_shadow_rays_reach_past_a_large_scene(variant, block_map):
     """A point inside a closed sphere of radius 100 sees none of the light: every emitter sample's
     shadow ray is blocked, whatever the scene's size."""
