@@ -70,9 +70,95 @@ Cascade cascadeOf(const std::vector<float>& values, const std::vector<GridAxis>&
 // directions (the old mapping was mirrored).
 constexpr int kTabulationVersion = 2;
 
+// The strategies whose table is a cascade, the one table worth caching.
+bool savesCascade(EnvironmentSampling strategy) {
+  return strategy == EnvironmentSampling::Uniform || strategy == EnvironmentSampling::Adaptive ||
+         strategy == EnvironmentSampling::Compensated;
+}
+
 bool allZero(const std::vector<float>& values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return v == 0.0f; });
 }
+
+}  // namespace
+
+class PixelDistribution {
+ public:
+  struct Pick {
+    PixelIndex pixel;
+    double fractionDown = 0, fractionRight = 0;  // where in the pixel, uniform in [0, 1)
+    double density = 0;                          // P(pixel) · W H
+  };
+  virtual ~PixelDistribution() = default;
+  // u0, u1 in [0, 1).
+  virtual Pick sample(float u0, float u1) const = 0;
+  virtual double density(PixelIndex p) const = 0;
+  virtual std::size_t bytes() const = 0;
+  virtual std::vector<double> pixelProbabilities() const = 0;  // row-major, exact
+  // What the table cache saves (empty: not worth saving, rebuilt in O(pixels)).
+  virtual std::vector<std::byte> serialize() const { return {}; }
+};
+
+namespace {
+
+// Uniform, Adaptive, Compensated: the cascade's grid cells are the pixels.
+class CascadePixels final : public PixelDistribution {
+ public:
+  explicit CascadePixels(Cascade cascade) : cascade_(std::move(cascade)) {}
+  Pick sample(float u0, float u1) const override {
+    const float u[2] = {u0, u1};
+    const CellSample s = cascade_.sampleCells(u);
+    // Where the table put the sample inside its cell (uniformly): reused for the position in the
+    // pixel, uniform in solid angle.
+    return {{s.cells[0], s.cells[1]}, s.fractions[0], s.fractions[1], s.pdf};
+  }
+  double density(PixelIndex p) const override {
+    const uint32_t cells[2] = {p.row, p.column};
+    return cascade_.pdfOfCellsInSlice(0, cells);
+  }
+  std::size_t bytes() const override { return cascade_.bytes(); }
+  std::vector<double> pixelProbabilities() const override { return cascade_.cellProbabilities(0); }
+  std::vector<std::byte> serialize() const override { return cascade_.serialize(); }
+
+ private:
+  Cascade cascade_;
+};
+
+// Alias and Hierarchical give a pixel's probability; the grid density is that × W H.
+class AliasPixels final : public PixelDistribution {
+ public:
+  AliasPixels(const std::vector<float>& values, uint32_t width, uint32_t height)
+      : alias_(values, width, height), pixels_(static_cast<double>(width) * height) {}
+  Pick sample(float u0, float u1) const override {
+    const PixelAlias::Pick pick = alias_.sample(u0, u1);
+    return {pick.pixel, pick.fractionDown, pick.fractionRight, pick.probability * pixels_};
+  }
+  double density(PixelIndex p) const override { return alias_.probability(p) * pixels_; }
+  std::size_t bytes() const override { return alias_.bytes(); }
+  std::vector<double> pixelProbabilities() const override { return alias_.pixelProbabilities(); }
+
+ private:
+  PixelAlias alias_;
+  double pixels_;
+};
+
+class HierarchicalPixels final : public PixelDistribution {
+ public:
+  HierarchicalPixels(const std::vector<float>& values, const std::vector<GridAxis>& axes)
+      : warp_(values, axes), pixels_(static_cast<double>(axes[0].cells()) * axes[1].cells()) {}
+  Pick sample(float u0, float u1) const override {
+    // Double fractions straight from the descent: no float coordinate in between.
+    const HierarchicalWarp2D::CellSample pick = warp_.sampleCell(u0, u1);
+    return {{pick.row, pick.column}, pick.fractionDown, pick.fractionRight, pick.probability * pixels_};
+  }
+  double density(PixelIndex p) const override { return warp_.probability(p.row, p.column) * pixels_; }
+  std::size_t bytes() const override { return warp_.bytes(); }
+  std::vector<double> pixelProbabilities() const override { return warp_.cellProbabilities(); }
+
+ private:
+  HierarchicalWarp2D warp_;
+  double pixels_;
+};
 
 }  // namespace
 
@@ -83,7 +169,7 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
 EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
                                    const SimplifyOptions& simplify, std::span<const std::byte> saved)
     : EnvironmentTable(std::move(map), strategy, simplify, &saved) {
-  if (!cascade_ && !saved.empty())
+  if (!saved.empty() && (!pixels_ || !savesCascade(strategy_)))
     throw SerializationError("environment light: a saved table for a strategy or map that has none");
 }
 
@@ -99,7 +185,6 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
   if (strategy_ == EnvironmentSampling::UniformSphere) return;
 
   const uint32_t width = map_->width(), height = map_->height();
-  pixels_ = static_cast<double>(width) * height;
   pdfScale_.resize(height);
   for (uint32_t r = 0; r < height; ++r)
     pdfScale_[r] = 1.0 / (static_cast<double>(width) * height * map_->mapping().pixelSolidAngle(r));
@@ -119,7 +204,7 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
     return;
   }
 
-  // The cascades' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
+  // The tables' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
   const std::vector<GridAxis> axes{GridAxis(height), GridAxis(width)};
   switch (strategy_) {
     case EnvironmentSampling::UniformSphere:
@@ -127,27 +212,19 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
     case EnvironmentSampling::Uniform: {
       CascadeOptions uniform;
       uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};
-      cascade_.emplace(cascadeOf(tabulated_, axes, uniform, saved));
+      pixels_ = std::make_shared<CascadePixels>(cascadeOf(tabulated_, axes, uniform, saved));
       break;
     }
-    case EnvironmentSampling::Alias: alias_.emplace(tabulated_, width, height); break;
-    case EnvironmentSampling::Hierarchical: warp_.emplace(tabulated_, axes); break;
+    case EnvironmentSampling::Alias: pixels_ = std::make_shared<AliasPixels>(tabulated_, width, height); break;
+    case EnvironmentSampling::Hierarchical: pixels_ = std::make_shared<HierarchicalPixels>(tabulated_, axes); break;
     case EnvironmentSampling::Adaptive:
     case EnvironmentSampling::Compensated: {
       CascadeOptions adaptive;
       adaptive.simplify = simplify;
-      cascade_.emplace(cascadeOf(tabulated_, axes, adaptive, saved));
+      pixels_ = std::make_shared<CascadePixels>(cascadeOf(tabulated_, axes, adaptive, saved));
       break;
     }
   }
-}
-
-double EnvironmentTable::pixelPdf(PixelIndex p) const {
-  if (alias_) return probabilityPdf(alias_->probability(p), p.row);
-  if (warp_) return probabilityPdf(warp_->probability(p.row, p.column), p.row);
-  // The cascade's grid cells are the pixels.
-  const uint32_t cells[2] = {p.row, p.column};
-  return cascade_->pdfOfCellsInSlice(0, cells) * pdfScale_[p.row];
 }
 
 EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
@@ -156,32 +233,9 @@ EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
     const Vec3d w = sampleUniformSphere(u0, u1);
     return {w, map_->mapping().pixelOf(w), kUniformSpherePdf};
   }
-  PixelIndex p;
-  double fractionDown, fractionRight, pdf;
-  if (alias_) {
-    const PixelAlias::Pick pick = alias_->sample(clampUnit(u0), clampUnit(u1));
-    p = pick.pixel;
-    fractionDown = pick.fractionDown;
-    fractionRight = pick.fractionRight;
-    pdf = probabilityPdf(pick.probability, p.row);
-  } else if (warp_) {
-    // Double fractions straight from the descent: no float coordinate in between.
-    const HierarchicalWarp2D::CellSample pick = warp_->sampleCell(clampUnit(u0), clampUnit(u1));
-    p = {pick.row, pick.column};
-    fractionDown = pick.fractionDown;
-    fractionRight = pick.fractionRight;
-    pdf = probabilityPdf(pick.probability, p.row);
-  } else {
-    const float u[2] = {clampUnit(u0), clampUnit(u1)};
-    const CellSample s = cascade_->sampleCells(u);
-    p = {s.cells[0], s.cells[1]};
-    // Where the table put the sample inside its cell (uniformly): reused for the position in
-    // the pixel, uniform in solid angle.
-    fractionDown = s.fractions[0];
-    fractionRight = s.fractions[1];
-    pdf = s.pdf * pdfScale_[p.row];
-  }
-  return {map_->mapping().directionInPixel(p, fractionDown, fractionRight), p, pdf};
+  const PixelDistribution::Pick pick = pixels_->sample(clampUnit(u0), clampUnit(u1));
+  return {map_->mapping().directionInPixel(pick.pixel, pick.fractionDown, pick.fractionRight), pick.pixel,
+          pick.density * pdfScale_[pick.pixel.row]};
 }
 
 double EnvironmentTable::pdf(const Vec3d& w) const { return pdf(map_->mapping().pixelOf(w)); }
@@ -189,25 +243,17 @@ double EnvironmentTable::pdf(const Vec3d& w) const { return pdf(map_->mapping().
 double EnvironmentTable::pdf(PixelIndex p) const {
   if (emitsNothing_) return 0.0;
   if (strategy_ == EnvironmentSampling::UniformSphere) return kUniformSpherePdf;
-  return pixelPdf(p);
+  return pixels_->density(p) * pdfScale_[p.row];
 }
 
-std::size_t EnvironmentTable::bytes() const {
-  if (cascade_) return cascade_->bytes();
-  if (alias_) return alias_->bytes();
-  if (warp_) return warp_->bytes();
-  return 0;
-}
+std::size_t EnvironmentTable::bytes() const { return pixels_ ? pixels_->bytes() : 0; }
 
 std::vector<double> EnvironmentTable::pixelProbabilities() const {
-  if (cascade_) return cascade_->cellProbabilities(0);
-  if (alias_) return alias_->pixelProbabilities();
-  if (warp_) return warp_->cellProbabilities();
-  return {};
+  return pixels_ ? pixels_->pixelProbabilities() : std::vector<double>{};
 }
 
 std::vector<std::byte> EnvironmentTable::serialize() const {
-  return cascade_ ? cascade_->serialize() : std::vector<std::byte>{};
+  return pixels_ ? pixels_->serialize() : std::vector<std::byte>{};
 }
 
 CacheKey EnvironmentTable::key(const EnvironmentMap& map, EnvironmentSampling strategy,
@@ -222,9 +268,7 @@ CacheKey EnvironmentTable::key(const EnvironmentMap& map, EnvironmentSampling st
 Cached<EnvironmentTable> EnvironmentTable::cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
                                                   EnvironmentSampling strategy, const SimplifyOptions& simplify,
                                                   std::string_view what) {
-  const bool cascade = strategy == EnvironmentSampling::Uniform || strategy == EnvironmentSampling::Adaptive ||
-                       strategy == EnvironmentSampling::Compensated;
-  if (!cascade || map->isBlack()) return {EnvironmentTable(std::move(map), strategy, simplify), false};
+  if (!savesCascade(strategy) || map->isBlack()) return {EnvironmentTable(std::move(map), strategy, simplify), false};
   return cache.getOrBuild(
       key(*map, strategy, simplify), what, [&] { return EnvironmentTable(map, strategy, simplify); },
       [](const EnvironmentTable& table) { return table.serialize(); },

@@ -49,7 +49,7 @@ struct LightSampleContext {
   // estimator combining both by MIS): the light may then leave out what it covers (compensated).
   bool allowIncompletePdf = false;
   // The shading normal of the point lit (world frame, non-zero): Local sampling's condition.
-  std::optional<Vec3d> normal;
+  std::optional<Vec3d> normal = std::nullopt;
 };
 
 struct LightSample {

@@ -53,7 +53,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -79,6 +78,10 @@ inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
 // std::invalid_argument naming them.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
+
+// What every table strategy gives the light: a pixel and where in it, with the density on the
+// unit square of the pixel grid (P(pixel) · W H). One adapter per table, in environment_table.cpp.
+class PixelDistribution;
 
 class EnvironmentTable {
  public:
@@ -140,21 +143,14 @@ class EnvironmentTable {
   // The constructors' shared work; saved: null to build the cascade, else to read it.
   EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
                    const SimplifyOptions& simplify, const std::span<const std::byte>* saved);
-  // Density per steradian of pixel p's directions.
-  double pixelPdf(PixelIndex p) const;
-  // Density per steradian of a pixel of `row` chosen with `probability` (Alias, Hierarchical).
-  double probabilityPdf(double probability, uint32_t row) const { return probability * pixels_ * pdfScale_[row]; }
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentSampling strategy_;
   bool emitsNothing_ = true;
   bool compensationFellBack_ = false;
   std::vector<float> tabulated_;
-  std::optional<Cascade> cascade_;          // Uniform, Adaptive, Compensated
-  std::optional<PixelAlias> alias_;         // Alias
-  std::optional<HierarchicalWarp2D> warp_;  // Hierarchical
-  std::vector<double> pdfScale_;            // per row: 1 / (W H ΔΩ_row), table density → per steradian
-  double pixels_ = 0;                       // W H
+  std::shared_ptr<const PixelDistribution> pixels_;  // null for UniformSphere and a map that emits nothing
+  std::vector<double> pdfScale_;                     // per row: 1 / (W H ΔΩ_row), grid density → per steradian
 };
 
 }  // namespace acdf
