@@ -71,11 +71,13 @@ double ProductDirectLight::mixturePdf(const Vec3d& w) const {
 
 ProductDirectLight::Candidate ProductDirectLight::candidate(const std::array<float, 2>& u) const {
   // The strategy from u[0], which is then stretched back over [0, 1) (the samplers clamp a
-  // rounded 1 into it), so that stratified points stay stratified within each strategy.
+  // rounded 1 into it), so that stratified points stay stratified within each strategy. A
+  // direction below the horizon has weight 0 and is never chosen: nothing else of it is found.
   const double b = options_.bsdfFraction;
   if (u[0] < b) {
     // The direction alone: weighed() evaluates f there.
     const SampledDirection s = material_.sampleDirection(static_cast<float>(u[0] / b), u[1]);
+    if (!(s.wi.z > 0)) return {};
     const Vec3d direction = normalize(frame_.toWorld(s.wi));
     if (b == 1) return weighed(direction, s.wi, light_.eval(direction), 0.0, s.pdf);
     const RadianceAndPdf L = light_.evalWithPdf(context_, direction);
@@ -84,6 +86,7 @@ ProductDirectLight::Candidate ProductDirectLight::candidate(const std::array<flo
   const LightSample l = light_.sample(context_, static_cast<float>((u[0] - b) / (1 - b)), u[1]);
   if (!(l.pdf > 0)) return {};  // a light that emits nothing
   const Vec3d wi = frame_.toLocal(l.direction);
+  if (!(wi.z > 0)) return {};
   return weighed(l.direction, wi, l.radiance, l.pdf, b > 0 ? material_.pdf(wi) : 0.0);
 }
 
@@ -93,7 +96,7 @@ ProductDirectLight::Candidate ProductDirectLight::weighed(const Vec3d& direction
   Candidate c;
   c.direction = direction;
   c.mixturePdf = (1 - b) * lightPdf + b * bsdfPdf;
-  if (!(wi.z > 0) || radiance.isBlack() || !(c.mixturePdf > 0)) return c;
+  if (radiance.isBlack() || !(c.mixturePdf > 0)) return c;
   c.integrand = material_.eval(wi) * radiance * static_cast<float>(wi.z);
   if (!isFinite(c.integrand)) return c;
   c.target = luminance(c.integrand);

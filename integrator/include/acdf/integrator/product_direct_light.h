@@ -94,6 +94,7 @@ class ProductDirectLight {
     double mixturePdf = 0;
   };
   Candidate candidate(const std::array<float, 2>& u) const;
+  // A candidate at `direction`, wi in the local frame and above the horizon.
   Candidate weighed(const Vec3d& direction, const Vec3d& wi, const Rgb& radiance, double lightPdf,
                     double bsdfPdf) const;
 
