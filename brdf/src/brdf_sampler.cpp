@@ -10,18 +10,27 @@ BrdfSampler::BrdfSampler(std::shared_ptr<const BrdfModel> model) : model_(std::m
   if (!model_) throw std::invalid_argument("BRDF sampler: no BRDF model");
 }
 
-BrdfSample BrdfSampler::sample(const Vec3d& wo, float u0, float u1) const {
-  const SampledDirection d = sampleDirection(wo, clampUnit(u0), clampUnit(u1));
+BrdfSample BrdfVertex::sample(float u0, float u1) const {
+  const SampledDirection d = sampleDirection(u0, u1);
   BrdfSample s;
   s.wi = d.wi;
   s.pdf = d.pdf;
-  if (s.wi.z > 0.0 && wo.z > 0.0) s.weight = model_->eval(wo, s.wi) * static_cast<float>(s.wi.z / s.pdf);
+  if (s.wi.z > 0.0 && wo_.z > 0.0) s.weight = eval(s.wi) * static_cast<float>(s.wi.z / s.pdf);
   return s;
 }
 
-SampledDirection BrdfSampler::reflected(const Vec3d& wo, const Vec3d& wi, const HalfVector& h, double density) const {
+SampledDirection BrdfVertex::sampleDirection(float u0, float u1) const {
+  return sampler_->sampleDirectionAt(*this, clampUnit(u0), clampUnit(u1));
+}
+
+double BrdfVertex::pdf(const Vec3d& wi) const { return sampler_->pdfAt(*this, wi); }
+
+Rgb BrdfVertex::eval(const Vec3d& wi) const { return sampler_->eval(wo_, wi); }
+
+SampledDirection BrdfSampler::reflected(const BrdfVertex& v, const Vec3d& wi, const HalfVector& h,
+                                        double density) const {
   if (!h.roundTripExact())
-    if (const double p = pdf(wo, wi); p > 0.0) return {wi, p};
+    if (const double p = v.pdf(wi); p > 0.0) return {wi, p};
   return {wi, density};
 }
 

@@ -26,7 +26,7 @@ SampledDirection GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, floa
   const double cosTheta = 1.0 / std::sqrt(1.0 + tan2);
   const Vec3d wh = sphericalDirection(std::acos(cosTheta), 2.0 * std::numbers::pi * u1);
   const HalfVector h = sampledHalfVector(wo, wh);
-  return reflected(wo, normalize(reflect(wo, wh)), h, h.incidentPdf(halfVectorPdf(wh)));
+  return reflected(vertex(wo), normalize(reflect(wo, wh)), h, h.incidentPdf(halfVectorPdf(wh)));
 }
 
 double GgxBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {

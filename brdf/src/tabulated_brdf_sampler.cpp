@@ -459,13 +459,18 @@ HalfVectorCells TabulatedBrdfSampler::halfVectorCellsOf(const Cascade& table, co
   return HalfVectorCells(table.axes()[k], table.axes()[k + 1], azimuth);
 }
 
-SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
+BrdfVertex TabulatedBrdfSampler::vertex(const Vec3d& wo) const {
+  return vertexWithSlice(wo, wo.z > 0.0 ? outgoingCells_.sliceOf(wo) : 0);
+}
+
+SampledDirection TabulatedBrdfSampler::sampleDirectionAt(const BrdfVertex& v, float u0, float u1) const {
+  const Vec3d& wo = v.wo();
   const double w = options_.cosineWeight;
   if (!(wo.z > 0.0)) return sampleCosineDirection(u0, u1);
   if (u0 < w) {
     // The table's term at this ωi is not known along this path: pdf() finds it.
     const Vec3d wi = sampleCosineHemisphere(u0 / w, u1);
-    return {wi, pdf(wo, wi)};
+    return {wi, pdfAt(v, wi)};
   }
   // The rest of u0's range, stretched back to [0, 1), drives the table; for a mirrored table
   // u1's halves choose the sign of Δφ (exact in float: 2·u1 and 2·u1 − 1).
@@ -473,7 +478,7 @@ SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0
   const std::array<float, 2> u{clampUnit(static_cast<float>((u0 - w) / (1.0 - w))), negative ? 2.0f * u1 - 1.0f
                                                                                     : mirrored(options_) ? 2.0f * u1
                                                                                                          : u1};
-  const CellSample x = table_.sampleCellsInSlice(outgoingCells_.sliceOf(wo), u);
+  const CellSample x = table_.sampleCellsInSlice(v.slice(), u);
   // The sample is uniform in s within its cell; move it to the same fraction of the cell's solid
   // angle, kept a margin inside the cell, so that pdf() finds this cell again from ωi despite
   // the rounding of the reflection and of θh. φ is found through its float coordinate (onAxis),
@@ -489,7 +494,7 @@ SampledDirection TabulatedBrdfSampler::sampleDirection(const Vec3d& wo, float u0
   const HalfVector h = sampledHalfVector(wo, wh);
   // The table's density at the sampled cell, and the cosine term at ωi: the two ways to reach ωi.
   const double table = h.incidentPdf(perSteradian(x.pdf, cell));
-  return reflected(wo, wi, h, w * cosineHemispherePdf(wi.z) + (1.0 - w) * table);
+  return reflected(v, wi, h, w * cosineHemispherePdf(wi.z) + (1.0 - w) * table);
 }
 
 // P(cell) / Ω(cell) per unit φ: density · Δs / Δ(1 − cosθh); half of it for each sign of a
@@ -500,22 +505,23 @@ double TabulatedBrdfSampler::perSteradian(double density, uint32_t cell) const {
   return mirrored(options_) ? 0.5 * perSteradian : perSteradian;
 }
 
-double TabulatedBrdfSampler::halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const {
+double TabulatedBrdfSampler::halfVectorPdfAt(const BrdfVertex& v, const Vec3d& wh) const {
   if (!(wh.z > 0.0)) return 0.0;
   // The cascade's density is constant over grid cells: asked by the cells themselves, it reads
   // the s cell of θh in double, the one the solid-angle mapping uses, where a θh rounded to a
   // float coordinate could fall across a cell boundary.
-  const std::array<uint32_t, 2> cells = halfVectorCells_.cellsOf(wo, wh);
-  return perSteradian(table_.pdfOfCellsInSlice(outgoingCells_.sliceOf(wo), cells), cells[0]);
+  const std::array<uint32_t, 2> cells = halfVectorCells_.cellsOf(v.wo(), wh);
+  return perSteradian(table_.pdfOfCellsInSlice(v.slice(), cells), cells[0]);
 }
 
-double TabulatedBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {
+double TabulatedBrdfSampler::pdfAt(const BrdfVertex& v, const Vec3d& wi) const {
+  const Vec3d& wo = v.wo();
   if (!(wo.z > 0.0)) return cosineHemispherePdf(wi.z);
   const double w = options_.cosineWeight;
   double p = w * cosineHemispherePdf(wi.z);
   if (w < 1.0)
     if (const std::optional<HalfVector> h = halfVectorOf(wo, wi))
-      p += h->incidentPdf((1.0 - w) * halfVectorPdf(wo, h->direction));
+      p += h->incidentPdf((1.0 - w) * halfVectorPdfAt(v, h->direction));
   return p;
 }
 

@@ -48,14 +48,14 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     if (depth >= scene_.settings.maxDepth) break;
     sampler.startVertex(depth);
 
-    const BrdfSampler& material = *scene_.bsdfSamplers[hit->material];
     const Frame frame(hit->normal, hit->tangentHint);
-    const Vec3d wo = frame.toLocal(-ray.direction);
+    // The material at ωo, found once for the direct light's calls and the continuation.
+    const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
     lightContext.normal = hit->normal;
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);
-      const ProductDirectLight direct(env, lightContext, material, frame, wo, scene_.settings.product);
+      const ProductDirectLight direct(env, lightContext, material, frame, scene_.settings.product);
       if (const std::optional<ProductLightSample> light = direct.sample(candidates)) {
         ++rays;
         if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light->direction), light->direction},
@@ -72,9 +72,9 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
         ++rays;
         if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
                                        std::numeric_limits<double>::infinity())) {
-          const Rgb f = material.eval(wo, wi);
+          const Rgb f = material.eval(wi);
           if (!f.isBlack()) {
-            const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wo, wi)) : 1.0;
+            const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wi)) : 1.0;
             result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
           }
         }
@@ -82,7 +82,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     }
 
     const auto [u0, u1] = sampler.get2D();
-    const BrdfSample s = material.sample(wo, u0, u1);
+    const BrdfSample s = material.sample(u0, u1);
     if (!(s.pdf > 0) || s.weight.isBlack()) break;
     throughput *= s.weight;
     bsdfPdf = s.pdf;

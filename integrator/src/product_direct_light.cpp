@@ -28,7 +28,12 @@ void validate(const ProductSamplingOptions& options) {
 ProductDirectLight::ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context,
                                        const BrdfSampler& material, const Frame& frame, const Vec3d& wo,
                                        const ProductSamplingOptions& options)
-    : light_(light), context_(context), material_(material), frame_(frame), wo_(wo), options_(options) {}
+    : ProductDirectLight(light, context, material.vertex(wo), frame, options) {}
+
+ProductDirectLight::ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context,
+                                       const BrdfVertex& material, const Frame& frame,
+                                       const ProductSamplingOptions& options)
+    : light_(light), context_(context), material_(material), frame_(frame), options_(options) {}
 
 std::optional<ProductLightSample> ProductDirectLight::sample(CandidateValues& values) const {
   // Weighted reservoir sampling: candidate i replaces the kept one with probability
@@ -60,16 +65,19 @@ std::optional<ProductLightSample> ProductDirectLight::sample(CandidateValues& va
 double ProductDirectLight::mixturePdf(const Vec3d& w) const {
   const double b = options_.bsdfFraction;
   const double lightPdf = b < 1 ? light_.pdf(context_, w) : 0.0;
-  const double bsdfPdf = b > 0 ? material_.pdf(wo_, frame_.toLocal(w)) : 0.0;
+  const double bsdfPdf = b > 0 ? material_.pdf(frame_.toLocal(w)) : 0.0;
   return (1 - b) * lightPdf + b * bsdfPdf;
 }
 
 ProductDirectLight::Candidate ProductDirectLight::candidate(const std::array<float, 2>& u) const {
   // The strategy from u[0], which is then stretched back over [0, 1) (the samplers clamp a
-  // rounded 1 into it), so that stratified points stay stratified within each strategy.
+  // rounded 1 into it), so that stratified points stay stratified within each strategy. A
+  // direction below the horizon has weight 0 and is never chosen: nothing else of it is found.
   const double b = options_.bsdfFraction;
   if (u[0] < b) {
-    const BrdfSample s = material_.sample(wo_, static_cast<float>(u[0] / b), u[1]);
+    // The direction alone: weighed() evaluates f there.
+    const SampledDirection s = material_.sampleDirection(static_cast<float>(u[0] / b), u[1]);
+    if (!(s.wi.z > 0)) return {};
     const Vec3d direction = normalize(frame_.toWorld(s.wi));
     if (b == 1) return weighed(direction, s.wi, light_.eval(direction), 0.0, s.pdf);
     const RadianceAndPdf L = light_.evalWithPdf(context_, direction);
@@ -78,7 +86,8 @@ ProductDirectLight::Candidate ProductDirectLight::candidate(const std::array<flo
   const LightSample l = light_.sample(context_, static_cast<float>((u[0] - b) / (1 - b)), u[1]);
   if (!(l.pdf > 0)) return {};  // a light that emits nothing
   const Vec3d wi = frame_.toLocal(l.direction);
-  return weighed(l.direction, wi, l.radiance, l.pdf, b > 0 ? material_.pdf(wo_, wi) : 0.0);
+  if (!(wi.z > 0)) return {};
+  return weighed(l.direction, wi, l.radiance, l.pdf, b > 0 ? material_.pdf(wi) : 0.0);
 }
 
 ProductDirectLight::Candidate ProductDirectLight::weighed(const Vec3d& direction, const Vec3d& wi, const Rgb& radiance,
@@ -87,8 +96,8 @@ ProductDirectLight::Candidate ProductDirectLight::weighed(const Vec3d& direction
   Candidate c;
   c.direction = direction;
   c.mixturePdf = (1 - b) * lightPdf + b * bsdfPdf;
-  if (!(wi.z > 0) || radiance.isBlack() || !(c.mixturePdf > 0)) return c;
-  c.integrand = material_.eval(wo_, wi) * radiance * static_cast<float>(wi.z);
+  if (radiance.isBlack() || !(c.mixturePdf > 0)) return c;
+  c.integrand = material_.eval(wi) * radiance * static_cast<float>(wi.z);
   if (!isFinite(c.integrand)) return c;
   c.target = luminance(c.integrand);
   const double weight = c.target / c.mixturePdf;

@@ -57,6 +57,35 @@ struct BrdfSample {
   double pdf = 0;  // per steradian, finite and > 0
 };
 
+class BrdfSampler;
+
+// A sampler at one shading vertex: ωo, and what the sampler finds from ωo alone (a tabulated
+// sampler's conditioning slice), found once and shared by every sample, pdf and eval there (a
+// product estimator's candidates and the path's continuation). Made by BrdfSampler::vertex;
+// valid while its sampler lives. Its answers are the sampler's per-call ones, bit for bit.
+class BrdfVertex {
+ public:
+  // u0, u1 in [0, 1) (clamped into it).
+  BrdfSample sample(float u0, float u1) const;
+  // sample() without f and the weight: for a caller that evaluates f itself, once.
+  SampledDirection sampleDirection(float u0, float u1) const;
+  double pdf(const Vec3d& wi) const;
+  Rgb eval(const Vec3d& wi) const;
+
+  const Vec3d& wo() const { return wo_; }
+  // The sampler's conditioning cell of ωo; 0 for a sampler without one.
+  std::size_t slice() const { return slice_; }
+
+ private:
+  friend class BrdfSampler;
+  BrdfVertex(const BrdfSampler& sampler, const Vec3d& wo, std::size_t slice)
+      : sampler_(&sampler), wo_(wo), slice_(slice) {}
+
+  const BrdfSampler* sampler_;
+  Vec3d wo_;
+  std::size_t slice_;
+};
+
 class BrdfSampler {
  public:
   // Throws std::invalid_argument for a null model.
@@ -68,8 +97,11 @@ class BrdfSampler {
   // The agreement of sample() and pdf() (above), relative.
   static constexpr double kPdfRoundTrip = 1e-4;
 
+  // The sampler at ωo, for the several calls of one shading vertex (BrdfVertex).
+  virtual BrdfVertex vertex(const Vec3d& wo) const { return {*this, wo, 0}; }
+
   // u0, u1 in [0, 1) (clamped into it).
-  BrdfSample sample(const Vec3d& wo, float u0, float u1) const;
+  BrdfSample sample(const Vec3d& wo, float u0, float u1) const { return vertex(wo).sample(u0, u1); }
   // Density of choosing ωi given ωo, per steradian; 0 where the sampler never goes.
   virtual double pdf(const Vec3d& wo, const Vec3d& wi) const = 0;
   // The model's f(ωo, ωi).
@@ -82,11 +114,20 @@ class BrdfSampler {
   const BrdfModel& model() const { return *model_; }
 
  protected:
+  friend class BrdfVertex;
   // The direction and its density; sample() adds the weight. u0, u1 already in [0, 1).
   virtual SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const = 0;
+  // The same two at a vertex. A sampler that finds something from ωo alone overrides vertex()
+  // and these; the others need not: these default to the per-call ones.
+  virtual SampledDirection sampleDirectionAt(const BrdfVertex& v, float u0, float u1) const {
+    return sampleDirection(v.wo(), u0, u1);
+  }
+  virtual double pdfAt(const BrdfVertex& v, const Vec3d& wi) const { return pdf(v.wo(), wi); }
+  // A vertex at ωo with the sampler's conditioning cell `slice`.
+  BrdfVertex vertexWithSlice(const Vec3d& wo, std::size_t slice) const { return {*this, wo, slice}; }
   // A half-vector sampler's ωi = reflect(ωo, h) with `density`, its density along the sampling
   // path; pdf(ωo, ωi) instead where ωh cannot be found again from ωi (HalfVector::roundTripExact).
-  SampledDirection reflected(const Vec3d& wo, const Vec3d& wi, const HalfVector& h, double density) const;
+  SampledDirection reflected(const BrdfVertex& v, const Vec3d& wi, const HalfVector& h, double density) const;
 
  private:
   std::shared_ptr<const BrdfModel> model_;

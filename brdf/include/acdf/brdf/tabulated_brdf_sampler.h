@@ -119,10 +119,12 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   // and the tabulation and format versions.
   static CacheKey tableKey(const BrdfModel& model, const TabulatedBrdfOptions& options);
 
-  double pdf(const Vec3d& wo, const Vec3d& wi) const override;
+  // The vertex knows ωo's slice of the table (for ωo above the horizon).
+  BrdfVertex vertex(const Vec3d& wo) const override;
+  double pdf(const Vec3d& wo, const Vec3d& wi) const override { return pdfAt(vertex(wo), wi); }
   // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,
   // without the defensive mixture.
-  double halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const;
+  double halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const { return halfVectorPdfAt(vertex(wo), wh); }
 
   std::size_t bytes() const override { return table_.bytes(); }
   std::string name() const override { return options_.name(); }
@@ -134,9 +136,14 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   double buildMs() const { return buildMs_; }
 
  protected:
-  SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override;
+  SampledDirection sampleDirection(const Vec3d& wo, float u0, float u1) const override {
+    return sampleDirectionAt(vertex(wo), u0, u1);
+  }
+  SampledDirection sampleDirectionAt(const BrdfVertex& v, float u0, float u1) const override;
+  double pdfAt(const BrdfVertex& v, const Vec3d& wi) const override;
 
  private:
+  double halfVectorPdfAt(const BrdfVertex& v, const Vec3d& wh) const;
   // The cells of the table's outgoing axes: θo, and φo for a Full4D table.
   static OutgoingCells outgoingCellsOf(const Cascade& table);
   // The cells of the table's half-vector axes: s, and φh (Full4D) or Δφ.

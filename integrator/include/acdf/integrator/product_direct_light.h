@@ -36,8 +36,10 @@
 // BSDF-sampled continuation that escapes to the environment adds nothing (as under light-only
 // MIS); it carries only indirect light. Camera rays that escape still see the map.
 //
-// Cost per candidate: one sample, f, and both densities (the other strategy's pdf; the light's
-// radiance from its table's pixel for a BSDF candidate). Non-finite values never reach F: a
+// Cost per candidate: one direction, f once, and both densities (the other strategy's pdf; the
+// light's radiance from its table's pixel for a BSDF candidate). What the material's sampler finds
+// from ωo alone (BrdfVertex: a table's slice) is found once per shading point, shared by the
+// candidates and, through vertex(), by the path's continuation. Non-finite values never reach F: a
 // candidate whose weight is not finite and positive counts as weight 0.
 
 #include <cstdint>
@@ -73,6 +75,9 @@ class ProductDirectLight {
   // options.bsdfFraction > 0 (above). `wo` is in the local frame.
   ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context, const BrdfSampler& material,
                      const Frame& frame, const Vec3d& wo, const ProductSamplingOptions& options);
+  // The same with the material at ωo already found.
+  ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context, const BrdfVertex& material,
+                     const Frame& frame, const ProductSamplingOptions& options);
 
   // Draws the M candidates, a point of `values` each, and chooses one with its resampling value;
   // none when every weight is 0.
@@ -89,14 +94,14 @@ class ProductDirectLight {
     double mixturePdf = 0;
   };
   Candidate candidate(const std::array<float, 2>& u) const;
+  // A candidate at `direction`, wi in the local frame and above the horizon.
   Candidate weighed(const Vec3d& direction, const Vec3d& wi, const Rgb& radiance, double lightPdf,
                     double bsdfPdf) const;
 
   const EnvironmentLight& light_;
   LightSampleContext context_;
-  const BrdfSampler& material_;
+  BrdfVertex material_;
   Frame frame_;
-  Vec3d wo_;
   ProductSamplingOptions options_;
 };
 
