@@ -8,10 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "acdf/brdf/ggx_sampler.h"
 #include "acdf/brdf/half_vector.h"
-#include "acdf/brdf/rgl_sampler.h"
-#include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/sampling/rng.h"
 
 namespace acdf {
@@ -31,24 +28,9 @@ Vec3d capDirection(double cap, double phi) {
   return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0 - cap};
 }
 
-// A half-vector density over the upper hemisphere, integrated on a grid of cells in
-// (s, φh − phiOrigin): sCells × phiCells over [0, 1) × [0, 2π).
-struct HalfVectorGrid {
-  uint32_t sCells, phiCells;
-  double phiOrigin;
-  // Constant per cell (a table's), so one evaluation at the centre gives the cell's mass;
-  // otherwise (a smooth density) each sub-cell is weighted by the density at its jittered point.
-  bool constantPerCell;
-  std::function<double(const Vec3d& wh)> density;
-  // Smooth densities only: sub-cells uniform in (s, φh) instead of solid angle, each weighted by
-  // the density per unit (s, φh) area, p(ωh) sinθh dθh/ds = p(ωh) sinθh π s — bounded where
-  // p(ωh) per steradian is not (the RGL warps' p ~ 1/s² at the pole).
-  bool uniformInS = false;
-};
-
 // Adds `scale` × the grid's mass, sub-cell by sub-cell, to the bins of the reflected directions.
 // Sub-cells are uniform in solid angle, each reflected at a jittered point.
-void addReflectedMass(const HalfVectorGrid& grid, const Vec3d& wo, double scale, const SphereChiSquareOptions& o,
+void addReflectedMass(const HalfVectorDensity& grid, const Vec3d& wo, double scale, const SphereChiSquareOptions& o,
                       std::vector<double>& p) {
   const double cellPhi = 2.0 * kPi / grid.phiCells;
   // Per row of s-cells in parallel, each with its own histogram and jitter stream, summed in order.
@@ -91,29 +73,17 @@ void addReflectedMass(const HalfVectorGrid& grid, const Vec3d& wo, double scale,
     for (std::size_t i = 0; i < p.size(); ++i) p[i] += row[i];
 }
 
-// GGX's density is smooth: a grid as fine as a default table's, in s to follow the peak.
-constexpr uint32_t kGgxSCells = 256, kGgxPhiCells = 32;
-// The RGL warps' density is bilinear in (s, v) patches of the visible-NDF table, with the
-// luminance warp on top: smooth enough for a coarser grid, which matters since each of its
-// evaluations inverts a warp.
-constexpr uint32_t kRglSCells = 64, kRglPhiCells = 32;
-
 }  // namespace
 
 std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d& wo, const SphereChiSquareOptions& o) {
-  const auto* table = dynamic_cast<const TabulatedBrdfSampler*>(&sampler);
-  const auto* ggx = dynamic_cast<const GgxBrdfSampler*>(&sampler);
-  const auto* rgl = dynamic_cast<const RglBrdfSampler*>(&sampler);
-  if (!table && !ggx && !rgl && !dynamic_cast<const CosineBrdfSampler*>(&sampler))
-    throw std::invalid_argument("brdf chi-square: unknown sampler " + sampler.name());
   if (!o.equalAreaRows || o.thetaBins % 2 != 0 || o.subPoints == 0)
     throw std::invalid_argument("brdf chi-square: needs equal-area rows, an even row count and subPoints > 0");
   std::vector<double> p(std::size_t{o.thetaBins} * o.phiBins, 0.0);
-  // The cosine-weighted share: all of it for the cosine sampler and below the horizon, the
-  // defensive mixture's for a table, none for GGX and the RGL warps.
-  double w = 1.0;
-  if (wo.z > 0.0 && table) w = table->options().cosineWeight;
-  if (wo.z > 0.0 && (ggx || rgl)) w = 0.0;
+  // At or below the horizon every sampler falls back to cosine-weighted sampling.
+  const HalfVectorDensity density = wo.z > 0.0 ? sampler.halfVectorDensity(wo) : HalfVectorDensity{};
+  const double w = density.cosineShare;
+  if (w < 1.0 && !density.density)
+    throw std::invalid_argument("brdf chi-square: sampler " + sampler.name() + " describes no half-vector density");
   // ∫ cosθ/π dω over an equal-area row z in [zb, za] above the horizon, φ in a bin of width
   // 2π/phiBins: (za² − zb²)/phiBins.
   for (uint32_t row = 0; row < o.thetaBins / 2; ++row) {
@@ -121,23 +91,7 @@ std::vector<double> brdfBinProbabilities(const BrdfSampler& sampler, const Vec3d
     for (uint32_t col = 0; col < o.phiBins; ++col)
       p[std::size_t{row} * o.phiBins + col] += w * (za * za - zb * zb) / o.phiBins;
   }
-  if (w == 1.0) return p;
-
-  if (table) {
-    const TabulatedBrdfOptions& t = table->options();
-    const double phiOrigin = t.layout == TabulatedBrdfOptions::Layout::Isotropic ? azimuth(wo) : 0.0;
-    addReflectedMass({t.thetaHalfCells, t.phiHalfCells, phiOrigin, true,
-                      [&](const Vec3d& wh) { return table->halfVectorPdf(wo, wh); }},
-                     wo, 1.0 - w, o, p);
-  } else if (rgl) {
-    // The warps' v = 0 is φm = φo − π.
-    addReflectedMass({kRglSCells, kRglPhiCells, azimuth(wo) - kPi, false,
-                      [&](const Vec3d& wh) { return rgl->halfVectorPdf(wo, wh); }, true},
-                     wo, 1.0, o, p);
-  } else {
-    addReflectedMass({kGgxSCells, kGgxPhiCells, 0.0, false, [&](const Vec3d& wh) { return ggx->halfVectorPdf(wh); }},
-                     wo, 1.0 - w, o, p);
-  }
+  if (w < 1.0) addReflectedMass(density, wo, 1.0 - w, o, p);
   return p;
 }
 

@@ -40,4 +40,6 @@ SampledDirection CosineBrdfSampler::sampleDirection(const Vec3d&, float u0, floa
   return sampleCosineDirection(u0, u1);
 }
 
+HalfVectorDensity BrdfSampler::halfVectorDensity(const Vec3d&) const { return {}; }
+
 }  // namespace acdf

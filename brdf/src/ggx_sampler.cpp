@@ -35,4 +35,8 @@ double GgxBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {
   return h ? h->incidentPdf(halfVectorPdf(h->direction)) : 0.0;
 }
 
+HalfVectorDensity GgxBrdfSampler::halfVectorDensity(const Vec3d&) const {
+  return {.cosineShare = 0, .sCells = 256, .phiCells = 32, .density = [this](const Vec3d& wh) { return halfVectorPdf(wh); }};
+}
+
 }  // namespace acdf

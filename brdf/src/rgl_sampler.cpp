@@ -53,4 +53,13 @@ double RglBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {
   return h ? h->incidentPdf(halfVectorPdf(wo, h->direction)) : 0.0;
 }
 
+HalfVectorDensity RglBrdfSampler::halfVectorDensity(const Vec3d& wo) const {
+  return {.cosineShare = 0,
+          .sCells = 64,
+          .phiCells = 32,
+          .phiOrigin = azimuth(wo) - std::numbers::pi,  // the warps' v = 0 is φm = φo − π
+          .density = [this, wo](const Vec3d& wm) { return halfVectorPdf(wo, wm); },
+          .uniformInS = true};
+}
+
 }  // namespace acdf

@@ -525,4 +525,13 @@ double TabulatedBrdfSampler::pdfAt(const BrdfVertex& v, const Vec3d& wi) const {
   return p;
 }
 
+HalfVectorDensity TabulatedBrdfSampler::halfVectorDensity(const Vec3d& wo) const {
+  return {.cosineShare = options_.cosineWeight,
+          .sCells = options_.thetaHalfCells,
+          .phiCells = options_.phiHalfCells,
+          .phiOrigin = options_.layout == TabulatedBrdfOptions::Layout::Isotropic ? azimuth(wo) : 0.0,
+          .constantPerCell = true,
+          .density = [this, wo](const Vec3d& wh) { return halfVectorPdf(wo, wh); }};
+}
+
 }  // namespace acdf

@@ -27,6 +27,8 @@
 // models of one MERL file with different interpolations, share one copy of the data.
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -55,6 +57,25 @@ struct BrdfSample {
   Vec3d wi;        // unit vector
   Rgb weight;      // f(ωo, ωi)·max(cosθi, 0) / pdf
   double pdf = 0;  // per steradian, finite and > 0
+};
+
+// How a sampler's density at one ωo above the horizon is made, for the χ² test's expected counts
+// (brdf_chi_square.h): `cosineShare` of it cosine-weighted, the rest the reflection about ωo of a
+// half-vector density over the upper hemisphere, integrated on sCells × phiCells cells in
+// (s = √(θh / (π/2)), φh − phiOrigin) fine enough to resolve it.
+struct HalfVectorDensity {
+  double cosineShare = 1;
+  uint32_t sCells = 0, phiCells = 0;
+  double phiOrigin = 0;
+  // Constant per cell (a table's, on its own cells), so one evaluation at the centre gives the
+  // cell's mass; otherwise (a smooth density) each sub-cell is weighted by the density at its
+  // jittered point.
+  bool constantPerCell = false;
+  std::function<double(const Vec3d& wh)> density;  // per steradian of ωh
+  // Smooth densities only: sub-cells uniform in (s, φh) instead of solid angle, each weighted by
+  // the density per unit (s, φh) area, p(ωh) sinθh dθh/ds = p(ωh) sinθh π s — bounded where
+  // p(ωh) per steradian is not (the RGL warps' p ~ 1/s² at the pole).
+  bool uniformInS = false;
 };
 
 class BrdfSampler;
@@ -106,6 +127,10 @@ class BrdfSampler {
   virtual double pdf(const Vec3d& wo, const Vec3d& wi) const = 0;
   // The model's f(ωo, ωi).
   Rgb eval(const Vec3d& wo, const Vec3d& wi) const { return model_->eval(wo, wi); }
+
+  // The makeup of pdf(ωo, ·) for ωo above the horizon (HalfVectorDensity); the default is all
+  // cosine-weighted. A sampler must override it for brdfChiSquareTest to know its density.
+  virtual HalfVectorDensity halfVectorDensity(const Vec3d& wo) const;
 
   // Memory of the sampling tables (0 for an analytic sampler).
   virtual std::size_t bytes() const = 0;

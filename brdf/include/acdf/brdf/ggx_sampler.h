@@ -23,6 +23,8 @@ class GgxBrdfSampler final : public BrdfSampler {
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
   // D(ωh) cosθh per steradian of ωh; 0 below the horizon.
   double halfVectorPdf(const Vec3d& wh) const;
+  // All of it reflected; the smooth density on 256 × 32 cells in (√θh, φh) follows the peak.
+  HalfVectorDensity halfVectorDensity(const Vec3d& wo) const override;
 
   std::size_t bytes() const override { return 0; }
   std::string name() const override { return "ggx"; }

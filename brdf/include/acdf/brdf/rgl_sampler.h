@@ -31,6 +31,10 @@ class RglBrdfSampler final : public BrdfSampler {
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
   // p(ωm) per steradian of the half vector (upper hemisphere), given ωo above the horizon.
   double halfVectorPdf(const Vec3d& wo, const Vec3d& wm) const;
+  // All of it reflected, on 64 × 32 cells in the warps' own (√θm, φm − φo + π), sub-cells uniform
+  // in those coordinates (the density per steradian has a 1/θm spike at the pole); coarser than
+  // GGX's since each evaluation inverts a warp.
+  HalfVectorDensity halfVectorDensity(const Vec3d& wo) const override;
 
   std::size_t bytes() const override { return rgl_.warpBytes(); }
   std::string name() const override { return "rgl"; }

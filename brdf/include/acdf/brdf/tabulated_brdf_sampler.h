@@ -125,6 +125,8 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,
   // without the defensive mixture.
   double halfVectorPdf(const Vec3d& wo, const Vec3d& wh) const { return halfVectorPdfAt(vertex(wo), wh); }
+  // The defensive mixture's cosine weight, and the table's density on its own half-vector cells.
+  HalfVectorDensity halfVectorDensity(const Vec3d& wo) const override;
 
   std::size_t bytes() const override { return table_.bytes(); }
   std::string name() const override { return options_.name(); }
