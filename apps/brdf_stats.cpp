@@ -19,7 +19,7 @@
 #include "acdf/brdf/measured_file.h"
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/reflectance_estimator.h"
-#include "acdf/brdf/rgl_sampler.h"
+#include "acdf/brdf/rgl.h"
 #include "errors.h"
 
 namespace acdf::app {
@@ -111,12 +111,14 @@ int runBrdfStats(const BrdfStatsArgs& args) {
   // Validate every flag before the slow part (reading 35 MB, tabulating).
   brdfTableOptions(args.table, DimensionMethod::Uniform);
   const std::shared_ptr<const BrdfModel> brdf = loadMeasuredBrdf(args.input, args.table);
+  // The file's format, for the report (its layout of warps).
   const auto rgl = std::dynamic_pointer_cast<const RglBrdf>(brdf);
 
   const CosineBrdfSampler cosine(brdf);
   const auto uniform = makeTabulatedSampler(brdf, args.table, DimensionMethod::Uniform);
   const auto adaptive = makeTabulatedSampler(brdf, args.table, DimensionMethod::Adaptive);
-  const std::unique_ptr<RglBrdfSampler> warps = rgl ? std::make_unique<RglBrdfSampler>(rgl) : nullptr;
+  // The model's own sampler, where it has one (an RGL file's warps).
+  const std::shared_ptr<const BrdfSampler> native = brdf->nativeSampler(brdf);
 
   ReflectanceEstimatorOptions estimator;
   estimator.samplesPerDirection = args.samplesPerDirection;
@@ -125,7 +127,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
       {"uniform", estimateReflectance(*uniform, estimator), uniform.get(), uniform.get()},
       {"adaptive", estimateReflectance(*adaptive, estimator), adaptive.get(), adaptive.get()},
   };
-  if (warps) rows.push_back({"rgl", estimateReflectance(*warps, estimator), nullptr, warps.get()});
+  if (native) rows.push_back({native->name(), estimateReflectance(*native, estimator), nullptr, native.get()});
   const ReflectanceQuadratureOptions grid;
   if (args.quadrature)
     for (SamplerRow& row : rows) row.quadrature = integrateReflectance(*row.sampler, estimator, grid);
@@ -175,12 +177,12 @@ int runBrdfStats(const BrdfStatsArgs& args) {
                   humanBytes(row->table->bytes()).c_str(),
                   fmt::format("{:.0f} + {:.0f}", row->table->tabulationMs(), row->table->buildMs()).c_str());
     std::printf("compression %.1f : 1\n", compression);
-    if (warps) {
+    if (rgl) {
       std::printf("%-10s %-30s %12s   (the file's luminance + visible-NDF warps)\n", "rgl",
                   fmt::format("{} x {}^2 + {} x {}^2", rgl->thetaIn().size(), rgl->luminanceWarp().rows(),
                               rgl->thetaIn().size(), rgl->vndfWarp().rows())
                       .c_str(),
-                  humanBytes(static_cast<double>(warps->bytes())).c_str());
+                  humanBytes(static_cast<double>(native->bytes())).c_str());
     }
     std::printf(
         "\nreflected radiance under a uniform white sky, %u outgoing directions (theta_o <= %.0f deg) x %u "

@@ -15,7 +15,7 @@
 
 #include "acdf/brdf/brdf_chi_square.h"
 #include "acdf/brdf/brdf_sampler.h"
-#include "acdf/brdf/rgl_sampler.h"
+#include "acdf/brdf/brdf_sampler_factory.h"
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/light_chi_square.h"
 #include "acdf/sampling/sphere_chi_square.h"
@@ -73,23 +73,18 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
 // --brdf FILE --theta-o DEG: the BRDF sampler --sampler (cosine, or the table brdf-stats builds
 // from the same flags) for ωo = (θo, φo = 0).
 SphereChiSquareReport testBrdf(const Chi2Args& args) {
-  if (args.sampler != "cosine" && args.sampler != "uniform" && args.sampler != "adaptive" && args.sampler != "rgl")
-    throw UsageError("chi2 --brdf: --sampler must be cosine, uniform, adaptive or rgl, got '" + args.sampler + "'");
+  const BrdfSampling sampling = parseOption("chi2 --brdf", "--sampler", args.sampler, parseBrdfSampling);
   if (!(args.thetaOutDegrees >= 0 && args.thetaOutDegrees < 90))
     throw UsageError(fmt::format("chi2 --brdf: --theta-o must be in [0, 90) degrees, got {}", args.thetaOutDegrees));
   // Flag errors before the slow part (reading the file, tabulating).
-  brdfTableOptions(args.table, DimensionMethod::Uniform);
+  const TabulatedBrdfOptions table = brdfTableOptions(args.table, DimensionMethod::Uniform);
   const std::shared_ptr<const BrdfModel> brdf = loadMeasuredBrdf(args.brdf, args.table);
-  std::unique_ptr<BrdfSampler> sampler;
-  if (args.sampler == "rgl") {
-    const auto rgl = std::dynamic_pointer_cast<const RglBrdf>(brdf);
-    if (!rgl) throw UsageError("chi2 --brdf: --sampler rgl needs an RGL .bsdf file; " + args.brdf + " is a MERL table");
-    sampler = std::make_unique<RglBrdfSampler>(rgl);
-  } else if (args.sampler == "cosine")
-    sampler = std::make_unique<CosineBrdfSampler>(brdf);
-  else
-    sampler = makeTabulatedSampler(brdf, args.table,
-                                   args.sampler == "uniform" ? DimensionMethod::Uniform : DimensionMethod::Adaptive);
+  std::shared_ptr<const BrdfSampler> sampler;
+  try {
+    sampler = makeBrdfSampler(brdf, sampling, table);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("chi2 --brdf: --sampler {}: {}", args.sampler, e.what()));
+  }
   const Vec3d wo = sphericalDirection(args.thetaOutDegrees * std::numbers::pi / 180.0, 0.0);
   // Expected counts integrated in the sampler's own half-vector cells (brdf_chi_square.h), with
   // the tests' resolution: 32 × 64 equal-area bins, 32² sub-cells per table cell.

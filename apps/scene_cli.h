@@ -29,14 +29,4 @@ TableCache commandTableCache(bool disabled);
 // terminal.
 RenderStats renderWithProgress(const Scene& scene, Film& film, std::optional<double> seconds);
 
-// parse(value), with std::invalid_argument turned into "<command>: <option>: <problem>".
-template <class Parse>
-auto parseOption(const std::string& command, const std::string& option, const std::string& value, Parse parse) {
-  try {
-    return parse(value);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("{}: {}: {}", command, option, e.what()));
-  }
-}
-
 }  // namespace acdf::app

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "acdf/brdf/coordinates.h"
+#include "acdf/brdf/ggx_sampler.h"
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/merl_tabulation.h"
 
@@ -142,6 +143,11 @@ AnalyticBrdf AnalyticBrdf::preset(const std::string& name) {
   std::string known;
   for (const Preset& p : kPresets) known += (known.empty() ? "" : ", ") + std::string(p.name);
   throw std::invalid_argument("no preset named '" + name + "' (presets: " + known + ")");
+}
+
+std::shared_ptr<const BrdfSampler> AnalyticBrdf::nativeSampler(const std::shared_ptr<const BrdfModel>& self) const {
+  checkIsSelf(*this, self);
+  return std::make_shared<const GgxBrdfSampler>(std::static_pointer_cast<const AnalyticBrdf>(self));
 }
 
 }  // namespace acdf

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "acdf/brdf/rgl_sampler.h"
 #include "acdf/brdf/spectrum.h"
 #include "acdf/sampling/file_error.h"
 
@@ -258,6 +259,11 @@ std::string RglBrdf::addToKey(ContentHash& content) const {
   // The warps' input values, hashed when they were read.
   content.number(warpDigest_.high).number(warpDigest_.low);
   return std::string("rgl jacobian=") + (jacobian_ ? "1" : "0");
+}
+
+std::shared_ptr<const BrdfSampler> RglBrdf::nativeSampler(const std::shared_ptr<const BrdfModel>& self) const {
+  checkIsSelf(*this, self);
+  return std::make_shared<const RglBrdfSampler>(std::static_pointer_cast<const RglBrdf>(self));
 }
 
 }  // namespace acdf

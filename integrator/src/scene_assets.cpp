@@ -7,23 +7,8 @@
 #include "acdf/brdf/analytic.h"
 #include "acdf/brdf/measured_file.h"
 #include "acdf/brdf/rgl.h"
-#include "acdf/brdf/rgl_sampler.h"
-#include "acdf/sampling/enum_names.h"
 
 namespace acdf {
-
-namespace {
-constexpr EnumName<BrdfSampling> kBrdfSamplingNames[] = {
-    {BrdfSampling::Cosine, "cosine"},
-    {BrdfSampling::Uniform, "uniform"},
-    {BrdfSampling::Adaptive, "adaptive"},
-    {BrdfSampling::Rgl, "rgl"},
-};
-}  // namespace
-
-std::string_view toString(BrdfSampling sampling) { return nameOf(kBrdfSamplingNames, sampling); }
-
-BrdfSampling parseBrdfSampling(std::string_view name) { return valueNamed(kBrdfSamplingNames, name, "BRDF sampling"); }
 
 std::shared_ptr<const BrdfModel> SceneAssets::measuredFile(const std::filesystem::path& path,
                                                              MerlBrdf::Interpolation interpolation) {
@@ -58,31 +43,22 @@ std::shared_ptr<const EnvironmentMap> SceneAssets::environmentMap(const std::fil
 std::shared_ptr<const BrdfSampler> SceneAssets::brdfSampler(const std::shared_ptr<const BrdfModel>& model,
                                                               const std::string& modelName, BrdfSampling sampling,
                                                               TabulatedBrdfOptions table) {
-  if (sampling == BrdfSampling::Cosine) return std::make_shared<const CosineBrdfSampler>(model);
-  if (sampling == BrdfSampling::Rgl) {
-    auto rgl = std::dynamic_pointer_cast<const RglBrdf>(model);
-    if (!rgl) throw std::invalid_argument("rgl sampling needs an RGL .bsdf file, and " + modelName + " is not one");
-    auto& slot = brdfSamplers_["rgl " + modelName];
-    if (!slot) slot = std::make_shared<const RglBrdfSampler>(std::move(rgl));
-    return slot;
+  if (sampling == BrdfSampling::Cosine) return makeBrdfSampler(model, sampling);
+  std::string key = fmt::format("{} {}", toString(sampling), modelName);
+  if (sampling != BrdfSampling::Native) {
+    table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
+    // The cache key covers the model's values and every option that shapes the table; the
+    // defensive mixture weight is applied at sample time, so it only tells samplers apart.
+    key = fmt::format("{} w={:a}", TabulatedBrdfSampler::tableKey(*model, table).hex(), table.cosineWeight);
   }
-  table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
-  // The cache key covers the model's values and every option that shapes the table; the defensive
-  // mixture weight is applied at sample time, so it only tells samplers apart.
-  const CacheKey tableKey = TabulatedBrdfSampler::tableKey(*model, table);
-  auto& slot = brdfSamplers_[fmt::format("{} w={:a}", tableKey.hex(), table.cosineWeight)];
+  auto& slot = brdfSamplers_[key];
   if (!slot) {
-    const std::string what = fmt::format("brdf {} {}", table.name(), modelName);
-    Cached<Cascade> cascade =
-        cache_.getOrBuild(tableKey, what, [&] { return TabulatedBrdfSampler::buildCascade(*model, table); });
-    try {
-      slot = std::make_shared<const TabulatedBrdfSampler>(model, table, std::move(cascade.value));
-    } catch (const SerializationError&) {
-      // A cached table of another shape under this key (a hash collision): never trusted.
-      slot = std::make_shared<const TabulatedBrdfSampler>(model, table);
-      cascade.fromCache = false;
-    }
-    record(what, cascade.fromCache);
+    // The table's name in the tables' list and the cache's warnings; a native sampler's model.
+    const std::string what =
+        sampling == BrdfSampling::Native ? modelName : fmt::format("brdf {} {}", table.name(), modelName);
+    MadeBrdfSampler made = makeBrdfSampler(model, sampling, table, cache_, what);
+    slot = std::move(made.sampler);
+    if (sampling != BrdfSampling::Native) record(what, made.fromCache);
   }
   return slot;
 }

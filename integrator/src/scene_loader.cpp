@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/analytic.h"
-#include "acdf/brdf/ggx_sampler.h"
+#include "acdf/brdf/brdf_sampler_factory.h"
 #include "acdf/brdf/lambertian.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/film.h"
@@ -298,7 +298,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
     BrdfSampling sampling = BrdfSampling::Adaptive;
     if (node.has("sampling")) sampling = node["sampling"].parsed(parseBrdfSampling);
     if (overrides.bsdfSampling) sampling = *overrides.bsdfSampling;
-    if (sampling == BrdfSampling::Rgl && !file)
+    if (sampling == BrdfSampling::Native && !file)
       node.fail("rgl sampling needs an RGL .bsdf \"file\" (a preset is tabulated in the MERL layout)");
     MerlBrdf::Interpolation interpolation = MerlBrdf::Interpolation::Nearest;
     if (node.has("interpolation")) interpolation = node["interpolation"].parsed(parseInterpolation);
@@ -333,7 +333,7 @@ MaterialSpec readMaterial(const Node& node, const fs::path& baseDir, const Scene
       const double alpha = node["alpha"].positive();
       brdf = std::make_shared<const AnalyticBrdf>(AnalyticBrdf::conductor(alpha, node["f0"].color(1.0)));
     }
-    spec.build = [brdf](SceneAssets&) { return std::make_shared<const GgxBrdfSampler>(brdf); };
+    spec.build = [brdf](SceneAssets&) { return makeBrdfSampler(brdf, BrdfSampling::Native); };
   } else {
     node["type"].fail("unknown material type \"" + type + "\" (diffuse, measured or ggx-conductor)");
   }

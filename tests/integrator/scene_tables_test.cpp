@@ -142,7 +142,7 @@ TEST(SceneTables, MeasuredFilesOfEitherFormatAndTheirSamplers) {
   const auto model = tables.measuredFile(file, MerlBrdf::Interpolation::Trilinear);
   ASSERT_NE(std::dynamic_pointer_cast<const RglBrdf>(model), nullptr);
   EXPECT_EQ(tables.measuredFile(file, MerlBrdf::Interpolation::Nearest), model) << "loaded once";
-  EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Rgl, {})->name(), "rgl");
+  EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Native, {})->name(), "rgl");
   EXPECT_EQ(tables.brdfSampler(model, "gold", BrdfSampling::Cosine, {})->name(), "cosine");
   TabulatedBrdfOptions small;
   small.layout = TabulatedBrdfOptions::Layout::Isotropic;
@@ -153,7 +153,7 @@ TEST(SceneTables, MeasuredFilesOfEitherFormatAndTheirSamplers) {
   EXPECT_TRUE(tables.tablesFromCache().empty());
   EXPECT_EQ(tables.tablesBuilt().size(), 1u);
   const auto merl = tables.merlPreset("gold", MerlBrdf::Interpolation::Nearest);
-  EXPECT_THROW(tables.brdfSampler(merl, "preset gold", BrdfSampling::Rgl, {}), std::invalid_argument);
+  EXPECT_THROW(tables.brdfSampler(merl, "preset gold", BrdfSampling::Native, {}), std::invalid_argument);
   std::filesystem::remove(file);
 }
 

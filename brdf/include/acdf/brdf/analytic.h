@@ -47,6 +47,8 @@ class AnalyticBrdf final : public BrdfModel {
   bool isotropic() const override { return true; }
   // No data; the kind and its parameters: "analytic-ggx conductor alpha=... f0=...".
   std::string addToKey(ContentHash& content) const override;
+  // GGX sampling of its lobe (GgxBrdfSampler).
+  std::shared_ptr<const BrdfSampler> nativeSampler(const std::shared_ptr<const BrdfModel>& self) const override;
 
   // The MERL table as NeuralBrdf::merlTable() builds it (tabulateMerl, merl_tabulation.h).
   std::vector<double> merlTable() const;

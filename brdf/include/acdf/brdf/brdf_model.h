@@ -18,6 +18,7 @@
 //                   in these angles (MERL reads its table cell directly).
 //   addToKey()      what the values depend on, for the table cache's keys (docs/table-cache.md).
 
+#include <memory>
 #include <string>
 
 #include "acdf/sampling/rgb.h"
@@ -25,6 +26,8 @@
 #include "acdf/sampling/table_cache.h"
 
 namespace acdf {
+
+class BrdfSampler;
 
 class BrdfModel {
  public:
@@ -43,6 +46,14 @@ class BrdfModel {
   // starting with a word no other model uses, e.g. "analytic-ggx conductor alpha=0x1.3333333333333p-3 ...".
   // Two models with the same content and text evaluate alike everywhere.
   virtual std::string addToKey(ContentHash& content) const = 0;
+
+  // The sampler the model's own data or formula gives (an RGL file's warps, GGX's distribution of
+  // normals), or null for a model without one. `self` is this model, whose ownership the sampler
+  // shares (std::invalid_argument otherwise).
+  virtual std::shared_ptr<const BrdfSampler> nativeSampler(const std::shared_ptr<const BrdfModel>& self) const;
 };
+
+// Throws std::invalid_argument unless `self` points to `model` (nativeSampler's precondition).
+void checkIsSelf(const BrdfModel& model, const std::shared_ptr<const BrdfModel>& self);
 
 }  // namespace acdf

@@ -75,6 +75,8 @@ class RglBrdf final : public BrdfModel {
   bool isotropic() const override { return true; }
   // Every table value and "rgl jacobian=…".
   std::string addToKey(ContentHash& content) const override;
+  // Its warps (RglBrdfSampler).
+  std::shared_ptr<const BrdfSampler> nativeSampler(const std::shared_ptr<const BrdfModel>& self) const override;
 
   // Unit coordinates (see above), in Bilinear2D's order: {row = v(φ), column = u(θ)}.
   static std::array<float, 2> unitCoordinates(double theta, double phi);

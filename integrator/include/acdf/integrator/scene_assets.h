@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "acdf/brdf/brdf_sampler.h"
+#include "acdf/brdf/brdf_sampler_factory.h"
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/envmap/environment_map.h"
@@ -22,12 +23,6 @@
 #include "acdf/sampling/table_cache.h"
 
 namespace acdf {
-
-// Rgl: the RGL file's own warps (RglBrdfSampler), for RGL .bsdf materials only.
-enum class BrdfSampling { Cosine, Uniform, Adaptive, Rgl };
-// "cosine", "uniform", "adaptive", "rgl"; parse throws std::invalid_argument.
-std::string_view toString(BrdfSampling sampling);
-BrdfSampling parseBrdfSampling(std::string_view name);
 
 class SceneAssets {
  public:
@@ -43,10 +38,9 @@ class SceneAssets {
   // Throws std::invalid_argument for an unknown preset.
   std::shared_ptr<const MerlBrdf> merlPreset(const std::string& name, MerlBrdf::Interpolation interpolation);
 
-  // A sampler of `model`, whose name in the tables' list is `modelName` (its file or preset).
-  // Cosine sampling has no table; the table strategies use `table` with their method, shared by
-  // every request with the same table key (the model's content and the options); Rgl needs an
-  // RglBrdf (std::invalid_argument otherwise) and uses the file's own warps.
+  // makeBrdfSampler's sampler of `model`, whose name in the tables' list is `modelName` (its file
+  // or preset), through this cache: table samplers are shared by every request with the same table
+  // key (the model's content and the options), native ones by every request for the model.
   std::shared_ptr<const BrdfSampler> brdfSampler(const std::shared_ptr<const BrdfModel>& model,
                                                  const std::string& modelName, BrdfSampling sampling,
                                                  TabulatedBrdfOptions table);

@@ -1,0 +1,57 @@
+#include "acdf/brdf/brdf_sampler_factory.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "acdf/sampling/enum_names.h"
+
+namespace acdf {
+
+namespace {
+constexpr EnumName<BrdfSampling> kBrdfSamplingNames[] = {
+    {BrdfSampling::Cosine, "cosine"},
+    {BrdfSampling::Uniform, "uniform"},
+    {BrdfSampling::Adaptive, "adaptive"},
+    {BrdfSampling::Native, "rgl"},
+};
+}  // namespace
+
+std::string_view toString(BrdfSampling sampling) { return nameOf(kBrdfSamplingNames, sampling); }
+
+BrdfSampling parseBrdfSampling(std::string_view name) { return valueNamed(kBrdfSamplingNames, name, "BRDF sampling"); }
+
+MadeBrdfSampler makeBrdfSampler(const std::shared_ptr<const BrdfModel>& model, BrdfSampling sampling,
+                                TabulatedBrdfOptions table, TableCache& cache, std::string_view what) {
+  if (!model) throw std::invalid_argument("makeBrdfSampler: no model");
+  switch (sampling) {
+    case BrdfSampling::Cosine: return {std::make_shared<const CosineBrdfSampler>(model), false};
+    case BrdfSampling::Native: {
+      auto native = model->nativeSampler(model);
+      if (!native)
+        throw std::invalid_argument(
+            "rgl sampling needs a model with a sampler of its own (an RGL .bsdf file), and " + std::string(what) +
+            " has none");
+      return {std::move(native), false};
+    }
+    case BrdfSampling::Uniform:
+    case BrdfSampling::Adaptive: break;
+  }
+  table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
+  validate(table);
+  Cached<Cascade> cascade = cache.getOrBuild(TabulatedBrdfSampler::tableKey(*model, table), what,
+                                             [&] { return TabulatedBrdfSampler::buildCascade(*model, table); });
+  try {
+    return {std::make_shared<const TabulatedBrdfSampler>(model, table, std::move(cascade.value)), cascade.fromCache};
+  } catch (const SerializationError&) {
+    // A cached table of another shape under this key (a hash collision): never trusted.
+    return {std::make_shared<const TabulatedBrdfSampler>(model, table), false};
+  }
+}
+
+std::shared_ptr<const BrdfSampler> makeBrdfSampler(const std::shared_ptr<const BrdfModel>& model,
+                                                   BrdfSampling sampling, const TabulatedBrdfOptions& table) {
+  TableCache none = TableCache::disabled();
+  return makeBrdfSampler(model, sampling, table, none, "the model").sampler;
+}
+
+}  // namespace acdf
