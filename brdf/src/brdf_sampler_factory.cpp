@@ -28,9 +28,8 @@ MadeBrdfSampler makeBrdfSampler(const std::shared_ptr<const BrdfModel>& model, B
     case BrdfSampling::Native: {
       auto native = model->nativeSampler(model);
       if (!native)
-        throw std::invalid_argument(
-            "rgl sampling needs a model with a sampler of its own (an RGL .bsdf file), and " + std::string(what) +
-            " has none");
+        throw std::invalid_argument("rgl sampling needs an RGL .bsdf file (a model with a sampler of its own), and " +
+                                    std::string(what) + " is not one");
       return {std::move(native), false};
     }
     case BrdfSampling::Uniform:
