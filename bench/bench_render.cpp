@@ -201,7 +201,7 @@ void BM_DirectLightPerShadingPoint(benchmark::State& state) {
   uint64_t shaded = 0;
   for (auto _ : state) {
     for (const ShadingPoint& p : points) {
-      context.normal = p.normal;
+      context = env.atNormal(context, p.normal);
       const BrdfVertex material = p.material->vertex(p.wo);
       if (candidates > 0) {
         CandidateValues values(Pcg32(rng.nextUint()));

@@ -460,7 +460,7 @@ HalfVectorCells TabulatedBrdfSampler::halfVectorCellsOf(const Cascade& table, co
 }
 
 BrdfVertex TabulatedBrdfSampler::vertex(const Vec3d& wo) const {
-  return vertexWithSlice(wo, wo.z > 0.0 ? outgoingCells_.sliceOf(wo) : 0);
+  return vertexWithSlice(wo, outgoingCells_.sliceOf(wo));
 }
 
 SampledDirection TabulatedBrdfSampler::sampleDirectionAt(const BrdfVertex& v, float u0, float u1) const {

@@ -60,13 +60,19 @@ const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& contex
 }
 
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
-  const EnvironmentTable::Sample s = local_ && context.normal
-                                         ? local_->sample(options_.worldFromMap.applyInverse(*context.normal), u0, u1)
-                                         : table(context).sample(u0, u1);
+  const EnvironmentTable::Sample s =
+      local_ && context.normal ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
   if (!(s.pdf > 0)) return {};
   const Rgb L = map_->radiance(s.pixel);
   const float k = options_.scale;
   return {options_.worldFromMap.apply(s.direction), {k * L.r, k * L.g, k * L.b}, s.pdf};
+}
+
+LightSampleContext EnvironmentLight::atNormal(LightSampleContext context, const Vec3d& normal) const {
+  context.normal = normal;
+  context.localCell.reset();
+  if (local_) context.localCell = localCell(context);
+  return context;
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
@@ -89,7 +95,11 @@ RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, 
 
 std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, PixelIndex p) const {
   if (!local_ || !context.normal) return std::nullopt;
-  return local_->pdf(options_.worldFromMap.applyInverse(*context.normal), p);
+  return local_->pdfInCell(localCell(context), p);
+}
+
+std::size_t EnvironmentLight::localCell(const LightSampleContext& context) const {
+  return context.localCell ? *context.localCell : local_->sliceOf(options_.worldFromMap.applyInverse(*context.normal));
 }
 
 Rgb EnvironmentLight::scaled(const Rgb& L) const {

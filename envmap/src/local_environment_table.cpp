@@ -170,8 +170,12 @@ void LocalEnvironmentTable::buildAll() const {
 }
 
 LocalEnvironmentTable::Sample LocalEnvironmentTable::sample(const Vec3d& normal, float u0, float u1) const {
+  return sampleInCell(sliceOf(normal), u0, u1);
+}
+
+LocalEnvironmentTable::Sample LocalEnvironmentTable::sampleInCell(std::size_t cell, float u0, float u1) const {
   if (emitsNothing_) return {};
-  const Cascade& blocks = slice(sliceOf(normal));
+  const Cascade& blocks = slice(cell);
   const float u[2] = {clampUnit(u0), clampUnit(u1)};
   const CellSample b = blocks.sampleCells(u);
   const uint32_t br = b.cells[0], bc = b.cells[1];
@@ -188,11 +192,13 @@ double LocalEnvironmentTable::pdf(const Vec3d& normal, const Vec3d& w) const {
   return pdf(normal, map_->mapping().pixelOf(w));
 }
 
-double LocalEnvironmentTable::pdf(const Vec3d& normal, PixelIndex p) const {
+double LocalEnvironmentTable::pdf(const Vec3d& normal, PixelIndex p) const { return pdfInCell(sliceOf(normal), p); }
+
+double LocalEnvironmentTable::pdfInCell(std::size_t cell, PixelIndex p) const {
   if (emitsNothing_) return 0.0;
   const uint32_t br = p.row / blockHeight_, bc = p.column / blockWidth_;
   const uint32_t block[2] = {br, bc}, inBlock[2] = {p.row - br * blockHeight_, p.column - bc * blockWidth_};
-  return static_cast<double>(slice(sliceOf(normal)).pdfOfCellsInSlice(0, block)) *
+  return static_cast<double>(slice(cell).pdfOfCellsInSlice(0, block)) *
          pixels_->pdfOfCellsInSlice(blockIndex(br, bc), inBlock) * pdfScale_[p.row];
 }
 

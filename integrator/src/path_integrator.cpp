@@ -51,7 +51,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     const Frame frame(hit->normal, hit->tangentHint);
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
-    lightContext.normal = hit->normal;
+    lightContext = env.atNormal(lightContext, hit->normal);
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);

@@ -119,7 +119,7 @@ class TabulatedBrdfSampler final : public BrdfSampler {
   // and the tabulation and format versions.
   static CacheKey tableKey(const BrdfModel& model, const TabulatedBrdfOptions& options);
 
-  // The vertex knows ωo's slice of the table (for ωo above the horizon).
+  // The vertex knows ωo's slice of the table.
   BrdfVertex vertex(const Vec3d& wo) const override;
   double pdf(const Vec3d& wo, const Vec3d& wi) const override { return pdfAt(vertex(wo), wi); }
   // The table's density of the half vector ωh (upper hemisphere) given ωo, per steradian,

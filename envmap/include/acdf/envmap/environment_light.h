@@ -50,6 +50,10 @@ struct LightSampleContext {
   bool allowIncompletePdf = false;
   // The shading normal of the point lit (world frame, non-zero): Local sampling's condition.
   std::optional<Vec3d> normal = std::nullopt;
+  // The local table's normal cell of `normal`, found once for the calls of one shading point by
+  // EnvironmentLight::atNormal; without it each call finds the cell. A caller that sets `normal`
+  // itself must leave this empty.
+  std::optional<std::size_t> localCell = std::nullopt;
 };
 
 struct LightSample {
@@ -88,6 +92,9 @@ class EnvironmentLight {
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
   // Density per steradian of sample(context, ·) at the world direction w (non-zero).
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
+  // `context` at the shading normal `normal` (world frame, non-zero), with its local table cell
+  // (Local only) found once for every call there.
+  LightSampleContext atNormal(LightSampleContext context, const Vec3d& normal) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
   // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
@@ -112,6 +119,8 @@ class EnvironmentLight {
   // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
   // else none.
   std::optional<double> localPdf(const LightSampleContext& context, PixelIndex p) const;
+  // The local table's normal cell of a context with a normal (Local only).
+  std::size_t localCell(const LightSampleContext& context) const;
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;

@@ -83,6 +83,10 @@ class LocalEnvironmentTable {
   // The same at any direction of map pixel p (the density is constant per pixel), for a caller
   // that already knows w's pixel.
   double pdf(const Vec3d& normal, PixelIndex p) const;
+  // sample() and pdf() for the normals of normal cell `cell` (sliceOf), for a caller that makes
+  // several calls with one normal and finds its cell once.
+  Sample sampleInCell(std::size_t cell, float u0, float u1) const;
+  double pdfInCell(std::size_t cell, PixelIndex p) const;
 
   // Builds every slice not built yet, in parallel.
   void buildAll() const;

@@ -37,10 +37,11 @@
 // MIS); it carries only indirect light. Camera rays that escape still see the map.
 //
 // Cost per candidate: one direction, f once, and both densities (the other strategy's pdf; the
-// light's radiance from its table's pixel for a BSDF candidate). What the material's sampler finds
-// from ωo alone (BrdfVertex: a table's slice) is found once per shading point, shared by the
-// candidates and, through vertex(), by the path's continuation. Non-finite values never reach F: a
-// candidate whose weight is not finite and positive counts as weight 0.
+// light's radiance from its table's pixel for a BSDF candidate); below the horizon, the direction
+// alone. What the material's sampler finds from ωo alone (BrdfVertex: a table's slice) is found
+// once per shading point, shared by the candidates and, when the caller passes its vertex, the
+// path's continuation. Non-finite values never reach F: a candidate whose weight is not finite
+// and positive counts as weight 0.
 
 #include <cstdint>
 #include <optional>
@@ -71,7 +72,8 @@ struct ProductLightSample {
 // One shading point: the light, the material, ωo and its frame. Cheap to make (no tables).
 class ProductDirectLight {
  public:
-  // `context` must carry the normal of `frame` (local tables) and allow an incomplete pdf only if
+  // `context` must carry the normal of `frame` (local tables; EnvironmentLight::atNormal also finds
+  // its cell once for all the candidates) and allow an incomplete pdf only if
   // options.bsdfFraction > 0 (above). `wo` is in the local frame.
   ProductDirectLight(const EnvironmentLight& light, const LightSampleContext& context, const BrdfSampler& material,
                      const Frame& frame, const Vec3d& wo, const ProductSamplingOptions& options);
