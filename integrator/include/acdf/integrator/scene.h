@@ -77,15 +77,15 @@ inline bool allowsIncompleteLightPdf(const RenderSettings& settings) {
 
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
-  std::optional<MisMode> mis;
-  std::optional<SamplerKind> sampler;
-  std::optional<DirectLighting> direct;
-  std::optional<uint32_t> candidates;  // product sampling's M
-  std::optional<BrdfSampling> bsdfSampling;  // every measured material
-  std::optional<EnvironmentSampling> envSampling;
-  std::optional<uint32_t> spp;
-  std::optional<uint64_t> seed;
-  std::optional<CropWindow> crop;
+  std::optional<MisMode> mis = std::nullopt;
+  std::optional<SamplerKind> sampler = std::nullopt;
+  std::optional<DirectLighting> direct = std::nullopt;
+  std::optional<uint32_t> candidates = std::nullopt;  // product sampling's M
+  std::optional<BrdfSampling> bsdfSampling = std::nullopt;  // every measured material
+  std::optional<EnvironmentSampling> envSampling = std::nullopt;
+  std::optional<uint32_t> spp = std::nullopt;
+  std::optional<uint64_t> seed = std::nullopt;
+  std::optional<CropWindow> crop = std::nullopt;
 };
 
 struct Scene {
