@@ -9,7 +9,8 @@
 `acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
 (a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (the names
 of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, alias, hierarchical,
-uniform-sphere) and `epsilon` (the adaptive tables' tolerance). `compensated` is Mitsuba's
+uniform-sphere) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
+`normal_columns`, `block_size`). `compensated` is Mitsuba's
 `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
 BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
@@ -22,8 +23,10 @@ Mitsuba does not tell Python emitters the scene's bounds: load scenes with `acdf
 or `load_file` (mi.load_* that then give them to acdf_envmap) where rays leave the light
 (`sample_ray`, light tracing); path tracing needs no bounds.
 
-`acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf) and `sampling` (adaptive,
-uniform, rgl, cosine). Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
+`acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf), `sampling` (adaptive,
+uniform, rgl, cosine) and, for the tables, the options of `acdf.TabulatedBrdfSampler` (`layout`,
+`epsilon`, `cosine_weight`, `theta_out_cells`, `phi_out_cells`, `theta_half_cells`,
+`phi_half_cells`). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
 In the LLVM variants every call receives a whole wavefront and makes one batched acdf call. Python
@@ -93,6 +96,23 @@ def _refuse(plugin, problem):
     raise ValueError(f"{plugin}: {problem}")
 
 
+def _refuse_unknown(plugin, props, known):
+    """Refuses parameters the plugin does not read (Mitsuba would otherwise drop them silently)."""
+    unknown = sorted(set(props.keys()) - set(known))
+    if unknown:
+        _refuse(plugin, f"unsupported parameter(s) {', '.join(unknown)}; it takes {', '.join(known)}")
+
+
+def _table_options(props, kinds):
+    """The acdf table options among props (kinds: name -> type), as keyword arguments."""
+    return {name: kind(props[name]) for name, kind in kinds.items() if name in props}
+
+
+_ENVMAP_TABLE_OPTIONS = {"epsilon": float, "normal_rows": int, "normal_columns": int, "block_size": int}
+_MEASURED_TABLE_OPTIONS = {"layout": str, "epsilon": float, "cosine_weight": float, "theta_out_cells": int,
+                           "phi_out_cells": int, "theta_half_cells": int, "phi_half_cells": int}
+
+
 def _make_envmap_class():
     mi = _mi()
     import drjit as dr
@@ -101,7 +121,8 @@ def _make_envmap_class():
         def __init__(self, props):
             mi.Emitter.__init__(self, props)
             name = "acdf_envmap"
-            if not "filename" in props:
+            _refuse_unknown(name, props, ["filename", "scale", "to_world", "strategy", *_ENVMAP_TABLE_OPTIONS])
+            if "filename" not in props:
                 _refuse(name, "needs a filename")
             filename = str(props["filename"])
             scale = props["scale"] if "scale" in props else 1.0
@@ -110,7 +131,7 @@ def _make_envmap_class():
             strategy = str(props["strategy"]) if "strategy" in props else "adaptive"
             if strategy not in _STRATEGIES:
                 _refuse(name, f"unknown strategy {strategy!r}; one of {', '.join(_STRATEGIES)}")
-            epsilon = float(props["epsilon"]) if "epsilon" in props else None
+            table = _table_options(props, _ENVMAP_TABLE_OPTIONS)
             to_world = props["to_world"] if "to_world" in props else mi.ScalarTransform4f()
             linear = np.array(to_world.matrix, dtype=np.float64)[:3, :3]
             if not np.allclose(linear @ linear.T, np.eye(3), atol=1e-5):
@@ -120,7 +141,7 @@ def _make_envmap_class():
             self.strategy = strategy
             self.incomplete = strategy == "compensated"
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
-            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), epsilon=epsilon)
+            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), **table)
             self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
             self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
 
@@ -233,6 +254,7 @@ def _make_measured_class():
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             name = "acdf_measured"
+            _refuse_unknown(name, props, ["filename", "sampling", *_MEASURED_TABLE_OPTIONS])
             if "filename" not in props:
                 _refuse(name, "needs a filename (MERL .binary or RGL .bsdf)")
             filename = str(props["filename"])
@@ -245,6 +267,9 @@ def _make_measured_class():
                 model = acdf.RglBrdf.load(filename)  # refuses anisotropic files, naming the file
             else:
                 _refuse(name, f"{filename}: expected a MERL .binary or an RGL .bsdf file")
+            if sampling in ("rgl", "cosine") and _table_options(props, _MEASURED_TABLE_OPTIONS):
+                _refuse(name, f"table options ({', '.join(_table_options(props, _MEASURED_TABLE_OPTIONS))}) "
+                        f"apply to adaptive and uniform sampling, not {sampling}")
             if sampling == "rgl":
                 if not isinstance(model, acdf.RglBrdf):
                     _refuse(name, "sampling 'rgl' needs an RGL .bsdf file")
@@ -252,8 +277,9 @@ def _make_measured_class():
             elif sampling == "cosine":
                 self.sampler = acdf.CosineBrdfSampler(model)
             else:
-                layout = "isotropic" if model.isotropic else "4d"
-                self.sampler = acdf.TabulatedBrdfSampler(model, layout=layout, method=sampling)
+                table = {"layout": "isotropic" if model.isotropic else "4d",
+                         **_table_options(props, _MEASURED_TABLE_OPTIONS)}
+                self.sampler = acdf.TabulatedBrdfSampler(model, method=sampling, **table)
             self.sampling = sampling
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]

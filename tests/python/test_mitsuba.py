@@ -293,6 +293,37 @@ class CountedCalls:
         return counted
 
 
+def test_unknown_parameters_are_refused_and_table_options_reach_acdf(variant, block_map, rgl_files):
+    path, _ = block_map
+    with pytest.raises(Exception, match="acdf_envmap: unsupported parameter.*mis_compensation"):
+        mi.load_dict({"type": "acdf_envmap", "filename": path, "mis_compensation": True})
+    with pytest.raises(Exception, match="acdf_measured: unsupported parameter.*alpha"):
+        mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "alpha": 0.1})
+    with pytest.raises(Exception, match="apply to adaptive and uniform sampling, not rgl"):
+        mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "rgl", "epsilon": 1e-3})
+    coarse = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "local", "normal_rows": 4,
+                           "normal_columns": 8, "block_size": 4})
+    fine = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "local"})
+    same = acdf.EnvironmentLight.load(path, strategy="local", normal_rows=4, normal_columns=8, block_size=4)
+    assert coarse.light.bytes == same.bytes != fine.light.bytes
+    small = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "uniform",
+                          "theta_half_cells": 32, "phi_half_cells": 8})
+    default = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "uniform"})
+    assert small.sampler.bytes < default.sampler.bytes
+
+
+def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
+    path, _ = block_map
+    scene = mi.load_string(f"""<scene version="3.0.0">
+        <emitter type="acdf_envmap"><string name="filename" value="{path}"/>
+            <string name="strategy" value="compensated"/><float name="scale" value="2"/></emitter>
+        <shape type="sphere"><bsdf type="acdf_measured"><string name="filename" value="{rgl_files[0]}"/>
+            <string name="sampling" value="adaptive"/></bsdf></shape>
+    </scene>""")
+    assert "AcdfEnvmap[strategy=compensated" in str(scene.emitters()[0])
+    assert "AcdfMeasured[sampling=adaptive" in str(scene.shapes()[0].bsdf())
+
+
 def test_llvm_renders_make_one_acdf_call_per_wavefront(tmp_path, block_map):
     """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes) calls acdf a few times per
     bounce, each call with every lane still active (thousands of rows), never once per lane."""
