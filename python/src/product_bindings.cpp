@@ -37,7 +37,7 @@ struct ProductSampler {
 constexpr const char* kDoc = R"(Direct environment light at shading points by resampled importance
 sampling of f(wo, wi) L(wi) cos(theta_i) (Talbot et al. 2005), as `acdf render --direct product`.
 
-ProductSampler(light, material, candidates=8, bsdf_fraction=0.5): each shading point draws
+ProductSampler(light, material, candidates=2, bsdf_fraction=0.5): each shading point draws
 `candidates` (M) directions from the mixture q = (1 - b) p_light + b p_bsdf (b = bsdf_fraction;
 the light's local table for the point's normal when its strategy is "local"), weights each by
 w = luminance(f L cos) / q and keeps one in proportion to w.
@@ -68,7 +68,8 @@ void bindProductSampling(py::module_& m) {
              }
              return ProductSampler{&light, std::move(material), options};
            }),
-           "light"_a, "material"_a, "candidates"_a = 8, "bsdf_fraction"_a = 0.5, py::keep_alive<1, 2>())
+           "light"_a, "material"_a, "candidates"_a = ProductSamplingOptions{}.candidates,
+           "bsdf_fraction"_a = ProductSamplingOptions{}.bsdfFraction, py::keep_alive<1, 2>())
       .def_property_readonly("candidates", [](const ProductSampler& s) { return s.options.candidates; })
       .def_property_readonly("bsdf_fraction", [](const ProductSampler& s) { return s.options.bsdfFraction; })
       .def(
