@@ -20,22 +20,28 @@ std::string_view toString(BrdfSampling sampling) { return nameOf(kBrdfSamplingNa
 
 BrdfSampling parseBrdfSampling(std::string_view name) { return valueNamed(kBrdfSamplingNames, name, "BRDF sampling"); }
 
+std::optional<DimensionMethod> tableMethod(BrdfSampling sampling) {
+  switch (sampling) {
+    case BrdfSampling::Uniform: return DimensionMethod::Uniform;
+    case BrdfSampling::Adaptive: return DimensionMethod::Adaptive;
+    case BrdfSampling::Cosine:
+    case BrdfSampling::Native: break;
+  }
+  return std::nullopt;
+}
+
 MadeBrdfSampler makeBrdfSampler(const std::shared_ptr<const BrdfModel>& model, BrdfSampling sampling,
                                 TabulatedBrdfOptions table, TableCache& cache, std::string_view what) {
   if (!model) throw std::invalid_argument("makeBrdfSampler: no model");
-  switch (sampling) {
-    case BrdfSampling::Cosine: return {std::make_shared<const CosineBrdfSampler>(model), false};
-    case BrdfSampling::Native: {
-      auto native = model->nativeSampler(model);
-      if (!native)
-        throw std::invalid_argument("rgl sampling needs an RGL .bsdf file (a model with a sampler of its own), and " +
-                                    std::string(what) + " is not one");
-      return {std::move(native), false};
-    }
-    case BrdfSampling::Uniform:
-    case BrdfSampling::Adaptive: break;
+  if (sampling == BrdfSampling::Cosine) return {std::make_shared<const CosineBrdfSampler>(model), false};
+  if (sampling == BrdfSampling::Native) {
+    auto native = model->nativeSampler(model);
+    if (!native)
+      throw std::invalid_argument("rgl sampling needs an RGL .bsdf file (a model with a sampler of its own), and " +
+                                  std::string(what) + " is not one");
+    return {std::move(native), false};
   }
-  table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
+  table.method = *tableMethod(sampling);
   validate(table);
   Cached<Cascade> cascade = cache.getOrBuild(TabulatedBrdfSampler::tableKey(*model, table), what,
                                              [&] { return TabulatedBrdfSampler::buildCascade(*model, table); });

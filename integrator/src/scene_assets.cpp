@@ -44,21 +44,21 @@ std::shared_ptr<const BrdfSampler> SceneAssets::brdfSampler(const std::shared_pt
                                                               const std::string& modelName, BrdfSampling sampling,
                                                               TabulatedBrdfOptions table) {
   if (sampling == BrdfSampling::Cosine) return makeBrdfSampler(model, sampling);
-  std::string key = fmt::format("{} {}", toString(sampling), modelName);
-  if (sampling != BrdfSampling::Native) {
-    table.method = sampling == BrdfSampling::Uniform ? DimensionMethod::Uniform : DimensionMethod::Adaptive;
+  // A native sampler is shared by every request for the model; `what` names the model in errors.
+  std::string key = fmt::format("{} {}", toString(sampling), modelName), what = modelName;
+  const std::optional<DimensionMethod> method = tableMethod(sampling);
+  if (method) {
+    table.method = *method;
     // The cache key covers the model's values and every option that shapes the table; the
     // defensive mixture weight is applied at sample time, so it only tells samplers apart.
     key = fmt::format("{} w={:a}", TabulatedBrdfSampler::tableKey(*model, table).hex(), table.cosineWeight);
+    what = fmt::format("brdf {} {}", table.name(), modelName);  // in the tables' list and the cache's warnings
   }
   auto& slot = brdfSamplers_[key];
   if (!slot) {
-    // The table's name in the tables' list and the cache's warnings; a native sampler's model.
-    const std::string what =
-        sampling == BrdfSampling::Native ? modelName : fmt::format("brdf {} {}", table.name(), modelName);
     MadeBrdfSampler made = makeBrdfSampler(model, sampling, table, cache_, what);
     slot = std::move(made.sampler);
-    if (sampling != BrdfSampling::Native) record(what, made.fromCache);
+    if (method) record(what, made.fromCache);
   }
   return slot;
 }

@@ -4,6 +4,7 @@
 // and a case here.
 
 #include <memory>
+#include <optional>
 #include <string_view>
 
 #include "acdf/brdf/brdf_model.h"
@@ -23,6 +24,9 @@ enum class BrdfSampling { Cosine, Uniform, Adaptive, Native };
 std::string_view toString(BrdfSampling sampling);
 BrdfSampling parseBrdfSampling(std::string_view name);
 
+// The method of the half-vector tables `sampling` names (Uniform, Adaptive); none for the others.
+std::optional<DimensionMethod> tableMethod(BrdfSampling sampling);
+
 // A sampler and whether its table came from the cache (false when it has none).
 struct MadeBrdfSampler {
   std::shared_ptr<const BrdfSampler> sampler;
@@ -30,7 +34,7 @@ struct MadeBrdfSampler {
 };
 
 // The sampler `sampling` names for `model`. The table strategies use `table` with their method
-// (table.method is set from `sampling`), read from `cache` when it holds the table and stored there
+// (table.method is set to tableMethod(sampling)), read from `cache` when it holds the table and stored there
 // once built; `what` names the table in the cache's warnings, or the model in Native's error. Throws std::invalid_argument for Native
 // with a model that has no sampler of its own, OptionError or std::invalid_argument for table
 // options the model does not suit.
