@@ -1,5 +1,7 @@
 #include "brdf_stats.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/reflectance_estimator.h"
 #include "acdf/brdf/rgl.h"
+#include "acdf/brdf/table_options.h"
 #include "errors.h"
 
 namespace acdf::app {
@@ -31,6 +34,14 @@ using Layout = TabulatedBrdfOptions::Layout;
 // Beyond this many cells a table takes minutes to tabulate and gigabytes to hold (the default 4D
 // table has 2^22); refusing early beats running out of memory an hour later.
 constexpr uint64_t kMaxTableCells = uint64_t{1} << 26;
+
+// "--theta-half" for "theta_half".
+std::string flagName(std::string_view key) {
+  std::string flag = "--" + std::string(key);
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
 
 // "32x16x256x32" → {32, 16, 256, 32}; every part a positive integer.
 std::vector<uint32_t> parseResolution(const std::string& text, std::size_t parts, const std::string& layout) {
@@ -50,10 +61,6 @@ std::vector<uint32_t> parseResolution(const std::string& text, std::size_t parts
     begin = end + 1;
   }
   if (cells.size() != parts) throw UsageError(usage);
-  uint64_t total = 1;
-  for (uint32_t n : cells) total *= n;
-  if (total > kMaxTableCells)
-    throw UsageError(fmt::format("--res '{}' has {} cells; at most {} are supported", text, total, kMaxTableCells));
   return cells;
 }
 
@@ -147,7 +154,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     j["table"] = std::string(toString(uniform->options().layout));
     j["format"] = rgl ? "rgl" : "merl";
     j["interpolation"] = rgl ? "rgl" : args.table.interpolation;
-    j["epsilon"] = args.table.epsilon;
+    j["epsilon"] = adaptive->options().simplify.epsilon;
     j["uniform_res"] = uniformRes;
     j["adaptive_avg_res"] = adaptiveRes;
     j["uniform_bytes"] = uniform->bytes();
@@ -169,7 +176,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
                 iso ? (uniform->options().mirror ? "theta_o x theta_h x |phi_h - phi_o| in [0, pi)"
                                                  : "theta_o x theta_h x (phi_h - phi_o)")
                     : "theta_o x phi_o x theta_h x phi_h",
-                args.table.interpolation.c_str(), args.table.epsilon);
+                args.table.interpolation.c_str(), adaptive->options().simplify.epsilon);
     std::printf("\n%-10s %-30s %12s %16s\n", "table", "resolution (avg per dim)", "size", "tabulate+CDF ms");
     for (const SamplerRow* row : {&rows[1], &rows[2]})
       std::printf("%-10s %-30s %12s %16s\n", row->name.c_str(),
@@ -212,39 +219,45 @@ int runBrdfStats(const BrdfStatsArgs& args) {
 }  // namespace
 
 std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args) {
-  return {
-      app.add_option("--table", args.table,
-                     "Table layout: 4d (theta_o, phi_o, theta_h, phi_h) or isotropic (theta_o, theta_h, phi)")
-          ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(Layout::Full4D)),
-                                                         std::string(toString(Layout::Isotropic))}))
-          ->capture_default_str(),
-      app.add_option("--res", args.resolution,
-                     "Cells per axis joined by 'x': 4d theta_o x phi_o x theta_h x phi_h, isotropic theta_o x "
-                     "theta_h x phi (default: the library's)"),
-      app.add_option("--epsilon", args.epsilon,
-                     "Adaptive simplification tolerance (>= 0): the largest chi2-divergence an interval may add")
-          ->capture_default_str(),
+  const TabulatedBrdfOptions defaults;
+  std::vector<CLI::Option*> flags;
+  std::vector<CLI::Option*> cellFlags;
+  for (const TableOption& option : tableOptionList()) {
+    std::string& text = args.given[std::string(option.key)];  // map nodes stay where they are
+    std::string names = flagName(option.key);
+    if (option.key == "layout") names += ",--table";  // its name before the options were one list
+    std::string type(toString(option.type));
+    std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::toupper(c); });
+    CLI::Option* flag =
+        app.add_option(names, text, std::string(option.help))->type_name(type)->default_str(option.get(defaults));
+    if (option.type == TableOption::Type::Count && option.key != "supersampling") cellFlags.push_back(flag);
+    flags.push_back(flag);
+  }
+  CLI::Option* res = app.add_option("--res", args.resolution,
+                                    "Every axis's cells joined by 'x': 4d theta_out x phi_out x theta_half x phi_half, "
+                                    "isotropic theta_out x theta_half x phi_half");
+  for (CLI::Option* flag : cellFlags) res->excludes(flag);
+  flags.push_back(res);
+  flags.push_back(
       app.add_option("--interpolation", args.interpolation, "BRDF evaluation: nearest (as MERL's code) or trilinear")
           ->check(CLI::IsMember(std::vector<std::string>{std::string(toString(MerlBrdf::Interpolation::Nearest)),
                                                          std::string(toString(MerlBrdf::Interpolation::Trilinear))}))
-          ->capture_default_str(),
-      app.add_option("--cosine-weight", args.cosineWeight,
-                     "Defensive mixture: the probability of drawing cosine-weighted instead of from the table")
-          ->capture_default_str(),
-      app.add_option("--slice-grouping", args.sliceGrouping,
-                     "Neighbouring outgoing slices share a distribution when that adds at most this chi2-divergence "
-                     "(0: one per slice)")
-          ->capture_default_str(),
-  };
+          ->capture_default_str());
+  return flags;
 }
 
 TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method) {
   TabulatedBrdfOptions o;
   o.method = method;
-  o.layout = parseTableLayout(args.table);
-  o.simplify.epsilon = args.epsilon;
-  o.cosineWeight = args.cosineWeight;
-  o.sliceGrouping = args.sliceGrouping;
+  for (const TableOption& option : tableOptionList()) {
+    const auto given = args.given.find(option.key);
+    if (given == args.given.end() || given->second.empty()) continue;
+    try {
+      option.set(o, given->second);
+    } catch (const OptionError& e) {
+      throw UsageError(flagError(e));
+    }
+  }
   if (!args.resolution.empty()) {
     if (o.layout == Layout::Full4D) {
       const auto r = parseResolution(args.resolution, 4, std::string(toString(o.layout)));
@@ -257,10 +270,14 @@ TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod
   try {
     validate(o);
   } catch (const OptionError& e) {
-    // The cell counts come from --res.
-    const bool flag = e.option() == "epsilon" || e.option() == "cosine_weight" || e.option() == "slice_grouping";
-    throw UsageError(flag ? flagError(e) : "--res: " + std::string(e.what()));
+    const bool cells = e.option() == "theta_out" || e.option() == "phi_out" || e.option() == "theta_half" ||
+                       e.option() == "phi_half";
+    throw UsageError(cells && !args.resolution.empty() ? "--res: " + std::string(e.what()) : flagError(e));
   }
+  const uint64_t cells = uint64_t{o.thetaOutCells} * (o.layout == Layout::Full4D ? o.phiOutCells : 1) *
+                         o.thetaHalfCells * o.phiHalfCells;
+  if (cells > kMaxTableCells)
+    throw UsageError(fmt::format("the table has {} cells; at most {} are supported", cells, kMaxTableCells));
   return o;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// `acdf brdf-stats FILE [--table 4d|isotropic] [--res R] [--epsilon E] [--interpolation M]
-// [--samples N] [--quadrature] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary
+// `acdf brdf-stats FILE [table options: --table 4d|isotropic --res R --epsilon E ...]
+// [--interpolation M] [--samples N] [--quadrature] [--json]`: the paper's Table 1 for one measured BRDF (MERL .binary
 // or RGL .bsdf, told apart by content) — the uniform and adaptive tables' resolution, bytes and
 // compression, and each sampler's variance, speed and efficiency, with the file's own warps for an
 // RGL file; with --quadrature, each sampler's mean and variance also by quadrature.
@@ -8,6 +8,8 @@
 // The BRDF table options are shared with `acdf chi2 --brdf`, so both commands test the same
 // samplers from the same flags.
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,23 +27,22 @@ namespace acdf::app {
 
 Command addBrdfStats(CLI::App& parent);
 
-// The flags that choose a tabulated BRDF sampler's table; empty strings mean "the defaults of
-// TabulatedBrdfOptions".
+// The flags that choose a tabulated BRDF sampler's table: one per table option (table_options.h:
+// --theta-half for theta_half, their text as given; absent or empty means TabulatedBrdfOptions'
+// default), --res for every axis's cells at once, and the MERL interpolation.
 struct BrdfTableArgs {
-  std::string table = "4d";  // 4d | isotropic (parseTableLayout)
-  std::string resolution;    // e.g. 32x16x256x32 (4d) or 32x256x32 (isotropic)
-  double epsilon = TabulatedBrdfOptions{}.simplify.epsilon;
+  std::map<std::string, std::string, std::less<>> given;
+  std::string resolution;                 // e.g. 32x16x256x32 (4d) or 32x256x32 (isotropic)
   std::string interpolation = "nearest";  // nearest | trilinear
-  double cosineWeight = TabulatedBrdfOptions{}.cosineWeight;
-  double sliceGrouping = TabulatedBrdfOptions{}.sliceGrouping;
 };
 
-// Adds --table, --res, --epsilon, --interpolation, --cosine-weight and --slice-grouping to `app`, bound to `args`;
-// returns them (so a command can make them depend on its BRDF option).
+// Adds the table options' flags (--layout, also spelt --table, --theta-out, ..., --epsilon,
+// --cosine-weight, ...), --res and --interpolation to `app`, bound to `args`; returns them (so a
+// command can make them depend on its BRDF option). --res excludes the per-axis cell flags.
 std::vector<CLI::Option*> addBrdfTableOptions(CLI::App& app, BrdfTableArgs& args);
 
-// The table options the flags describe, with `method`. Throws UsageError for a malformed --res
-// or an --epsilon < 0.
+// The table options the flags describe, with `method`. Throws UsageError naming the flag for a
+// value of the wrong type or out of range, a malformed --res, or a table of more than 2^26 cells.
 TabulatedBrdfOptions brdfTableOptions(const BrdfTableArgs& args, DimensionMethod method);
 
 // A tabulated sampler of `model`; options the sampler rejects (an odd φ count for a mirrored

@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -18,6 +19,7 @@
 #include "acdf/brdf/analytic.h"
 #include "acdf/brdf/brdf_sampler_factory.h"
 #include "acdf/brdf/lambertian.h"
+#include "acdf/brdf/table_options.h"
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/film.h"
 #include "acdf/integrator/scene.h"
@@ -52,6 +54,9 @@ class Node {
 
   // An object whose keys are all among `allowed`.
   const Node& object(std::initializer_list<std::string_view> allowed) const {
+    return object(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
+  const Node& object(std::span<const std::string_view> allowed) const {
     if (!value_.is_object()) fail("expected an object, got " + typeName());
     for (const auto& item : value_.items()) {
       bool known = false;
@@ -97,6 +102,10 @@ class Node {
     const auto v = value_.get<int64_t>();
     if (v < minimum || v > int64_t{1} << 30) fail(fmt::format("must be an integer in [{}, 2^30]", minimum));
     return static_cast<uint32_t>(v);
+  }
+  bool boolean() const {
+    if (!value_.is_boolean()) fail("expected true or false, got " + typeName());
+    return value_.get<bool>();
   }
   std::string string() const {
     if (!value_.is_string()) fail("expected a string, got " + typeName());
@@ -237,20 +246,34 @@ struct TableSpec {
   }
 };
 
+// The JSON value of a table option as the option's text (TableOption).
+std::string tableOptionText(const Node& node, TableOption::Type type) {
+  switch (type) {
+    case TableOption::Type::Count: return std::to_string(node.count(0));
+    case TableOption::Type::Number: return fmt::format("{}", node.number());
+    case TableOption::Type::Boolean: return node.boolean() ? "true" : "false";
+    case TableOption::Type::Name: return node.string();
+  }
+  node.fail("unknown option type");
+}
+
 TableSpec readTableOptions(const Node& node) {
-  node.object(
-      {"layout", "theta_out", "phi_out", "theta_half", "phi_half", "supersampling", "epsilon", "cosine_weight"});
+  std::vector<std::string_view> keys;
+  for (const TableOption& option : tableOptionList()) keys.push_back(option.key);
+  node.object(keys);
   TableSpec spec;
   TabulatedBrdfOptions& o = spec.options;
   spec.layoutGiven = node.has("layout");
-  if (spec.layoutGiven) o.layout = node["layout"].parsed(parseTableLayout);
-  if (node.has("theta_out")) o.thetaOutCells = node["theta_out"].count(1);
-  if (node.has("phi_out")) o.phiOutCells = node["phi_out"].count(1);
-  if (node.has("theta_half")) o.thetaHalfCells = node["theta_half"].count(1);
-  if (node.has("phi_half")) o.phiHalfCells = node["phi_half"].count(2);
-  if (node.has("supersampling")) o.supersampling = node["supersampling"].count(1);
-  if (node.has("epsilon")) o.simplify.epsilon = node["epsilon"].number();
-  if (node.has("cosine_weight")) o.cosineWeight = node["cosine_weight"].number();
+  for (const TableOption& option : tableOptionList()) {
+    const std::string key(option.key);
+    if (!node.has(key)) continue;
+    const Node value = node[key];
+    try {
+      option.set(o, tableOptionText(value, option.type));
+    } catch (const OptionError& e) {
+      value.fail(e.problem());
+    }
+  }
   node.validated(o);
   if (!spec.layoutGiven) {  // the layout an isotropic model gets must be valid with them too
     TabulatedBrdfOptions isotropic = o;

@@ -24,9 +24,9 @@ or `load_file` (mi.load_* that then give them to acdf_envmap) where rays leave t
 (`sample_ray`, light tracing); path tracing needs no bounds.
 
 `acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf), `sampling` (adaptive,
-uniform, rgl, cosine) and, for the tables, the options of `acdf.TabulatedBrdfSampler` (`layout`,
-`epsilon`, `cosine_weight`, `theta_out_cells`, `phi_out_cells`, `theta_half_cells`,
-`phi_half_cells`). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
+uniform, rgl, cosine) and, for the tables, every table option of `acdf.TabulatedBrdfSampler`
+(`acdf.table_options()`: `layout`, `theta_half`, `epsilon`, ..., as a scene file's "table" names
+them). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
 In the LLVM variants every call receives a whole wavefront and makes one batched acdf call. Python
@@ -109,8 +109,8 @@ def _table_options(props, kinds):
 
 
 _ENVMAP_TABLE_OPTIONS = {"epsilon": float, "normal_rows": int, "normal_columns": int, "block_size": int}
-_MEASURED_TABLE_OPTIONS = {"layout": str, "epsilon": float, "cosine_weight": float, "theta_out_cells": int,
-                           "phi_out_cells": int, "theta_half_cells": int, "phi_half_cells": int}
+_KINDS = {"count": int, "number": float, "boolean": bool, "name": str}
+_MEASURED_TABLE_OPTIONS = {option["key"]: _KINDS[option["type"]] for option in acdf.table_options()}
 
 
 def _make_envmap_class():

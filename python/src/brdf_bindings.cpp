@@ -1,4 +1,6 @@
 // brdf in Python: measured and analytic BRDF models and every sampler of them.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -6,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "acdf/brdf/analytic.h"
 #include "acdf/brdf/brdf_model.h"
@@ -15,6 +19,7 @@
 #include "acdf/brdf/merl.h"
 #include "acdf/brdf/rgl.h"
 #include "acdf/brdf/rgl_sampler.h"
+#include "acdf/brdf/table_options.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "arrays.h"
 #include "bindings.h"
@@ -35,6 +40,60 @@ py::array_t<float> evalBatch(const Evaluator& f, const Array<double>& wo, const 
   float* data = out.mutable_data();
   forEachRow(n, [&](std::size_t k) { storeRgb(data, k, f.eval(o[k], i[k])); });
   return out;
+}
+
+// The class's docstring: its table options are table_options.h's list, defaults included.
+const std::string& tabulatedSamplerDoc() {
+  static const std::string doc = [] {
+    const TabulatedBrdfOptions defaults;
+    std::string text =
+        "Half-vector tables of a model, uniform or adaptive.\n\n"
+        "TabulatedBrdfSampler(model, method=\"adaptive\", simplify=None, **table_options)\n"
+        "method: \"uniform\" or \"adaptive\"; simplify: an acdf.SimplifyOptions (the chi-square metric at\n"
+        "epsilon 5e-5 without a weight bound by default; an epsilon keyword overrides its epsilon).\n"
+        "Table options (the scene format's \"table\" keys and the CLI's flags; acdf.table_options()):\n";
+    for (const TableOption& option : tableOptionList())
+      text += "  " + std::string(option.key) + " (" + std::string(toString(option.type)) + ", default " +
+              option.get(defaults) + "): " + std::string(option.help) + "\n";
+    return text;
+  }();
+  return doc;
+}
+
+// A Python value of a table option's type as the option's text (TableOption).
+std::string tableOptionText(const TableOption& option, py::handle value) {
+  const bool isBool = py::isinstance<py::bool_>(value);
+  const bool isInt = py::isinstance<py::int_>(value) && !isBool;
+  switch (option.type) {
+    case TableOption::Type::Count:
+      if (isInt) return py::str(value);
+      break;
+    case TableOption::Type::Number:
+      if (isInt || py::isinstance<py::float_>(value)) return fmt::format("{}", value.cast<double>());
+      break;
+    case TableOption::Type::Boolean:
+      if (isBool) return value.cast<bool>() ? "true" : "false";
+      break;
+    case TableOption::Type::Name:
+      if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+      break;
+  }
+  throw py::type_error(fmt::format("TabulatedBrdfSampler: {} must be a {}, got {}", option.key,
+                                   toString(option.type), py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
+}
+
+void setTableOptions(TabulatedBrdfOptions& o, const py::kwargs& table) {
+  for (const auto& [key, value] : table) {
+    const std::string name = key.cast<std::string>();
+    const TableOption* option = findTableOption(name);
+    if (!option) {
+      std::vector<std::string_view> keys;
+      for (const TableOption& each : tableOptionList()) keys.push_back(each.key);
+      throw py::type_error(
+          fmt::format("TabulatedBrdfSampler: unknown table option '{}' (one of: {})", name, fmt::join(keys, ", ")));
+    }
+    option->set(o, tableOptionText(*option, value));
+  }
 }
 
 const char* kFrameDoc =
@@ -156,40 +215,19 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
       .def(py::init([](std::shared_ptr<BrdfModel> model) { return std::make_shared<CosineBrdfSampler>(model); }),
            "model"_a);
 
-  const TabulatedBrdfOptions d;
   py::class_<TabulatedBrdfSampler, BrdfSampler, std::shared_ptr<TabulatedBrdfSampler>>(
-      m, "TabulatedBrdfSampler",
-      R"(Half-vector tables of a model, uniform or adaptive.
-
-TabulatedBrdfSampler(model, layout="4d", method="adaptive", epsilon=None, simplify=None,
-                     tolerance="mass-scaled", theta_out_cells=32, phi_out_cells=16,
-                     theta_half_cells=256, phi_half_cells=32, cosine_weight=0.05)
-layout: "4d" (every model) or "isotropic" (isotropic models); method: "uniform" or "adaptive";
-the simplification defaults to the chi-square metric at epsilon 5e-5 without a weight bound.
-cosine_weight mixes cosine sampling in so every direction above the horizon has pdf > 0.)")
-      .def(py::init([](std::shared_ptr<BrdfModel> model, const std::string& layout, const std::string& method,
-                       std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify,
-                       const std::string& tolerance, uint32_t thetaOut, uint32_t phiOut, uint32_t thetaHalf,
-                       uint32_t phiHalf, double cosineWeight) {
+      m, "TabulatedBrdfSampler", tabulatedSamplerDoc().c_str())
+      .def(py::init([](std::shared_ptr<BrdfModel> model, const std::string& method,
+                       const std::optional<SimplifyOptions>& simplify, const py::kwargs& table) {
              TabulatedBrdfOptions o;
-             o.layout = parseTableLayout(layout);
              o.method = parseDimensionMethod(method);
-             o.simplify = simplifyOptions(o.simplify, simplify, epsilon);
-             o.tolerance = parseConditionalTolerance(tolerance);
-             o.thetaOutCells = thetaOut;
-             o.phiOutCells = phiOut;
-             o.thetaHalfCells = thetaHalf;
-             o.phiHalfCells = phiHalf;
-             o.cosineWeight = cosineWeight;
+             if (simplify) o.simplify = *simplify;
+             setTableOptions(o, table);
              validate(o);
              py::gil_scoped_release release;
              return std::make_shared<TabulatedBrdfSampler>(std::move(model), o);
            }),
-           "model"_a, "layout"_a = std::string(toString(d.layout)), "method"_a = std::string(toString(d.method)),
-           "epsilon"_a = py::none(), "simplify"_a = py::none(), "tolerance"_a = std::string(toString(d.tolerance)),
-           "theta_out_cells"_a = d.thetaOutCells, "phi_out_cells"_a = d.phiOutCells,
-           "theta_half_cells"_a = d.thetaHalfCells, "phi_half_cells"_a = d.phiHalfCells,
-           "cosine_weight"_a = d.cosineWeight)
+           "model"_a, "method"_a = std::string(toString(TabulatedBrdfOptions{}.method)), "simplify"_a = py::none())
       .def_property_readonly(
           "table", [](const TabulatedBrdfSampler& t) -> const Cascade& { return t.table(); },
           py::return_value_policy::reference_internal, "The half-vector acdf.Cascade.");
@@ -209,6 +247,18 @@ cosine_weight mixes cosine sampling in so every direction above the horizon has 
 void bindBrdf(py::module_& m) {
   bindModels(m);
   bindSamplers(m);
+  m.def(
+      "table_options",
+      [] {
+        const TabulatedBrdfOptions defaults;
+        py::list options;
+        for (const TableOption& option : tableOptionList())
+          options.append(py::dict("key"_a = option.key, "type"_a = toString(option.type),
+                                  "default"_a = option.get(defaults), "help"_a = option.help));
+        return options;
+      },
+      "TabulatedBrdfSampler's table options, as the scene format's \"table\" keys and the CLI's flags name them: "
+      "a list of dicts with key, type (count, number, boolean or name), default (as text) and help.");
 }
 
 }  // namespace acdf::python

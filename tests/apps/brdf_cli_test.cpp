@@ -3,6 +3,7 @@
 // generated GGX table), and their bad input (exit 2, one line on stderr, nothing on stdout, no
 // file written). Sample counts and resolutions are small: the suite also runs under ASan.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/reflectance_estimator.h"
+#include "acdf/brdf/table_options.h"
 #include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "app_test_util.h"
 
@@ -171,6 +173,27 @@ TEST_F(BrdfCli, StatsTableLeversReachTheTables) {
   expectFailure({"brdf-stats", gold(), "--slice-grouping", "-1"}, "", "--slice-grouping");
 }
 
+// The flags are the table options' list (table_options.h), the scene format's keys in kebab case;
+// the per-axis flags build the table --res describes.
+TEST_F(BrdfCli, StatsFlagsAreTheTableOptions) {
+  const RunResult help = run({"brdf-stats", "--help"});
+  ASSERT_EQ(help.exitCode, 0) << describe(help);
+  for (const TableOption& option : tableOptionList()) {
+    std::string flag = "--" + std::string(option.key);
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    EXPECT_NE(help.out.find(flag), std::string::npos) << flag << " not in:\n" << help.out;
+  }
+  const json res = runJson(stats(gold(), {"--table", "isotropic", "--res", "16x64x16", "--samples", "16", "--json"}));
+  const json axes = runJson(stats(gold(), {"--layout", "isotropic", "--theta-out", "16", "--theta-half", "64",
+                                           "--phi-half", "16", "--samples", "16", "--json"}));
+  EXPECT_EQ(axes["uniform_res"], res["uniform_res"]);
+  EXPECT_EQ(axes["adaptive_bytes"], res["adaptive_bytes"]);
+  const json unmirrored =
+      runJson(stats(gold(), {"--table", "isotropic", "--res", "16x64x16", "--mirror", "false", "--samples", "16",
+                             "--tolerance", "constant", "--supersampling", "1", "--json"}));
+  EXPECT_EQ(unmirrored["uniform_res"], json({16, 64, 16}));
+}
+
 TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
   // No --res: TabulatedBrdfOptions' resolution, whatever the library's defaults are today. The
   // isotropic table, because the 4D one takes seconds to tabulate (minutes under ASan).
@@ -211,8 +234,13 @@ TEST_F(BrdfCli, StatsBadInput) {
   // A mirrored isotropic table needs an even Δφ count: the library's check, reported as usage.
   expectFailure({"brdf-stats", gold(), "--table", "isotropic", "--res", "8x16x7"}, "", "even");
   expectFailure({"brdf-stats", gold(), "--epsilon", "-1"}, "", "--epsilon");
-  expectFailure({"brdf-stats", gold(), "--table", "6d"}, "", "--table");
-  expectFailure({"brdf-stats", gold(), "--table", "iso"}, "", "--table");  // one spelling: isotropic
+  expectFailure({"brdf-stats", gold(), "--table", "6d"}, "", "--layout unknown BRDF table layout '6d'");
+  expectFailure({"brdf-stats", gold(), "--table", "iso"}, "", "--layout");  // one spelling: isotropic
+  expectFailure({"brdf-stats", gold(), "--theta-half", "2.5"}, "", "--theta-half must be a whole number");
+  expectFailure({"brdf-stats", gold(), "--mirror", "yes"}, "", "--mirror must be true or false");
+  expectFailure({"brdf-stats", gold(), "--theta-half", "0"}, "", "--theta-half must be at least 1");
+  expectFailure({"brdf-stats", gold(), "--theta-half", "65536", "--phi-half", "4096"}, "", "at most");
+  expectFailure({"brdf-stats", gold(), "--res", "8x8x64x16", "--theta-half", "64"}, "", "excludes");
   expectFailure({"brdf-stats", gold(), "--interpolation", "cubic"}, "", "--interpolation");
   expectFailure({"brdf-stats", gold(), "--samples", "0"}, "", "--samples");
   expectFailure({"brdf-stats"}, "", "input");

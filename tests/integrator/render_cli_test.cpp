@@ -271,6 +271,14 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   failure(scene, "$.materials.unused.table.layout: unknown BRDF table layout 'iso' (4d or isotropic)");
   scene["materials"]["unused"]["table"] = {{"cosine_weight", 1.5}};
   failure(scene, "$.materials.unused.table.cosine_weight: must be in [0, 1], got 1.5");
+  scene["materials"]["unused"]["table"] = {{"mirror", "yes"}};
+  failure(scene, "$.materials.unused.table.mirror: expected true or false, got a string");
+  scene["materials"]["unused"]["table"] = {{"theta_half", 2.5}};
+  failure(scene, "$.materials.unused.table.theta_half: expected an integer, got a number");
+  scene["materials"]["unused"]["table"] = {{"tolerance", "loose"}};
+  failure(scene, "$.materials.unused.table.tolerance: unknown");
+  scene["materials"]["unused"]["table"] = {{"theta_half_cells", 64}};
+  failure(scene, "$.materials.unused.table.theta_half_cells: unknown key (expected one of: layout, theta_out");
   scene = tinyScene();
   scene["environment"]["epsilon"] = -1;
   failure(scene, "$.environment.epsilon: must be finite and >= 0, got -1");

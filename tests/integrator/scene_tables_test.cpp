@@ -15,6 +15,8 @@
 #include "acdf/brdf/analytic.h"
 #include "acdf/brdf/rgl.h"
 #include "acdf/brdf/rgl_synthesis.h"
+#include "acdf/brdf/table_options.h"
+#include "acdf/brdf/tabulated_brdf_sampler.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/integrator/scene_assets.h"
 
@@ -124,6 +126,29 @@ TEST(SceneTables, MeasuredMaterialsOfEitherFormatAreMeasured) {
   scene["materials"]["rgl"] = {{"type", "measured"}, {"preset", "gold"}, {"table", {{"layout", "isotropic"}}}};
   EXPECT_TRUE(load(scene, tables).usesMeasuredMaterial) << "a preset";
   std::filesystem::remove(file);
+}
+
+// A material's "table" takes every option of the one list (table_options.h), each as a JSON value
+// of its type, and the sampler gets exactly them.
+TEST(SceneTables, EveryTableOptionReachesTheSampler) {
+  const nlohmann::json table = {{"layout", "isotropic"}, {"theta_out", 4},          {"phi_out", 2},
+                                {"theta_half", 16},      {"phi_half", 6},           {"mirror", false},
+                                {"supersampling", 1},    {"epsilon", 1.25e-4},      {"tolerance", "constant"},
+                                {"slice_grouping", 0.5}, {"cosine_weight", 0.125}};
+  for (const TableOption& option : tableOptionList())
+    EXPECT_TRUE(table.contains(option.key)) << option.key << " is not in this test's table";
+  nlohmann::json scene = mapScene("adaptive", "power");
+  scene["materials"]["m"] = {{"type", "measured"}, {"preset", "gold"}, {"table", table}};
+  SceneAssets tables(TableCache::disabled());
+  const Scene loaded = load(scene, tables);
+  ASSERT_EQ(loaded.bsdfSamplers.size(), 1u);
+  const auto* sampler = dynamic_cast<const TabulatedBrdfSampler*>(loaded.bsdfSamplers[0].get());
+  ASSERT_NE(sampler, nullptr);
+  for (const TableOption& option : tableOptionList()) {
+    const nlohmann::json& value = table[std::string(option.key)];
+    const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+    EXPECT_EQ(option.get(sampler->options()), text) << option.key;
+  }
 }
 
 }  // namespace

@@ -83,6 +83,24 @@ def test_help_states_the_conventions():
         assert len(getattr(acdf, name).__doc__) > 200, name
 
 
+def test_table_options_are_the_scene_formats_and_all_reach_the_table():
+    options = acdf.table_options()
+    keys = [o["key"] for o in options]
+    assert keys[:5] == ["layout", "theta_out", "phi_out", "theta_half", "phi_half"]
+    for o in options:
+        assert o["key"] in acdf.TabulatedBrdfSampler.__doc__ and o["type"] in ("count", "number", "boolean", "name")
+    gold = acdf.AnalyticBrdf.preset("gold")
+    small = {"layout": "isotropic", "theta_out": 4, "phi_out": 2, "theta_half": 16, "phi_half": 8,
+             "mirror": True, "supersampling": 1, "epsilon": 1e-4, "tolerance": "constant",
+             "slice_grouping": 0.0, "cosine_weight": 0.1}
+    assert sorted(small) == sorted(keys)
+    sampler = acdf.TabulatedBrdfSampler(gold, method="uniform", **small)
+    unmirrored = acdf.TabulatedBrdfSampler(gold, method="uniform", **{**small, "mirror": False})
+    assert unmirrored.bytes > sampler.bytes
+    defaults = acdf.TabulatedBrdfSampler(gold, method="uniform", layout="isotropic")
+    assert defaults.bytes > sampler.bytes
+
+
 def test_the_package_and_the_program_are_the_ones_under_test():
     # The build tree's (python.pytest) or the pip-installed ones (python.pip_installed).
     assert os.path.dirname(acdf.__file__) == os.environ["ACDF_PACKAGE_DIR"]

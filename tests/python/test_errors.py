@@ -85,6 +85,17 @@ def test_bad_shapes_and_options():
         sampler.pdf(np.tile([0.0, 0.0, 1.0], (3, 1)), np.tile([0.0, 0.0, 1.0], (4, 1)))
     with pytest.raises(ValueError, match="layout"):
         acdf.TabulatedBrdfSampler(acdf.AnalyticBrdf.preset("gold"), layout="iso")
+    gold = acdf.AnalyticBrdf.preset("gold")
+    with pytest.raises(TypeError, match="unknown table option 'theta_half_cells'.*theta_half"):
+        acdf.TabulatedBrdfSampler(gold, theta_half_cells=64)
+    with pytest.raises(TypeError, match="theta_half must be a count, got float"):
+        acdf.TabulatedBrdfSampler(gold, theta_half=64.0)
+    with pytest.raises(TypeError, match="mirror must be a boolean, got int"):
+        acdf.TabulatedBrdfSampler(gold, layout="isotropic", mirror=1)
+    with pytest.raises(ValueError, match="phi_half must be even"):
+        acdf.TabulatedBrdfSampler(gold, layout="isotropic", phi_half=7)
+    with pytest.raises(ValueError, match="theta_out must be a whole number"):
+        acdf.TabulatedBrdfSampler(gold, theta_out=-4)
     with pytest.raises(ValueError, match="preset"):
         acdf.AnalyticBrdf.preset("unobtainium")
     with pytest.raises(ValueError, match="interpolation"):

@@ -307,7 +307,7 @@ def test_unknown_parameters_are_refused_and_table_options_reach_acdf(variant, bl
     same = acdf.EnvironmentLight.load(path, strategy="local", normal_rows=4, normal_columns=8, block_size=4)
     assert coarse.light.bytes == same.bytes != fine.light.bytes
     small = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "uniform",
-                          "theta_half_cells": 32, "phi_half_cells": 8})
+                          "theta_half": 32, "phi_half": 8})
     default = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "uniform"})
     assert small.sampler.bytes < default.sampler.bytes
 

@@ -58,8 +58,8 @@ def test_environment_light(reference):
 
 def test_tabulated_merl_sampler(reference):
     model = acdf.MerlBrdf.load(reference.path("gold.binary"))
-    sampler = acdf.TabulatedBrdfSampler(model, layout="isotropic", theta_out_cells=16,
-                                        theta_half_cells=64, phi_half_cells=16)
+    sampler = acdf.TabulatedBrdfSampler(model, layout="isotropic", theta_out=16,
+                                        theta_half=64, phi_half=16)
     assert sampler.bytes == reference.f64("brdf_bytes")[0]
     wo = reference.f64("brdf_wo").reshape(-1, 3)
     wi, weight, pdf = sampler.sample(wo, reference.f32("brdf_u").reshape(-1, 2))
