@@ -154,7 +154,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     j["table"] = std::string(toString(uniform->options().layout));
     j["format"] = rgl ? "rgl" : "merl";
     j["interpolation"] = rgl ? "rgl" : args.table.interpolation;
-    j["epsilon"] = adaptive->options().simplify.epsilon;
+    j["chi2_epsilon"] = adaptive->options().simplify.epsilon;
     j["uniform_res"] = uniformRes;
     j["adaptive_avg_res"] = adaptiveRes;
     j["uniform_bytes"] = uniform->bytes();
@@ -172,7 +172,7 @@ int runBrdfStats(const BrdfStatsArgs& args) {
     std::puts(j.dump(2).c_str());
   } else {
     const bool iso = uniform->options().layout == Layout::Isotropic;
-    std::printf("%s: %s table (%s), %s interpolation, epsilon %g\n", args.input.c_str(), iso ? "isotropic" : "4D",
+    std::printf("%s: %s table (%s), %s interpolation, chi2 epsilon %g\n", args.input.c_str(), iso ? "isotropic" : "4D",
                 iso ? (uniform->options().mirror ? "theta_o x theta_h x |phi_h - phi_o| in [0, pi)"
                                                  : "theta_o x theta_h x (phi_h - phi_o)")
                     : "theta_o x phi_o x theta_h x phi_h",

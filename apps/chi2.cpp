@@ -141,7 +141,7 @@ Command addChi2(CLI::App& parent) {
       "--brdf FILE --theta-o DEG --sampler cosine|uniform|adaptive|rgl: a measured BRDF's (MERL .binary or RGL\n"
       ".bsdf, told apart by content; rgl: the .bsdf file's own warps) sampler of incident\n"
       "directions for the outgoing direction (theta_o = DEG, phi_o = 0): cosine-weighted, or the uniform or\n"
-      "adaptive tabulated CDF that brdf-stats builds from the same --table, --res, --epsilon and\n"
+      "adaptive tabulated CDF that brdf-stats builds from the same --table, --res, --chi2-epsilon and\n"
       "--interpolation. 32 x 64 equal-area bins over the sphere; each bin's expected count integrates the\n"
       "sampler's half-vector density over its own table cells (32 x 32 jittered sub-cells each, reflected\n"
       "to the incident direction) and the cosine part in closed form.\n"

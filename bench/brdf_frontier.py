@@ -23,7 +23,7 @@ EPSILONS = [2.5e-5, 5e-5, 1e-4, 2e-4, 4e-4, 8e-4, 1.6e-3]
 
 
 def stats(acdf, path, layout, epsilon):
-    out = subprocess.run([acdf, "brdf-stats", path, "--table", layout, "--epsilon", repr(epsilon), "--samples", "1",
+    out = subprocess.run([acdf, "brdf-stats", path, "--table", layout, "--chi2-epsilon", repr(epsilon), "--samples", "1",
                           "--quadrature", "--json"], check=True, capture_output=True, text=True).stdout
     return json.loads(out)
 

@@ -81,10 +81,10 @@ constexpr TableOption kTableOptions[] = {
     {"supersampling", Type::Count, "Stratified points per cell and axis averaged into each cell's value",
      [](Options& o, std::string_view t) { o.supersampling = countFrom("supersampling", t); },
      [](const Options& o) { return text(o.supersampling); }},
-    {"epsilon", Type::Number,
-     "Adaptive tables' simplification tolerance (>= 0), a chi2-divergence: the most an interval may add "
-     "to its CDF's",
-     [](Options& o, std::string_view t) { o.simplify.epsilon = numberFrom("epsilon", t); },
+    {"chi2_epsilon", Type::Number,
+     "Adaptive tables' simplification tolerance (>= 0) in chi2-divergence, the relative variance each kept "
+     "interval may add (not a CDF error, which an environment map's epsilon is)",
+     [](Options& o, std::string_view t) { o.simplify.epsilon = numberFrom("chi2_epsilon", t); },
      [](const Options& o) { return text(o.simplify.epsilon); }},
     {"tolerance", Type::Name,
      "Adaptive conditional CDFs' tolerance: constant, or mass-scaled (looser where a slice has little mass)",

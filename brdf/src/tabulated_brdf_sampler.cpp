@@ -395,7 +395,12 @@ void validate(const TabulatedBrdfOptions& o) {
     fail("cosine_weight", "must be in [0, 1], got " + OptionError::number(o.cosineWeight));
   if (!(o.sliceGrouping >= 0.0 && std::isfinite(o.sliceGrouping)))
     fail("slice_grouping", "must be finite and >= 0, got " + OptionError::number(o.sliceGrouping));
-  validate(o.simplify);
+  try {
+    validate(o.simplify);
+  } catch (const OptionError& e) {
+    // A table's ε is a χ²-divergence, which users set as chi2_epsilon (table_options.h).
+    throw OptionError("BRDF table", e.option() == "epsilon" ? "chi2_epsilon" : e.option(), e.problem());
+  }
 }
 
 namespace {

@@ -25,7 +25,7 @@ or `load_file` (mi.load_* that then give them to acdf_envmap) where rays leave t
 
 `acdf_measured` takes `filename` (a MERL .binary or an RGL .bsdf), `sampling` (adaptive,
 uniform, rgl, cosine) and, for the tables, every table option of `acdf.TabulatedBrdfSampler`
-(`acdf.table_options()`: `layout`, `theta_half`, `epsilon`, ..., as a scene file's "table" names
+(`acdf.table_options()`: `layout`, `theta_half`, `chi2_epsilon`, ..., as a scene file's "table" names
 them). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 

@@ -50,7 +50,7 @@ const std::string& tabulatedSamplerDoc() {
         "Half-vector tables of a model, uniform or adaptive.\n\n"
         "TabulatedBrdfSampler(model, method=\"adaptive\", simplify=None, **table_options)\n"
         "method: \"uniform\" or \"adaptive\"; simplify: an acdf.SimplifyOptions (the chi-square metric at\n"
-        "epsilon 5e-5 without a weight bound by default; an epsilon keyword overrides its epsilon).\n"
+        "epsilon 5e-5 without a weight bound by default; a chi2_epsilon keyword overrides its epsilon).\n"
         "Table options (the scene format's \"table\" keys and the CLI's flags; acdf.table_options()):\n";
     for (const TableOption& option : tableOptionList())
       text += "  " + std::string(option.key) + " (" + std::string(toString(option.type)) + ", default " +

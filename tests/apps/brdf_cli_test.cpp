@@ -202,7 +202,7 @@ TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
   ASSERT_TRUE(defaults.mirror);
   EXPECT_EQ(j["table"], "isotropic");
   EXPECT_EQ(j["uniform_res"], json({defaults.thetaOutCells, defaults.thetaHalfCells, defaults.phiHalfCells / 2}));
-  EXPECT_EQ(j["epsilon"], defaults.simplify.epsilon);
+  EXPECT_EQ(j["chi2_epsilon"], defaults.simplify.epsilon);
   EXPECT_EQ(j["interpolation"], "nearest");
   EXPECT_EQ(j["estimator"]["samples_per_direction"], 1);
   EXPECT_LT(j["adaptive_bytes"].get<double>(), j["uniform_bytes"].get<double>()) << j.dump(2);
@@ -210,10 +210,10 @@ TEST_F(BrdfCli, StatsDefaultsAreTheLibrarys) {
 
 TEST_F(BrdfCli, StatsPrintsATable) {
   std::vector<std::string> args = stats(gold(), kSmallIso);
-  args.insert(args.end(), {"--interpolation", "trilinear", "--epsilon", "0.01"});
+  args.insert(args.end(), {"--interpolation", "trilinear", "--chi2-epsilon", "0.01"});
   const RunResult r = run(args);
   ASSERT_EQ(r.exitCode, 0) << describe(r);
-  for (const char* text : {"isotropic table", "trilinear interpolation", "epsilon 0.01", "16 x 64 x 8", "compression",
+  for (const char* text : {"isotropic table", "trilinear interpolation", "chi2 epsilon 0.01", "16 x 64 x 8", "compression",
                            "cosine", "uniform", "adaptive", "efficiency"})
     EXPECT_NE(r.out.find(text), std::string::npos) << text << " not in:\n" << r.out;
   EXPECT_EQ(r.out.find("quadrature"), std::string::npos) << r.out;
@@ -233,7 +233,8 @@ TEST_F(BrdfCli, StatsBadInput) {
   expectFailure({"brdf-stats", gold(), "--res", "4096x4096x4096x4096"}, "", "at most");
   // A mirrored isotropic table needs an even Δφ count: the library's check, reported as usage.
   expectFailure({"brdf-stats", gold(), "--table", "isotropic", "--res", "8x16x7"}, "", "even");
-  expectFailure({"brdf-stats", gold(), "--epsilon", "-1"}, "", "--epsilon");
+  expectFailure({"brdf-stats", gold(), "--chi2-epsilon", "-1"}, "", "--chi2-epsilon");
+  expectFailure({"brdf-stats", gold(), "--epsilon", "1e-4"}, "", "--epsilon");  // the map's metric; renamed
   expectFailure({"brdf-stats", gold(), "--table", "6d"}, "", "--layout unknown BRDF table layout '6d'");
   expectFailure({"brdf-stats", gold(), "--table", "iso"}, "", "--layout");  // one spelling: isotropic
   expectFailure({"brdf-stats", gold(), "--theta-half", "2.5"}, "", "--theta-half must be a whole number");

@@ -315,7 +315,7 @@ TEST(BrdfSamplers, InvalidOptionsAreRejected) {
   EXPECT_EQ(rejected([](auto& o) { o.layout = Layout::Isotropic, o.phiHalfCells = 5; }), "phi_half");
   EXPECT_EQ(rejected([](auto& o) { o.supersampling = 0; }), "supersampling");
   EXPECT_EQ(rejected([](auto& o) { o.cosineWeight = -0.1; }), "cosine_weight");
-  EXPECT_EQ(rejected([](auto& o) { o.simplify.epsilon = -1; }), "epsilon");
+  EXPECT_EQ(rejected([](auto& o) { o.simplify.epsilon = -1; }), "chi2_epsilon");
   for (Layout layout : {Layout::Full4D, Layout::Isotropic}) EXPECT_EQ(parseTableLayout(toString(layout)), layout);
   EXPECT_EQ(toString(Layout::Isotropic), "isotropic");
   EXPECT_THROW(parseTableLayout("iso"), std::invalid_argument);

@@ -17,7 +17,7 @@ namespace {
 // A value other than the default for every option; a new option must add one here.
 const std::map<std::string, std::string, std::less<>> kOtherValues = {
     {"layout", "isotropic"}, {"theta_out", "8"},        {"phi_out", "4"},        {"theta_half", "64"},
-    {"phi_half", "12"},      {"mirror", "false"},        {"supersampling", "3"},  {"epsilon", "0.000123"},
+    {"phi_half", "12"},      {"mirror", "false"},        {"supersampling", "3"},  {"chi2_epsilon", "0.000123"},
     {"tolerance", "constant"}, {"slice_grouping", "0.5"}, {"cosine_weight", "0.25"},
 };
 
@@ -58,7 +58,7 @@ TEST(TableOptions, NumbersReadBackExactly) {
   TabulatedBrdfOptions o;
   o.simplify.epsilon = 0.1 + 0.2;  // not the shortest decimal of 0.3
   TabulatedBrdfOptions back;
-  findTableOption("epsilon")->set(back, findTableOption("epsilon")->get(o));
+  findTableOption("chi2_epsilon")->set(back, findTableOption("chi2_epsilon")->get(o));
   EXPECT_EQ(back.simplify.epsilon, o.simplify.epsilon);
 }
 

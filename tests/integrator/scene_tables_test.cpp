@@ -133,7 +133,7 @@ TEST(SceneTables, MeasuredMaterialsOfEitherFormatAreMeasured) {
 TEST(SceneTables, EveryTableOptionReachesTheSampler) {
   const nlohmann::json table = {{"layout", "isotropic"}, {"theta_out", 4},          {"phi_out", 2},
                                 {"theta_half", 16},      {"phi_half", 6},           {"mirror", false},
-                                {"supersampling", 1},    {"epsilon", 1.25e-4},      {"tolerance", "constant"},
+                                {"supersampling", 1},    {"chi2_epsilon", 1.25e-4},      {"tolerance", "constant"},
                                 {"slice_grouping", 0.5}, {"cosine_weight", 0.125}};
   for (const TableOption& option : tableOptionList())
     EXPECT_TRUE(table.contains(option.key)) << option.key << " is not in this test's table";

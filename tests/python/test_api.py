@@ -91,7 +91,7 @@ def test_table_options_are_the_scene_formats_and_all_reach_the_table():
         assert o["key"] in acdf.TabulatedBrdfSampler.__doc__ and o["type"] in ("count", "number", "boolean", "name")
     gold = acdf.AnalyticBrdf.preset("gold")
     small = {"layout": "isotropic", "theta_out": 4, "phi_out": 2, "theta_half": 16, "phi_half": 8,
-             "mirror": True, "supersampling": 1, "epsilon": 1e-4, "tolerance": "constant",
+             "mirror": True, "supersampling": 1, "chi2_epsilon": 1e-4, "tolerance": "constant",
              "slice_grouping": 0.0, "cosine_weight": 0.1}
     assert sorted(small) == sorted(keys)
     sampler = acdf.TabulatedBrdfSampler(gold, method="uniform", **small)

@@ -300,7 +300,7 @@ def test_unknown_parameters_are_refused_and_table_options_reach_acdf(variant, bl
     with pytest.raises(Exception, match="acdf_measured: unsupported parameter.*alpha"):
         mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "alpha": 0.1})
     with pytest.raises(Exception, match="apply to adaptive and uniform sampling, not rgl"):
-        mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "rgl", "epsilon": 1e-3})
+        mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "rgl", "chi2_epsilon": 1e-3})
     coarse = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "local", "normal_rows": 4,
                            "normal_columns": 8, "block_size": 4})
     fine = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "local"})
