@@ -15,7 +15,7 @@ void validate(const EnvironmentLightOptions& o) {
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options)
     : EnvironmentLight(map, std::move(options), LightPdfs::Either,
-                       [&map](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+                       [&map](EnvironmentTableStrategy strategy, const SimplifyOptions& simplify) {
                          return std::make_shared<const EnvironmentTable>(map, strategy, simplify);
                        }) {}
 
@@ -24,33 +24,34 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     : map_(std::move(map)), options_(std::move(options)) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
   validate(options_);
-  auto get = [&](EnvironmentSampling strategy) {
+  auto get = [&](EnvironmentTableStrategy strategy) {
     std::shared_ptr<const EnvironmentTable> table = tables(strategy, options_.simplify);
     if (!table || table->strategy() != strategy || table->map().width() != map_->width() ||
         table->map().height() != map_->height())
       throw std::invalid_argument("EnvironmentLight: the table source gave no table of this map and strategy");
     return table;
   };
-  if (options_.strategy == EnvironmentSampling::Local) {
+  const std::optional<EnvironmentTableStrategy> strategy = tableStrategyOf(options_.strategy);
+  if (!strategy) {  // Local
     // Calls without a normal get the Adaptive table, whatever `pdfs` (it is complete).
-    complete_ = get(EnvironmentSampling::Adaptive);
+    complete_ = get(EnvironmentTableStrategy::Adaptive);
     local_ = std::make_shared<const LocalEnvironmentTable>(map_, options_.local, options_.simplify);
     return;
   }
-  if (options_.strategy != EnvironmentSampling::Compensated) {
-    complete_ = get(options_.strategy);
+  if (*strategy != EnvironmentTableStrategy::Compensated) {
+    complete_ = get(*strategy);
     return;
   }
   // The compensated table for calls that allow an incomplete pdf, the Adaptive table of the same
   // map (the function before compensation) for the others.
   if (pdfs != LightPdfs::Complete) {
-    incomplete_ = get(EnvironmentSampling::Compensated);
+    incomplete_ = get(EnvironmentTableStrategy::Compensated);
     if (incomplete_->complete()) {  // fell back to the uncompensated function: serves both
       complete_ = std::move(incomplete_);
       return;
     }
   }
-  if (pdfs != LightPdfs::Incomplete) complete_ = get(EnvironmentSampling::Adaptive);
+  if (pdfs != LightPdfs::Incomplete) complete_ = get(EnvironmentTableStrategy::Adaptive);
 }
 
 const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& context) const {

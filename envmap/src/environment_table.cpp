@@ -31,6 +31,35 @@ EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
 }
 
 namespace {
+struct TableOfSampling {
+  EnvironmentTableStrategy table;
+  EnvironmentSampling sampling;
+};
+constexpr TableOfSampling kTablesOfSamplings[] = {
+    {EnvironmentTableStrategy::UniformSphere, EnvironmentSampling::UniformSphere},
+    {EnvironmentTableStrategy::Uniform, EnvironmentSampling::Uniform},
+    {EnvironmentTableStrategy::Alias, EnvironmentSampling::Alias},
+    {EnvironmentTableStrategy::Adaptive, EnvironmentSampling::Adaptive},
+    {EnvironmentTableStrategy::Compensated, EnvironmentSampling::Compensated},
+    {EnvironmentTableStrategy::Hierarchical, EnvironmentSampling::Hierarchical},
+};
+}  // namespace
+
+EnvironmentSampling samplingOf(EnvironmentTableStrategy strategy) {
+  for (const TableOfSampling& t : kTablesOfSamplings)
+    if (t.table == strategy) return t.sampling;
+  throw std::invalid_argument("environment table: unknown strategy");
+}
+
+std::string_view toString(EnvironmentTableStrategy strategy) { return toString(samplingOf(strategy)); }
+
+std::optional<EnvironmentTableStrategy> tableStrategyOf(EnvironmentSampling strategy) {
+  for (const TableOfSampling& t : kTablesOfSamplings)
+    if (t.sampling == strategy) return t.table;
+  return std::nullopt;
+}
+
+namespace {
 
 constexpr double kCompensationTolerance = 1e-6;
 
@@ -71,9 +100,9 @@ Cascade cascadeOf(const std::vector<float>& values, const std::vector<GridAxis>&
 constexpr int kTabulationVersion = 2;
 
 // The strategies whose table is a cascade, the one table worth caching.
-bool savesCascade(EnvironmentSampling strategy) {
-  return strategy == EnvironmentSampling::Uniform || strategy == EnvironmentSampling::Adaptive ||
-         strategy == EnvironmentSampling::Compensated;
+bool savesCascade(EnvironmentTableStrategy strategy) {
+  return strategy == EnvironmentTableStrategy::Uniform || strategy == EnvironmentTableStrategy::Adaptive ||
+         strategy == EnvironmentTableStrategy::Compensated;
 }
 
 bool allZero(const std::vector<float>& values) {
@@ -162,27 +191,25 @@ class HierarchicalPixels final : public PixelDistribution {
 
 }  // namespace
 
-EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                                    const SimplifyOptions& simplify)
     : EnvironmentTable(std::move(map), strategy, simplify, nullptr) {}
 
-EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                                    const SimplifyOptions& simplify, std::span<const std::byte> saved)
     : EnvironmentTable(std::move(map), strategy, simplify, &saved) {
   if (!saved.empty() && (!pixels_ || !savesCascade(strategy_)))
     throw SerializationError("environment light: a saved table for a strategy or map that has none");
 }
 
-EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                                    const SimplifyOptions& simplify, const std::span<const std::byte>* saved)
     : map_(std::move(map)), strategy_(strategy) {
   if (!map_) throw std::invalid_argument("EnvironmentTable: no map");
-  if (strategy_ == EnvironmentSampling::Local)
-    throw std::invalid_argument("EnvironmentTable: local sampling is a LocalEnvironmentTable");
   validate(simplify);
   if (map_->isBlack()) return;
   emitsNothing_ = false;
-  if (strategy_ == EnvironmentSampling::UniformSphere) return;
+  if (strategy_ == EnvironmentTableStrategy::UniformSphere) return;
 
   const uint32_t width = map_->width(), height = map_->height();
   pdfScale_.resize(height);
@@ -190,7 +217,7 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
     pdfScale_[r] = 1.0 / (static_cast<double>(width) * height * map_->mapping().pixelSolidAngle(r));
 
   tabulated_ = map_->pixelPower();
-  if (strategy_ == EnvironmentSampling::Compensated) {
+  if (strategy_ == EnvironmentTableStrategy::Compensated) {
     std::vector<float> values = compensated(*map_, tabulated_);
     compensationFellBack_ = allZero(values);
     if (!compensationFellBack_) tabulated_ = std::move(values);
@@ -207,18 +234,17 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
   // The tables' grid: v (rows, θ / π) then u (columns, φ / 2π), both over [0, 1).
   const std::vector<GridAxis> axes{GridAxis(height), GridAxis(width)};
   switch (strategy_) {
-    case EnvironmentSampling::UniformSphere:
-    case EnvironmentSampling::Local: break;
-    case EnvironmentSampling::Uniform: {
+    case EnvironmentTableStrategy::UniformSphere: break;
+    case EnvironmentTableStrategy::Uniform: {
       CascadeOptions uniform;
       uniform.methods = {DimensionMethod::Uniform, DimensionMethod::Uniform};
       pixels_ = std::make_shared<CascadePixels>(cascadeOf(tabulated_, axes, uniform, saved));
       break;
     }
-    case EnvironmentSampling::Alias: pixels_ = std::make_shared<AliasPixels>(tabulated_, width, height); break;
-    case EnvironmentSampling::Hierarchical: pixels_ = std::make_shared<HierarchicalPixels>(tabulated_, axes); break;
-    case EnvironmentSampling::Adaptive:
-    case EnvironmentSampling::Compensated: {
+    case EnvironmentTableStrategy::Alias: pixels_ = std::make_shared<AliasPixels>(tabulated_, width, height); break;
+    case EnvironmentTableStrategy::Hierarchical: pixels_ = std::make_shared<HierarchicalPixels>(tabulated_, axes); break;
+    case EnvironmentTableStrategy::Adaptive:
+    case EnvironmentTableStrategy::Compensated: {
       CascadeOptions adaptive;
       adaptive.simplify = simplify;
       pixels_ = std::make_shared<CascadePixels>(cascadeOf(tabulated_, axes, adaptive, saved));
@@ -229,7 +255,7 @@ EnvironmentTable::EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, En
 
 EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
   if (emitsNothing_) return {};
-  if (strategy_ == EnvironmentSampling::UniformSphere) {
+  if (strategy_ == EnvironmentTableStrategy::UniformSphere) {
     const Vec3d w = sampleUniformSphere(u0, u1);
     return {w, map_->mapping().pixelOf(w), kUniformSpherePdf};
   }
@@ -242,7 +268,7 @@ double EnvironmentTable::pdf(const Vec3d& w) const { return pdf(map_->mapping().
 
 double EnvironmentTable::pdf(PixelIndex p) const {
   if (emitsNothing_) return 0.0;
-  if (strategy_ == EnvironmentSampling::UniformSphere) return kUniformSpherePdf;
+  if (strategy_ == EnvironmentTableStrategy::UniformSphere) return kUniformSpherePdf;
   return pixels_->density(p) * pdfScale_[p.row];
 }
 
@@ -256,7 +282,7 @@ std::vector<std::byte> EnvironmentTable::serialize() const {
   return pixels_ ? pixels_->serialize() : std::vector<std::byte>{};
 }
 
-CacheKey EnvironmentTable::key(const EnvironmentMap& map, EnvironmentSampling strategy,
+CacheKey EnvironmentTable::key(const EnvironmentMap& map, EnvironmentTableStrategy strategy,
                                const SimplifyOptions& simplify) {
   ContentHash content;
   content.number(map.width()).number(map.height()).values(std::span<const float>(map.rgb()));
@@ -266,7 +292,7 @@ CacheKey EnvironmentTable::key(const EnvironmentMap& map, EnvironmentSampling st
 }
 
 Cached<EnvironmentTable> EnvironmentTable::cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
-                                                  EnvironmentSampling strategy, const SimplifyOptions& simplify,
+                                                  EnvironmentTableStrategy strategy, const SimplifyOptions& simplify,
                                                   std::string_view what) {
   if (!savesCascade(strategy) || map->isBlack()) return {EnvironmentTable(std::move(map), strategy, simplify), false};
   return cache.getOrBuild(

@@ -64,9 +64,9 @@ std::shared_ptr<const BrdfSampler> SceneAssets::brdfSampler(const std::shared_pt
 }
 
 std::shared_ptr<const EnvironmentTable> SceneAssets::environmentTable(
-    const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey, EnvironmentSampling strategy,
+    const std::shared_ptr<const EnvironmentMap>& map, const std::string& mapKey, EnvironmentTableStrategy strategy,
     const SimplifyOptions& simplify) {
-  if (strategy == EnvironmentSampling::UniformSphere || map->isBlack())
+  if (strategy == EnvironmentTableStrategy::UniformSphere || map->isBlack())
     return std::make_shared<const EnvironmentTable>(map, strategy, simplify);
   auto& slot = environmentTables_[EnvironmentTable::key(*map, strategy, simplify).hex()];
   if (!slot) {

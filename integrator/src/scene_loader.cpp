@@ -424,7 +424,7 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
     key = fmt::format("constant ({}, {}, {})", spec.constant[0], spec.constant[1], spec.constant[2]);
   }
   auto light = std::make_unique<EnvironmentLight>(map, spec.options, pdfs,
-                                                  [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+                                                  [&](EnvironmentTableStrategy strategy, const SimplifyOptions& simplify) {
                                                     return tables.environmentTable(map, key, strategy, simplify);
                                                   });
   return light;

@@ -277,7 +277,7 @@ TEST(Compensation, DirectionsDimmerThanTheMeanAreLeftToOtherTechniques) {
   const double mean = map->luminanceIntegral() / (4 * kPi);
   const EnvironmentLight light(map, {.strategy = EnvironmentSampling::Compensated});
   const EnvironmentTable& table = light.table(kIncomplete);
-  EXPECT_EQ(table.strategy(), EnvironmentSampling::Compensated);
+  EXPECT_EQ(table.strategy(), EnvironmentTableStrategy::Compensated);
   EXPECT_FALSE(table.compensationFellBack());
   EXPECT_FALSE(table.complete());
   double total = 0;
@@ -313,7 +313,7 @@ TEST(Compensation, CompletePdfsComeFromTheAdaptiveTable) {
   const Rotation r = Rotation::aboutY(0.3);
   const EnvironmentLight compensated(map, {.strategy = EnvironmentSampling::Compensated, .worldFromMap = r});
   const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive, .worldFromMap = r});
-  EXPECT_EQ(compensated.table(kComplete).strategy(), EnvironmentSampling::Adaptive);
+  EXPECT_EQ(compensated.table(kComplete).strategy(), EnvironmentTableStrategy::Adaptive);
   EXPECT_EQ(compensated.table(kComplete).pixelProbabilities(), adaptive.table(kComplete).pixelProbabilities());
   EXPECT_EQ(compensated.tableBytes(), compensated.table(kComplete).bytes() + compensated.table(kIncomplete).bytes());
   Pcg32 rng(4);
@@ -341,13 +341,24 @@ TEST(Compensation, ConstantMapFallsBackToTheUncompensatedTable) {
   EXPECT_NEAR(compensated.pdf(kIncomplete, {0, 0, 1}), 1 / (4 * kPi), 1e-6);
 }
 
+// Every table strategy is a light strategy of the same name; Local is the light's alone.
+TEST(TableSource, TableStrategiesAreTheLightsButLocal) {
+  for (EnvironmentTableStrategy table : kEnvironmentTableStrategies) {
+    EXPECT_EQ(tableStrategyOf(samplingOf(table)), table);
+    EXPECT_EQ(toString(table), toString(samplingOf(table)));
+  }
+  EXPECT_EQ(std::size(kEnvironmentSamplings), std::size(kEnvironmentTableStrategies) + 1);
+  EXPECT_EQ(tableStrategyOf(EnvironmentSampling::Local), std::nullopt);
+}
+
 // A light asks its table source for what its calls use, and nothing else; lights of one map under
 // other rotations and scales share the tables.
 TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
   const auto map = smoothMap(32, 16);
-  std::vector<EnvironmentSampling> asked;
-  std::map<EnvironmentSampling, std::shared_ptr<const EnvironmentTable>> built;
-  const EnvironmentTableSource source = [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+  using Table = EnvironmentTableStrategy;
+  std::vector<Table> asked;
+  std::map<Table, std::shared_ptr<const EnvironmentTable>> built;
+  const EnvironmentTableSource source = [&](Table strategy, const SimplifyOptions& simplify) {
     asked.push_back(strategy);
     auto& table = built[strategy];
     if (!table) table = std::make_shared<const EnvironmentTable>(map, strategy, simplify);
@@ -359,19 +370,19 @@ TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
     EnvironmentLight light(map, {.strategy = strategy}, pdfs, source);
     return asked;
   };
-  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Incomplete), std::vector{Compensated});
-  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Complete), std::vector{Adaptive});
-  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Either), (std::vector{Compensated, Adaptive}));
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Incomplete), std::vector{Table::Compensated});
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Complete), std::vector{Table::Adaptive});
+  EXPECT_EQ(tablesFor(Compensated, LightPdfs::Either), (std::vector{Table::Compensated, Table::Adaptive}));
   for (EnvironmentSampling s : {UniformSphere, Uniform, Alias, Adaptive, Hierarchical})
     for (LightPdfs pdfs : {LightPdfs::Complete, LightPdfs::Incomplete, LightPdfs::Either})
-      EXPECT_EQ(tablesFor(s, pdfs), std::vector{s}) << toString(s);
+      EXPECT_EQ(tablesFor(s, pdfs), std::vector{*tableStrategyOf(s)}) << toString(s);
   for (LightPdfs pdfs : {LightPdfs::Complete, LightPdfs::Incomplete, LightPdfs::Either})
-    EXPECT_EQ(tablesFor(Local, pdfs), std::vector{Adaptive});  // the local table is the light's own
+    EXPECT_EQ(tablesFor(Local, pdfs), std::vector{Table::Adaptive});  // the local table is the light's own
 
   // A light made for incomplete pdfs only cannot answer a call that needs a complete one.
   const EnvironmentLight mis(map, {.strategy = Compensated}, LightPdfs::Incomplete, source);
   EXPECT_THROW((void)mis.sample(kComplete, 0.5f, 0.5f), std::logic_error);
-  EXPECT_EQ(mis.tableBytes(), built.at(Compensated)->bytes());
+  EXPECT_EQ(mis.tableBytes(), built.at(Table::Compensated)->bytes());
 
   const EnvironmentLight plain(map, {.strategy = Adaptive}, LightPdfs::Either, source);
   const EnvironmentLight turned(map, {.strategy = Adaptive, .worldFromMap = Rotation::aboutY(1.0), .scale = 2.0f},
@@ -379,7 +390,7 @@ TEST(TableSource, LightsGetOnlyTheTablesTheirCallsUse) {
   EXPECT_EQ(&plain.table({}), &turned.table({}));
 
   // The source must give a table of the light's map size and the strategy asked for.
-  const EnvironmentTableSource wrong = [&](EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+  const EnvironmentTableSource wrong = [&](Table strategy, const SimplifyOptions& simplify) {
     return std::make_shared<const EnvironmentTable>(smoothMap(16, 16), strategy, simplify);
   };
   EXPECT_THROW(EnvironmentLight(map, {}, LightPdfs::Either, wrong), std::invalid_argument);
@@ -426,7 +437,6 @@ TEST(Local, TheNormalChoosesTheLocalTable) {
   EXPECT_GT(above, 7400u) << adaptiveAbove;  // 95.8% expected
   EXPECT_LT(adaptiveAbove, 5600u) << above;  // 64.5% expected
   EXPECT_EQ(table->slicesBuilt(), 1u);
-  EXPECT_THROW(EnvironmentTable(map, EnvironmentSampling::Local), std::invalid_argument);
 }
 
 TEST(SunSky, PresetsPutTheSunWhereTheySay) {
@@ -528,7 +538,7 @@ TEST(ZeroVariance, UniformTableDivergenceFromTheExactProbabilitiesIsTiny) {
     for (const char* name : kSharedEnvmaps)
       maps.emplace_back(name, std::make_shared<const EnvironmentMap>(EnvironmentMap::load(sharedEnvmap(name))));
   for (const auto& [name, map] : maps) {
-    const EnvironmentTable uniform(map, EnvironmentSampling::Uniform, {});
+    const EnvironmentTable uniform(map, EnvironmentTableStrategy::Uniform, {});
     std::vector<double> exact(uniform.tabulated().begin(), uniform.tabulated().end());
     double total = 0;
     for (double v : exact) total += v;

@@ -44,8 +44,8 @@ void expectSameTable(const EnvironmentTable& a, const EnvironmentTable& b) {
 
 TEST(EnvironmentTable, RoundTripsAreBitIdentical) {
   const auto map = smoothMap(64, 32);
-  for (EnvironmentSampling s :
-       {EnvironmentSampling::Uniform, EnvironmentSampling::Adaptive, EnvironmentSampling::Compensated}) {
+  for (EnvironmentTableStrategy s :
+       {EnvironmentTableStrategy::Uniform, EnvironmentTableStrategy::Adaptive, EnvironmentTableStrategy::Compensated}) {
     SCOPED_TRACE(std::string(toString(s)));
     const EnvironmentTable built(map, s);
     const std::vector<std::byte> saved = built.serialize();
@@ -54,24 +54,24 @@ TEST(EnvironmentTable, RoundTripsAreBitIdentical) {
   }
   // A constant map's compensation falls back to the plain adaptive table.
   const auto constant = constantMap(32, 16, 2.0f);
-  const EnvironmentTable fellBack(constant, EnvironmentSampling::Compensated);
+  const EnvironmentTable fellBack(constant, EnvironmentTableStrategy::Compensated);
   ASSERT_TRUE(fellBack.compensationFellBack());
-  expectSameTable(fellBack, EnvironmentTable(constant, EnvironmentSampling::Compensated, {}, fellBack.serialize()));
+  expectSameTable(fellBack, EnvironmentTable(constant, EnvironmentTableStrategy::Compensated, {}, fellBack.serialize()));
 }
 
 TEST(EnvironmentTable, StrategiesWithoutACascadeSaveNothing) {
   const auto map = smoothMap(16, 8);
-  for (EnvironmentSampling s :
-       {EnvironmentSampling::UniformSphere, EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical}) {
+  for (EnvironmentTableStrategy s :
+       {EnvironmentTableStrategy::UniformSphere, EnvironmentTableStrategy::Alias, EnvironmentTableStrategy::Hierarchical}) {
     const EnvironmentTable table(map, s);
     EXPECT_TRUE(table.serialize().empty());
     expectSameTable(table, EnvironmentTable(map, s, {}, std::span<const std::byte>{}));
   }
-  const EnvironmentTable black(constantMap(16, 8, 0.0f), EnvironmentSampling::Adaptive);
+  const EnvironmentTable black(constantMap(16, 8, 0.0f), EnvironmentTableStrategy::Adaptive);
   EXPECT_TRUE(black.serialize().empty());
 }
 
-std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, EnvironmentSampling strategy,
+std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, EnvironmentTableStrategy strategy,
                       const SimplifyOptions& simplify, std::span<const std::byte> saved) {
   try {
     EnvironmentTable table(map, strategy, simplify, saved);
@@ -83,16 +83,16 @@ std::string problemOf(const std::shared_ptr<const EnvironmentMap>& map, Environm
 
 TEST(EnvironmentTable, MismatchedOrCorruptTablesThrow) {
   const auto map = smoothMap(32, 16);
-  constexpr EnvironmentSampling adaptive = EnvironmentSampling::Adaptive;
+  constexpr EnvironmentTableStrategy adaptive = EnvironmentTableStrategy::Adaptive;
   const std::vector<std::byte> table = EnvironmentTable(map, adaptive).serialize();
   EXPECT_NE(problemOf(smoothMap(16, 16), adaptive, {}, table).find("another map size or other options"),
             std::string::npos);
-  EXPECT_NE(problemOf(map, EnvironmentSampling::Uniform, {}, table).find("other options"), std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentTableStrategy::Uniform, {}, table).find("other options"), std::string::npos);
   SimplifyOptions finer;
   finer.epsilon *= 0.5;
   EXPECT_NE(problemOf(map, adaptive, finer, table).find("other options"), std::string::npos);
-  EXPECT_NE(problemOf(map, EnvironmentSampling::Alias, {}, table).find("has none"), std::string::npos);
-  EXPECT_NE(problemOf(map, EnvironmentSampling::UniformSphere, {}, table).find("has none"), std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentTableStrategy::Alias, {}, table).find("has none"), std::string::npos);
+  EXPECT_NE(problemOf(map, EnvironmentTableStrategy::UniformSphere, {}, table).find("has none"), std::string::npos);
   EXPECT_NE(problemOf(map, adaptive, {}, std::span(table).first(table.size() / 2)).find("truncated"),
             std::string::npos);
   EXPECT_NE(problemOf(map, adaptive, {}, {}).find("truncated"), std::string::npos);
@@ -100,12 +100,12 @@ TEST(EnvironmentTable, MismatchedOrCorruptTablesThrow) {
 
 TEST(EnvironmentTable, KeyFollowsPixelsAndEveryTableOption) {
   const auto map = smoothMap(32, 16);
-  constexpr EnvironmentSampling base = EnvironmentSampling::Adaptive;
+  constexpr EnvironmentTableStrategy base = EnvironmentTableStrategy::Adaptive;
   std::set<std::string> keys{EnvironmentTable::key(*map, base, {}).hex()};
-  auto add = [&](const EnvironmentMap& m, EnvironmentSampling strategy, const SimplifyOptions& simplify) {
+  auto add = [&](const EnvironmentMap& m, EnvironmentTableStrategy strategy, const SimplifyOptions& simplify) {
     EXPECT_TRUE(keys.insert(EnvironmentTable::key(m, strategy, simplify).hex()).second);
   };
-  for (EnvironmentSampling s : kEnvironmentSamplings)
+  for (EnvironmentTableStrategy s : kEnvironmentTableStrategies)
     if (s != base) add(*map, s, {});
   for (const SimplifyOptions& s : test_support::simplifyVariants(SimplifyOptions{})) add(*map, base, s);
   // The pixels: one channel of one pixel, and the same pixels in another shape.
@@ -121,7 +121,7 @@ TEST_F(EnvironmentTableCache, CachedBuildsOnceThenLoads) {
   std::vector<std::string> warnings;
   TableCache cache(dir_ / "cache", [&](const std::string& w) { warnings.push_back(w); });
   const auto map = smoothMap(64, 32);
-  constexpr EnvironmentSampling adaptive = EnvironmentSampling::Adaptive;
+  constexpr EnvironmentTableStrategy adaptive = EnvironmentTableStrategy::Adaptive;
   const Cached<EnvironmentTable> first = EnvironmentTable::cached(cache, map, adaptive, {}, "sky");
   const Cached<EnvironmentTable> second = EnvironmentTable::cached(cache, map, adaptive, {}, "sky");
   EXPECT_FALSE(first.fromCache);
@@ -129,8 +129,8 @@ TEST_F(EnvironmentTableCache, CachedBuildsOnceThenLoads) {
   expectSameTable(first.value, second.value);
   // Strategies whose table is not worth saving are built, and leave nothing in the cache.
   const std::size_t files = std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {});
-  for (EnvironmentSampling s :
-       {EnvironmentSampling::UniformSphere, EnvironmentSampling::Alias, EnvironmentSampling::Hierarchical})
+  for (EnvironmentTableStrategy s :
+       {EnvironmentTableStrategy::UniformSphere, EnvironmentTableStrategy::Alias, EnvironmentTableStrategy::Hierarchical})
     EXPECT_FALSE(EnvironmentTable::cached(cache, map, s, {}, "sky").fromCache);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "cache"), {}), files);
   EXPECT_TRUE(warnings.empty());

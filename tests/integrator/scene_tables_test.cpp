@@ -55,14 +55,14 @@ TEST(SceneTables, CompensatedLightsGetTheTableTheirEstimatorUses) {
     SceneAssets tables(TableCache::disabled());
     const Scene scene = load(mapScene("compensated", "power"), tables);
     EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"compensated"});
-    EXPECT_EQ(scene.environment->table(mis).strategy(), EnvironmentSampling::Compensated);
+    EXPECT_EQ(scene.environment->table(mis).strategy(), EnvironmentTableStrategy::Compensated);
     EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(mis).bytes());
   }
   {
     SceneAssets tables(TableCache::disabled());
     const Scene scene = load(mapScene("compensated", "light-only"), tables);
     EXPECT_EQ(strategiesBuilt(tables), std::vector<std::string>{"adaptive"});
-    EXPECT_EQ(scene.environment->table(lightOnly).strategy(), EnvironmentSampling::Adaptive);
+    EXPECT_EQ(scene.environment->table(lightOnly).strategy(), EnvironmentTableStrategy::Adaptive);
     EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table(lightOnly).bytes());
   }
   {

@@ -74,7 +74,7 @@ enum class LightPdfs { Complete, Incomplete, Either };
 
 // A table of the light's map for a strategy and simplify options: built, or shared from a cache.
 using EnvironmentTableSource =
-    std::function<std::shared_ptr<const EnvironmentTable>(EnvironmentSampling strategy, const SimplifyOptions&)>;
+    std::function<std::shared_ptr<const EnvironmentTable>(EnvironmentTableStrategy strategy, const SimplifyOptions&)>;
 
 class EnvironmentLight {
  public:

@@ -26,7 +26,7 @@
 // (all but Compensated; the CDFs keep a positive step for every cell of positive mass,
 // docs/engine.md), so a light-only estimator is unbiased with any of them.
 //
-// Strategies (the constructor builds only the chosen one):
+// Strategies (EnvironmentTableStrategy; the constructor builds only the chosen one):
 //   UniformSphere directions uniform on the sphere, pdf 1/(4π), whatever the map: no table;
 //   Uniform       cascade of full-resolution 1D CDFs (pbrt's and Mitsuba's table);
 //   Alias         PixelAlias: O(1) pixel choice (alias tables over rows, then over the row's
@@ -40,10 +40,9 @@
 //                 get pdf 0 and are left to BSDF sampling under MIS. A map with nothing above its
 //                 mean (a constant one) falls back to the uncompensated table
 //                 (compensationFellBack()).
-//   Local         not a table of this class (the constructor throws std::invalid_argument): the
-//                 distribution of L(ω) max(0, n · ω) for the surface normal n of each call
-//                 (LocalEnvironmentTable, local_environment_table.h), which EnvironmentLight holds
-//                 beside the Adaptive table.
+// A light offers one more strategy, Local (EnvironmentSampling): the distribution of
+// L(ω) max(0, n · ω) for the surface normal n of each call, which is no table of one map but one
+// per normal cell (LocalEnvironmentTable, local_environment_table.h).
 // complete() is false for Compensated unless it fell back: its pdf may be 0 where the map has
 // light, so it serves only estimators that allow an incomplete pdf (EnvironmentLight chooses).
 //
@@ -53,6 +52,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -67,6 +67,8 @@
 
 namespace acdf {
 
+// How a light samples its map (EnvironmentLightOptions::strategy; the choice the command line,
+// scene files and reports name): a table of this class, or Local.
 enum class EnvironmentSampling { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical, Local };
 
 inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
@@ -78,6 +80,21 @@ inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
 // std::invalid_argument naming them.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
+
+// The tables of one map this class builds: every light strategy but Local.
+enum class EnvironmentTableStrategy { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical };
+
+inline constexpr EnvironmentTableStrategy kEnvironmentTableStrategies[] = {
+    EnvironmentTableStrategy::UniformSphere, EnvironmentTableStrategy::Uniform,
+    EnvironmentTableStrategy::Alias,         EnvironmentTableStrategy::Adaptive,
+    EnvironmentTableStrategy::Compensated,   EnvironmentTableStrategy::Hierarchical};
+
+// The light strategy of that name; its table's name (the light's spelling, in cache keys and
+// messages).
+EnvironmentSampling samplingOf(EnvironmentTableStrategy strategy);
+std::string_view toString(EnvironmentTableStrategy strategy);
+// The table a light strategy samples with; none for Local.
+std::optional<EnvironmentTableStrategy> tableStrategyOf(EnvironmentSampling strategy);
 
 // What every table strategy gives the light: a pixel and where in it, with the density on the
 // unit square of the pixel grid (P(pixel) · W H). One adapter per table, in environment_table.cpp.
@@ -91,9 +108,9 @@ class EnvironmentTable {
     double pdf = 0;    // per steradian; 0 only for a map that emits nothing
   };
 
-  // Throws std::invalid_argument for no map, bad simplify options or Local (or what the table's
+  // Throws std::invalid_argument for no map or bad simplify options (or what the table's
   // constructor throws).
-  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                    const SimplifyOptions& simplify = {});
 
   // Caching. Only the cascades (Uniform, Adaptive, Compensated) are worth saving; the other tables
@@ -103,16 +120,16 @@ class EnvironmentTable {
   // The table serialize() saved for the same map, strategy and options: the same samples and
   // pdfs bit for bit. Throws SerializationError if `saved` is not a valid table of this map's
   // size and these options (the cache key guards the rest: same pixels, strategy).
-  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                    const SimplifyOptions& simplify, std::span<const std::byte> saved);
   // The cascade, serialized; empty for the other strategies and for a map that emits nothing.
   std::vector<std::byte> serialize() const;
   // The map's size and pixels, the strategy, the simplify options and the format versions.
-  static CacheKey key(const EnvironmentMap& map, EnvironmentSampling strategy, const SimplifyOptions& simplify);
+  static CacheKey key(const EnvironmentMap& map, EnvironmentTableStrategy strategy, const SimplifyOptions& simplify);
   // The table from `cache` if it holds a valid one, else built (and stored if worth caching).
   // `what` names the table in warnings.
   static Cached<EnvironmentTable> cached(TableCache& cache, std::shared_ptr<const EnvironmentMap> map,
-                                         EnvironmentSampling strategy, const SimplifyOptions& simplify,
+                                         EnvironmentTableStrategy strategy, const SimplifyOptions& simplify,
                                          std::string_view what);
 
   // u0, u1 in [0, 1) (clamped into it).
@@ -123,13 +140,13 @@ class EnvironmentTable {
   // caller that has the pixel already.
   double pdf(PixelIndex p) const;
 
-  EnvironmentSampling strategy() const { return strategy_; }
+  EnvironmentTableStrategy strategy() const { return strategy_; }
   const EnvironmentMap& map() const { return *map_; }
   // True for a black map (and one whose every pixel underflows in the table): nothing to sample.
   bool emitsNothing() const { return emitsNothing_; }
   bool compensationFellBack() const { return compensationFellBack_; }
   // pdf > 0 wherever the map has light.
-  bool complete() const { return strategy_ != EnvironmentSampling::Compensated || compensationFellBack_; }
+  bool complete() const { return strategy_ != EnvironmentTableStrategy::Compensated || compensationFellBack_; }
 
   // Bytes of the table (0 without one).
   std::size_t bytes() const;
@@ -141,11 +158,11 @@ class EnvironmentTable {
 
  private:
   // The constructors' shared work; saved: null to build the cascade, else to read it.
-  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentSampling strategy,
+  EnvironmentTable(std::shared_ptr<const EnvironmentMap> map, EnvironmentTableStrategy strategy,
                    const SimplifyOptions& simplify, const std::span<const std::byte>* saved);
 
   std::shared_ptr<const EnvironmentMap> map_;
-  EnvironmentSampling strategy_;
+  EnvironmentTableStrategy strategy_;
   bool emitsNothing_ = true;
   bool compensationFellBack_ = false;
   std::vector<float> tabulated_;

@@ -48,7 +48,7 @@ class SceneAssets {
   // map whatever its rotation and scale. Uniform-sphere sampling and a black map have no table to
   // build or record.
   std::shared_ptr<const EnvironmentTable> environmentTable(const std::shared_ptr<const EnvironmentMap>& map,
-                                                           const std::string& mapKey, EnvironmentSampling strategy,
+                                                           const std::string& mapKey, EnvironmentTableStrategy strategy,
                                                            const SimplifyOptions& simplify);
 
   // Names of the tables built, and read from the cache, so far, in order.
