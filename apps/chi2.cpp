@@ -53,7 +53,7 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
     throw UsageError(std::string("chi2 --envmap: ") + e.what());
   }
   LightChiSquareOptions test{.samples = args.samples, .seed = args.seed, .alpha = kAlpha};
-  const bool local = options.strategy == EnvironmentSampling::Local;
+  const bool local = !tableStrategyOf(options.strategy);
   if (local != !args.normal.empty())
     throw UsageError(local ? "chi2 --envmap --sampler local: give the surface normal with --normal X,Y,Z"
                            : "chi2 --envmap: --normal applies to --sampler local only");

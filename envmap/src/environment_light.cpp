@@ -32,10 +32,12 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     return table;
   };
   const std::optional<EnvironmentTableStrategy> strategy = tableStrategyOf(options_.strategy);
-  if (!strategy) {  // Local
-    // Calls without a normal get the Adaptive table, whatever `pdfs` (it is complete).
+  if (!strategy) {  // Local, LocalCompensated
+    // Calls without a normal get the Adaptive table, whatever `pdfs` (it is complete); so do the
+    // calls with one that need a complete pdf from a compensated local light.
     complete_ = get(EnvironmentTableStrategy::Adaptive);
-    local_ = std::make_shared<const LocalEnvironmentTable>(map_, options_.local, options_.simplify);
+    local_ = std::make_shared<const LocalEnvironmentTable>(
+        map_, options_.local, options_.simplify, options_.strategy == EnvironmentSampling::LocalCompensated);
     return;
   }
   if (*strategy != EnvironmentTableStrategy::Compensated) {
@@ -62,7 +64,7 @@ const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& contex
 
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
   const EnvironmentTable::Sample s =
-      local_ && context.normal ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
+      usesLocal(context) ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
   if (!(s.pdf > 0)) return {};
   const Rgb L = map_->radiance(s.pixel);
   const float k = options_.scale;
@@ -95,8 +97,12 @@ RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, 
 }
 
 std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, PixelIndex p) const {
-  if (!local_ || !context.normal) return std::nullopt;
+  if (!usesLocal(context)) return std::nullopt;
   return local_->pdfInCell(localCell(context), p);
+}
+
+bool EnvironmentLight::usesLocal(const LightSampleContext& context) const {
+  return local_ && context.normal && (context.allowIncompletePdf || !local_->compensated());
 }
 
 std::size_t EnvironmentLight::localCell(const LightSampleContext& context) const {

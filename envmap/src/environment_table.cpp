@@ -21,6 +21,7 @@ constexpr EnumName<EnvironmentSampling> kEnvironmentSamplingNames[] = {
     {EnvironmentSampling::Compensated, "compensated"},
     {EnvironmentSampling::Hierarchical, "hierarchical"},
     {EnvironmentSampling::Local, "local"},
+    {EnvironmentSampling::LocalCompensated, "local-compensated"},
 };
 }  // namespace
 

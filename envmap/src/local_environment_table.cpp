@@ -66,11 +66,13 @@ double LocalEnvironmentTable::cosBound(const Vec3d& cellCentre, double cellRadiu
 }
 
 LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMap> map,
-                                             const LocalEnvironmentOptions& options, const SimplifyOptions& simplify)
+                                             const LocalEnvironmentOptions& options, const SimplifyOptions& simplify,
+                                             bool compensated)
     : map_(std::move(map)),
       options_(validated(options)),
       normalCells_(options_.normalColumns, options_.normalRows),
-      simplify_(simplify) {
+      simplify_(simplify),
+      compensated_(compensated) {
   if (!map_) throw std::invalid_argument("LocalEnvironmentTable: no map");
   validate(simplify_);
   slices_ = std::make_unique<Slice[]>(slices());
@@ -113,6 +115,11 @@ LocalEnvironmentTable::LocalEnvironmentTable(std::shared_ptr<const EnvironmentMa
       const uint32_t r0 = br * blockHeight_, c0 = bc * blockWidth_;
       blockCaps_[b] =
           capOf(pi * r0 / height, pi * (r0 + rows) / height, 2 * pi * c0 / width, 2 * pi * (c0 + columns) / width);
+      if (compensated_) {
+        double solidAngle = 0;
+        for (uint32_t i = 0; i < rows; ++i) solidAngle += map_->mapping().pixelSolidAngle(r0 + i) * columns;
+        blockSolidAngle_.push_back(solidAngle);
+      }
     }
   }
   CascadeOptions exact;
@@ -143,9 +150,24 @@ const Cascade& LocalEnvironmentTable::slice(std::size_t index) const {
     const uint32_t c = static_cast<uint32_t>(index % options_.normalColumns);
     const Cap cell = capOf(pi * r / options_.normalRows, pi * (r + 1) / options_.normalRows,
                            2 * pi * c / options_.normalColumns, 2 * pi * (c + 1) / options_.normalColumns);
-    std::vector<float> values(blockMass_.size());
+    std::vector<double> lit(blockMass_.size());
+    for (std::size_t b = 0; b < lit.size(); ++b)
+      lit[b] = blockMass_[b] * cosBound(cell.centre, cell.radius, blockCaps_[b].centre, blockCaps_[b].radius);
+    if (compensated_) {
+      double total = 0;
+      for (double v : lit) total += v;
+      const double mean = total / (4 * pi);  // per steradian, over the sphere
+      std::vector<double> excess(lit.size());
+      bool any = false;
+      for (std::size_t b = 0; b < lit.size(); ++b) {
+        excess[b] = std::max(0.0, lit[b] - mean * blockSolidAngle_[b]);
+        any = any || excess[b] > 0;
+      }
+      if (any) lit = std::move(excess);
+    }
+    std::vector<float> values(lit.size());
     for (std::size_t b = 0; b < values.size(); ++b) {
-      const double v = blockMass_[b] * cosBound(cell.centre, cell.radius, blockCaps_[b].centre, blockCaps_[b].radius);
+      const double v = lit[b];
       // Clamped into the normal float range: a positive product must not round to 0.
       values[b] = v > 0 ? static_cast<float>(std::clamp(v, double{std::numeric_limits<float>::min()},
                                                         double{std::numeric_limits<float>::max()}))

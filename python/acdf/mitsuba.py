@@ -8,10 +8,10 @@
 
 `acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
 (a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (the names
-of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, alias, hierarchical,
-uniform-sphere) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
-`normal_columns`, `block_size`). `compensated` is Mitsuba's
-`mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
+of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, local-compensated, alias,
+hierarchical, uniform-sphere) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
+`normal_columns`, `block_size`). `compensated` (and `local-compensated`, per normal cell) is
+Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
 BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
 light (`sample_ray`) use the complete table. The map's frame is Mitsuba's:
@@ -38,7 +38,8 @@ import numpy as np
 
 import acdf
 
-_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "local", "compensated", "hierarchical")
+_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "local", "compensated", "local-compensated",
+               "hierarchical")
 
 
 def _mi():
@@ -139,7 +140,7 @@ def _make_envmap_class():
             self.world_from_map = linear
             self.map_from_world = linear.T
             self.strategy = strategy
-            self.incomplete = strategy == "compensated"
+            self.incomplete = strategy in ("compensated", "local-compensated")
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
             self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), **table)
             self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
@@ -159,7 +160,7 @@ def _make_envmap_class():
             return ok, rows @ self.map_from_world.T
 
         def _normals(self, it):
-            if self.strategy != "local":
+            if not self.strategy.startswith("local"):
                 return None
             n = _rows(it.n)
             if n.size == 0:

@@ -41,7 +41,7 @@ constexpr const char* kReferenceSpp = "1024";
 
 const std::vector<std::string> kBsdf = {"cosine", "uniform", "adaptive"};
 const std::vector<std::string> kEnv = {"uniform-sphere", "uniform",      "alias", "adaptive",
-                                       "compensated",    "hierarchical", "local"};
+                                       "compensated",    "hierarchical", "local", "local-compensated"};
 const std::vector<std::string> kMis = {"power", "balance", "bsdf-only", "light-only"};
 
 using Combination = std::tuple<std::string, std::string, std::string>;  // bsdf, env, mis
@@ -149,7 +149,7 @@ void expectRowAggregatesItsSeeds(const nlohmann::json& row, std::size_t seeds, s
 
 TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRendersNothing) {
   // Two seeds a row: the error falls with the sample count on their mean (a single seed's firefly
-  // can break that), and 171 rows stay fast. The resume test runs the default four.
+  // can break that), and 225 rows stay fast. The resume test runs the default four.
   const RunResult first = benchError({"--spp-budgets", "1,8,64", "--no-plot", "--seeds", "2"});
   ASSERT_EQ(first.exitCode, 0) << apptest::describe(first);
 
@@ -159,10 +159,10 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
     for (const auto& b : kBsdf)
       for (const auto& e : kEnv)
         if (!(m == "bsdf-only" && e != "uniform-sphere")) expected.insert({b, e, m});
-  ASSERT_EQ(expected.size(), 66u);
+  ASSERT_EQ(expected.size(), 75u);
 
   const nlohmann::json j = results();
-  EXPECT_EQ(j["skipped"].size(), 84u - 66u);
+  EXPECT_EQ(j["skipped"].size(), 96u - 75u);
   const auto& rows = j["rows"];
   ASSERT_EQ(rows.size(), 3 * expected.size());
   std::map<Combination, std::map<double, nlohmann::json>> byCombination;
@@ -258,8 +258,8 @@ TEST_F(BenchErrorCli, EveryCombinationErrorFallsCsvMatchesJsonAndASecondRunRende
   // Nothing new to render: every row is kept, the reference reused.
   const RunResult second = benchError({"--spp-budgets", "1,8,64", "--no-plot", "--seeds", "2"});
   ASSERT_EQ(second.exitCode, 0) << apptest::describe(second);
-  EXPECT_EQ(rowCounts(first), std::make_pair(198, 0));
-  EXPECT_EQ(rowCounts(second), std::make_pair(0, 198));
+  EXPECT_EQ(rowCounts(first), std::make_pair(225, 0));
+  EXPECT_EQ(rowCounts(second), std::make_pair(0, 225));
   EXPECT_NE(second.out.find("reused"), std::string::npos) << second.out;
   EXPECT_EQ(results()["rows"], rows);
 }

@@ -347,7 +347,8 @@ TEST(TableSource, TableStrategiesAreTheLightsButLocal) {
     EXPECT_EQ(tableStrategyOf(samplingOf(table)), table);
     EXPECT_EQ(toString(table), toString(samplingOf(table)));
   }
-  EXPECT_EQ(std::size(kEnvironmentSamplings), std::size(kEnvironmentTableStrategies) + 1);
+  EXPECT_EQ(std::size(kEnvironmentSamplings), std::size(kEnvironmentTableStrategies) + 2);
+  EXPECT_EQ(tableStrategyOf(EnvironmentSampling::LocalCompensated), std::nullopt);
   EXPECT_EQ(tableStrategyOf(EnvironmentSampling::Local), std::nullopt);
 }
 
@@ -437,6 +438,27 @@ TEST(Local, TheNormalChoosesTheLocalTable) {
   EXPECT_GT(above, 7400u) << adaptiveAbove;  // 95.8% expected
   EXPECT_LT(adaptiveAbove, 5600u) << above;  // 64.5% expected
   EXPECT_EQ(table->slicesBuilt(), 1u);
+}
+
+// A compensated local light's per-normal tables are incomplete: calls that need a complete pdf get
+// the Adaptive table, normal or not; the others its compensated local table.
+TEST(Local, CompensatedLocalGivesCompletePdfsFromTheAdaptiveTable) {
+  const auto map = smoothMap(64, 32);
+  const EnvironmentLight light(map, {.strategy = EnvironmentSampling::LocalCompensated,
+                                     .local = {.normalRows = 4, .normalColumns = 8}});
+  const EnvironmentLight adaptive(map, {.strategy = EnvironmentSampling::Adaptive});
+  ASSERT_TRUE(light.localTable() && light.localTable()->compensated());
+  const Vec3d n = normalize(Vec3d{0.3, 0.8, 0.2});
+  const LightSampleContext complete = light.atNormal(kComplete, n), incomplete = light.atNormal(kIncomplete, n);
+  for (float u0 : {0.0f, 0.3f, 0.7f, kOneMinusEpsilon})
+    for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
+      const LightSample c = light.sample(complete, u0, u1), a = adaptive.sample({}, u0, u1);
+      EXPECT_EQ(c.direction, a.direction);
+      EXPECT_EQ(c.pdf, a.pdf);
+      const LightSample i = light.sample(incomplete, u0, u1);
+      EXPECT_EQ(i.pdf, light.localTable()->pdf(n, i.direction));
+      EXPECT_EQ(light.pdf(incomplete, i.direction), i.pdf);
+    }
 }
 
 TEST(SunSky, PresetsPutTheSunWhereTheySay) {

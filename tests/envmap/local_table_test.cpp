@@ -120,6 +120,46 @@ INSTANTIATE_TEST_SUITE_P(Maps, LocalGenerated,
                            return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param);
                          });
 
+class LocalCompensated : public ::testing::TestWithParam<std::tuple<const char*, const char*>> {};
+
+ACDF_CHI_SQUARE_TEST_P(LocalCompensated, SamplerMatchesItsPdf, 1) {
+  const auto [name, normal] = GetParam();
+  const LocalEnvironmentTable table(generatedMap(name), {}, {}, true);
+  const std::string what = std::string(name) + " compensated n=" + normal;
+  const Vec3d n = normalNamed(normal);
+  expectConsistent(table, n, what);
+  const SphereChiSquareReport report = chiSquare(table, n);
+  std::cout << what << ": " << report.summary() << "\n";
+  EXPECT_TRUE(report.passed()) << what << ": " << report.summary();
+}
+
+INSTANTIATE_TEST_SUITE_P(Maps, LocalCompensated,
+                         ::testing::Combine(::testing::ValuesIn(kGeneratedMaps), ::testing::ValuesIn(kNormalNames)),
+                         [](const auto& info) {
+                           return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param);
+                         });
+
+// Compensation leaves pdf 0 on the blocks below the cell's mean, which the plain table samples,
+// and adds none.
+TEST(LocalCompensated, BlocksBelowTheMeanGetNothing) {
+  const auto map = generatedMap("low_sun_200x100");
+  const LocalEnvironmentOptions cells{.normalRows = 8, .normalColumns = 16, .blockSize = 8};
+  const LocalEnvironmentTable plain(map, cells), compensated(map, cells, {}, true);
+  EXPECT_TRUE(compensated.compensated());
+  EXPECT_FALSE(plain.compensated());
+  for (const char* name : kNormalNames) {
+    const Vec3d n = normalNamed(name);
+    const std::vector<double> p = plain.pixelProbabilities(n), q = compensated.pixelProbabilities(n);
+    std::size_t dropped = 0, gained = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      dropped += p[i] > 0 && q[i] == 0;
+      gained += q[i] > 0 && p[i] == 0;
+    }
+    EXPECT_GT(dropped, p.size() / 10) << name;
+    EXPECT_EQ(gained, 0u) << name << ": compensation only removes";
+  }
+}
+
 class LocalShared : public ::testing::TestWithParam<const char*> {};
 
 ACDF_CHI_SQUARE_TEST_P(LocalShared, SamplerMatchesItsPdf, 2) {

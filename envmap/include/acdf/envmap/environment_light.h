@@ -16,7 +16,8 @@
 // it is complete for any estimator of reflected light. A call without a normal (a light-only
 // estimate of something other than a surface's reflection, a test) falls back to the complete
 // Adaptive table the light keeps beside it; sample() and pdf() of one estimator must then agree on
-// giving the normal or not, as they must on allowIncompletePdf.
+// giving the normal or not, as they must on allowIncompletePdf. LocalCompensated's per-normal
+// tables are incomplete (compensated): calls that need a complete pdf get the Adaptive table too.
 
 #include <cstddef>
 #include <functional>
@@ -119,6 +120,9 @@ class EnvironmentLight {
   // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
   // else none.
   std::optional<double> localPdf(const LightSampleContext& context, PixelIndex p) const;
+  // Whether calls in `context` use the local table: a local light's calls with a normal, those of a
+  // compensated one only when they allow an incomplete pdf.
+  bool usesLocal(const LightSampleContext& context) const;
   // The local table's normal cell of a context with a normal (Local only).
   std::size_t localCell(const LightSampleContext& context) const;
 

@@ -40,9 +40,10 @@
 //                 get pdf 0 and are left to BSDF sampling under MIS. A map with nothing above its
 //                 mean (a constant one) falls back to the uncompensated table
 //                 (compensationFellBack()).
-// A light offers one more strategy, Local (EnvironmentSampling): the distribution of
+// A light offers two more strategies (EnvironmentSampling): Local, the distribution of
 // L(ω) max(0, n · ω) for the surface normal n of each call, which is no table of one map but one
-// per normal cell (LocalEnvironmentTable, local_environment_table.h).
+// per normal cell (LocalEnvironmentTable, local_environment_table.h), and LocalCompensated, the
+// same with each normal cell's table compensated as Compensated compensates the map's.
 // complete() is false for Compensated unless it fell back: its pdf may be 0 where the map has
 // light, so it serves only estimators that allow an incomplete pdf (EnvironmentLight chooses).
 //
@@ -69,15 +70,24 @@ namespace acdf {
 
 // How a light samples its map (EnvironmentLightOptions::strategy; the choice the command line,
 // scene files and reports name): a table of this class, or Local.
-enum class EnvironmentSampling { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical, Local };
+enum class EnvironmentSampling {
+  UniformSphere,
+  Uniform,
+  Alias,
+  Adaptive,
+  Compensated,
+  Hierarchical,
+  Local,
+  LocalCompensated
+};
 
 inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
     EnvironmentSampling::UniformSphere, EnvironmentSampling::Uniform,     EnvironmentSampling::Alias,
     EnvironmentSampling::Adaptive,      EnvironmentSampling::Compensated, EnvironmentSampling::Hierarchical,
-    EnvironmentSampling::Local};
+    EnvironmentSampling::Local,         EnvironmentSampling::LocalCompensated};
 
-// "uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local"; parse throws
-// std::invalid_argument naming them.
+// "uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local",
+// "local-compensated"; parse throws std::invalid_argument naming them.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
 
@@ -93,7 +103,7 @@ inline constexpr EnvironmentTableStrategy kEnvironmentTableStrategies[] = {
 // messages).
 EnvironmentSampling samplingOf(EnvironmentTableStrategy strategy);
 std::string_view toString(EnvironmentTableStrategy strategy);
-// The table a light strategy samples with; none for Local.
+// The table a light strategy samples with; none for the local ones.
 std::optional<EnvironmentTableStrategy> tableStrategyOf(EnvironmentSampling strategy);
 
 // What every table strategy gives the light: a pixel and where in it, with the density on the

@@ -37,6 +37,15 @@
 // (sin θ |φ − φc| <= max(sin θ over the cell) (φb − φa)/2), a path no shorter than the geodesic,
 // so r = (θb − θa)/2 + max sin θ · (φb − φa)/2 (capped at π) is safe.
 //
+// Compensated (Karlík et al. 2019, as EnvironmentTable's Compensated for the whole map, here per
+// normal cell): a slice holds max(0, v_b − m_N Ω_b) instead of v_b = mass(b) cosBound(N, b), with
+// Ω_b the block's solid angle and m_N = Σ_b v_b / 4π the mean of the slice's function over the
+// sphere, as Compensated takes the map's (the mean over the lit hemisphere, twice that, left too
+// much to BSDF sampling: docs/performance.md, "Local environment sampling"). Blocks below the
+// mean get pdf 0 and are left to BSDF sampling under MIS: an incomplete pdf. Inside a block the
+// pixels keep P(pixel | block), so the compensation is as coarse as the blocks. A slice with
+// nothing above its mean keeps v_b.
+//
 // A black map (or one whose every pixel underflows in the table) emits nothing: sample() returns
 // pdf 0, pdf() returns 0, as EnvironmentTable. A normal cell whose every lit block is below its
 // horizon gets the engine's uniform fallback over blocks: its integrand is 0, any pdf will do.
@@ -72,9 +81,10 @@ class LocalEnvironmentTable {
   using Sample = EnvironmentTable::Sample;
 
   // Builds the per-block pixel tables; the slices, adaptive with `simplify`, are built on first
-  // use. Throws std::invalid_argument for no map, OptionError for bad options.
+  // use; `compensated` slices are those of the header comment's compensation. Throws
+  // std::invalid_argument for no map, OptionError for bad options.
   explicit LocalEnvironmentTable(std::shared_ptr<const EnvironmentMap> map, const LocalEnvironmentOptions& options = {},
-                                 const SimplifyOptions& simplify = {});
+                                 const SimplifyOptions& simplify = {}, bool compensated = false);
 
   // normal: map frame, non-zero (any length); u0, u1 in [0, 1) (clamped into it). Thread-safe.
   Sample sample(const Vec3d& normal, float u0, float u1) const;
@@ -95,6 +105,9 @@ class LocalEnvironmentTable {
   const LocalEnvironmentOptions& options() const { return options_; }
   const SimplifyOptions& simplify() const { return simplify_; }
   bool emitsNothing() const { return emitsNothing_; }
+  // Whether the slices are compensated: pdf 0 on blocks below their normal cell's mean, for
+  // estimators that allow an incomplete pdf only.
+  bool compensated() const { return compensated_; }
 
   // Normal cells, row-major (θ, φ); the one holding a normal (map frame, non-zero), as
   // LatLongMapping::pixelOf puts it in a normalColumns × normalRows grid.
@@ -137,11 +150,13 @@ class LocalEnvironmentTable {
   LocalEnvironmentOptions options_;
   LatLongMapping normalCells_;  // the normal cells as the pixels of a lat-long grid
   SimplifyOptions simplify_;
+  bool compensated_ = false;
   bool emitsNothing_ = true;
   uint32_t blockHeight_ = 0, blockWidth_ = 0;  // B, or the map's size if smaller
   uint32_t blockRows_ = 0, blockColumns_ = 0;
   std::vector<double> blockMass_;  // Σ luminance × ΔΩ per block, row-major
   std::vector<Cap> blockCaps_;     // per block
+  std::vector<double> blockSolidAngle_;  // Ω_b per block (compensated only)
   std::optional<Cascade> pixels_;  // P(pixel | block)
   std::vector<double> pdfScale_;   // per map row: 1 / (blocks × block pixels × ΔΩ_row)
   std::unique_ptr<Slice[]> slices_;
