@@ -101,12 +101,13 @@ void expectConsistent(const LocalEnvironmentTable& table, const Vec3d& n, const 
   EXPECT_NEAR(probability, 1.0, 1e-9) << what;
 }
 
-class LocalGenerated : public ::testing::TestWithParam<std::tuple<const char*, const char*>> {};
+// Plain and compensated tables alike.
+class LocalGenerated : public ::testing::TestWithParam<std::tuple<const char*, const char*, bool>> {};
 
 ACDF_CHI_SQUARE_TEST_P(LocalGenerated, SamplerMatchesItsPdf, 1) {
-  const auto [name, normal] = GetParam();
-  const LocalEnvironmentTable table(generatedMap(name));
-  const std::string what = std::string(name) + " n=" + normal;
+  const auto [name, normal, compensated] = GetParam();
+  const LocalEnvironmentTable table(generatedMap(name), {}, {}, compensated);
+  const std::string what = std::string(name) + (compensated ? " compensated" : "") + " n=" + normal;
   const Vec3d n = normalNamed(normal);
   expectConsistent(table, n, what);
   const SphereChiSquareReport report = chiSquare(table, n);
@@ -115,28 +116,11 @@ ACDF_CHI_SQUARE_TEST_P(LocalGenerated, SamplerMatchesItsPdf, 1) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, LocalGenerated,
-                         ::testing::Combine(::testing::ValuesIn(kGeneratedMaps), ::testing::ValuesIn(kNormalNames)),
+                         ::testing::Combine(::testing::ValuesIn(kGeneratedMaps), ::testing::ValuesIn(kNormalNames),
+                                            ::testing::Bool()),
                          [](const auto& info) {
-                           return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param);
-                         });
-
-class LocalCompensated : public ::testing::TestWithParam<std::tuple<const char*, const char*>> {};
-
-ACDF_CHI_SQUARE_TEST_P(LocalCompensated, SamplerMatchesItsPdf, 1) {
-  const auto [name, normal] = GetParam();
-  const LocalEnvironmentTable table(generatedMap(name), {}, {}, true);
-  const std::string what = std::string(name) + " compensated n=" + normal;
-  const Vec3d n = normalNamed(normal);
-  expectConsistent(table, n, what);
-  const SphereChiSquareReport report = chiSquare(table, n);
-  std::cout << what << ": " << report.summary() << "\n";
-  EXPECT_TRUE(report.passed()) << what << ": " << report.summary();
-}
-
-INSTANTIATE_TEST_SUITE_P(Maps, LocalCompensated,
-                         ::testing::Combine(::testing::ValuesIn(kGeneratedMaps), ::testing::ValuesIn(kNormalNames)),
-                         [](const auto& info) {
-                           return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param);
+                           return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param) +
+                                  (std::get<2>(info.param) ? "_compensated" : "");
                          });
 
 // Compensation leaves pdf 0 on the blocks below the cell's mean, which the plain table samples,
