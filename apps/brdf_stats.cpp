@@ -35,14 +35,6 @@ using Layout = TabulatedBrdfOptions::Layout;
 // table has 2^22); refusing early beats running out of memory an hour later.
 constexpr uint64_t kMaxTableCells = uint64_t{1} << 26;
 
-// "--theta-half" for "theta_half".
-std::string flagName(std::string_view key) {
-  std::string flag = "--" + std::string(key);
-  for (char& c : flag)
-    if (c == '_') c = '-';
-  return flag;
-}
-
 // "32x16x256x32" → {32, 16, 256, 32}; every part a positive integer.
 std::vector<uint32_t> parseResolution(const std::string& text, std::size_t parts, const std::string& layout) {
   const std::string usage = fmt::format("--res for the {} layout is {} cell counts joined by 'x' (e.g. {}), got '{}'",

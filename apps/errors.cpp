@@ -4,11 +4,13 @@ namespace acdf::app {
 
 UsageError::UsageError(const std::string& message) : std::runtime_error(oneLine(message)) {}
 
-std::string flagError(const OptionError& e) {
-  std::string flag = "--" + e.option();
+std::string flagName(std::string_view option) {
+  std::string flag = "--" + std::string(option);
   for (char& c : flag)
     if (c == '_') c = '-';
-  return flag + " " + e.problem();
+  return flag;
 }
+
+std::string flagError(const OptionError& e) { return flagName(e.option()) + " " + e.problem(); }
 
 }  // namespace acdf::app

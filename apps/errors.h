@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "acdf/sampling/file_error.h"
 #include "acdf/sampling/option_error.h"
@@ -16,6 +17,9 @@ class UsageError : public std::runtime_error {
  public:
   explicit UsageError(const std::string& message);
 };
+
+// "--max-points" for option max_points: an option's flag, in kebab case.
+std::string flagName(std::string_view option);
 
 // "--max-points must be at least 2 (the end points)" for option max_points.
 std::string flagError(const OptionError& e);
