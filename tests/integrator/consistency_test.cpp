@@ -124,23 +124,27 @@ TEST(Consistency, EnvironmentStrategiesAgreeUnderMis) {
 }
 
 // Local sampling (the light drawn by L max(0, n · ω) for each vertex's normal) estimates the same
-// image under MIS and alone: its pdf is positive wherever the reflected light is.
+// image under MIS and alone: its pdf is positive wherever the reflected light is. So does the
+// compensated local table under MIS (pdf 0 below each cell's mean, left to BSDF sampling), and
+// alone, where the light answers from its complete Adaptive table.
 // Blocks of 2 × 2 pixels of the 64 × 32 sky (11°) and as fine normal cells, so the cosine bound is
 // tight: a sample drawn for the wrong normal would miss much of the light.
 TEST(Consistency, LocalSamplingAgreesUnderMisAndAlone) {
   const auto adaptive = renderMean("adaptive", MisMode::Power, EnvironmentSampling::Adaptive);
-  auto local = [](MisMode mis) {
-    nlohmann::json scene = skyScene("adaptive");
-    scene["environment"]["sampling"] = "local";
-    scene["environment"]["block_size"] = 2;
-    scene["environment"]["normal_rows"] = 16;
-    scene["environment"]["normal_columns"] = 32;
-    SceneOverrides overrides;
-    overrides.mis = mis;
-    return rendertest::imageMean(rendertest::renderScene(scene, overrides).film);
-  };
-  expectAgree(adaptive, local(MisMode::Power), "adaptive vs local");
-  expectAgree(adaptive, local(MisMode::LightOnly), "power x adaptive vs light-only x local");
+  for (const std::string sampling : {"local", "local-compensated"}) {
+    auto local = [&](MisMode mis) {
+      nlohmann::json scene = skyScene("adaptive");
+      scene["environment"]["sampling"] = sampling;
+      scene["environment"]["block_size"] = 2;
+      scene["environment"]["normal_rows"] = 16;
+      scene["environment"]["normal_columns"] = 32;
+      SceneOverrides overrides;
+      overrides.mis = mis;
+      return rendertest::imageMean(rendertest::renderScene(scene, overrides).film);
+    };
+    expectAgree(adaptive, local(MisMode::Power), "adaptive vs " + sampling);
+    expectAgree(adaptive, local(MisMode::LightOnly), "power x adaptive vs light-only x " + sampling);
+  }
 }
 
 // Light sampling alone cannot use the compensated table (pdf 0 where the sky is dimmer than its
