@@ -1,11 +1,15 @@
 #pragma once
-// numpy in, numpy out: the shape checks and the batched loop every binding uses.
+// numpy in, numpy out: reading array arguments, the shape checks and the batched loop every
+// binding uses.
 //
-// Inputs are taken as C-contiguous arrays of the element type the C++ call consumes (float for
-// variates and table coordinates, double for directions), converted by numpy if needed. A batch
-// of n rows runs as one C++ loop; from kParallelRows rows on, the loop releases the GIL and runs
-// on oneTBB's threads (each row is independent and the C++ calls are const and thread-safe, so
-// the result does not depend on the number of threads).
+// An array argument arrives as the caller gave it (ArrayArg: an ndarray or anything numpy makes
+// one of) and is read as a C-contiguous array of the element type the C++ call consumes (float for
+// variates and table coordinates, double for directions): a copy when its dtype, byte order or
+// layout differ (Fortran order, a slice with a step), never a reinterpretation. What is not real
+// numbers (bool, complex, text, objects) or not of the expected shape raises ValueError naming
+// the argument and the shape. A batch of n rows runs as one C++ loop; from kParallelRows rows on,
+// the loop releases the GIL and runs on oneTBB's threads (each row is independent and the C++
+// calls are const and thread-safe, so the result does not depend on the number of threads).
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -27,12 +31,53 @@ namespace py = pybind11;
 template <class T>
 using Array = py::array_t<T, py::array::c_style | py::array::forcecast>;
 
+// An array argument as given; numbers() and batch() read it.
+struct ArrayArg {
+  py::object value;
+};
+
+}  // namespace acdf::python
+
+namespace pybind11::detail {
+// Every object binds to an ArrayArg (None only where the argument is optional), so that what it
+// holds is judged by numbers() with the argument's name, not by overload resolution's TypeError.
+template <>
+struct type_caster<acdf::python::ArrayArg> {
+  PYBIND11_TYPE_CASTER(acdf::python::ArrayArg, const_name("numpy.ndarray"));
+  bool load(handle source, bool) {
+    if (source.is_none()) return false;
+    value.value = reinterpret_borrow<object>(source);
+    return true;
+  }
+};
+}  // namespace pybind11::detail
+
+namespace acdf::python {
+
 inline constexpr std::size_t kParallelRows = 8192;
 
 inline std::string shapeText(const py::array& a) {
   std::string s = "(";
   for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
   return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+inline std::string rowShape(std::size_t columns) {
+  return columns == 0 ? "(n,)" : "(n, " + std::to_string(columns) + ")";
+}
+
+// The argument `name` as a C-contiguous array of T (see the top of this file); `shape` is what
+// the error message says is expected, e.g. "of shape (n, 2)".
+template <class T>
+Array<T> numbers(const ArrayArg& arg, const char* name, const std::string& shape) {
+  const std::string expected = std::string(name) + ": expected real numbers " + shape;
+  const py::array a = py::array::ensure(arg.value);  // a list, a scalar: numpy's array of it
+  if (!a)
+    throw py::value_error(expected + ", got " + py::str(py::type::of(arg.value).attr("__name__")).cast<std::string>());
+  const char kind = a.dtype().kind();
+  if (kind == 'f' || kind == 'i' || kind == 'u')
+    if (Array<T> out = Array<T>::ensure(a)) return out;
+  throw py::value_error(expected + ", got dtype " + py::str(a.dtype()).cast<std::string>());
 }
 
 // The number of rows of `a`, which must have shape (n, columns), or (n,) when columns == 0.
@@ -47,6 +92,24 @@ inline std::size_t rows(const py::array& a, std::size_t columns, const char* nam
     throw py::value_error(std::string(name) + ": expected shape (n, " + std::to_string(columns) + "), got " +
                           shapeText(a));
   return static_cast<std::size_t>(a.shape(0));
+}
+
+// A batch argument read by numbers(): `rows` rows of `columns` values (shape (n, columns), or (n,)
+// when columns == 0; one row may be given as (columns,) when allowSingle, counting as n = 1).
+// `data` points into `array`, which owns the values, so it can be read without the GIL.
+template <class T>
+struct Batch {
+  Array<T> array;
+  const T* data;
+  std::size_t rows;
+};
+
+template <class T>
+Batch<T> batch(const ArrayArg& arg, std::size_t columns, const char* name, bool allowSingle = false) {
+  Array<T> a = numbers<T>(arg, name, "of shape " + rowShape(columns));
+  const std::size_t n = rows(a, columns, name, allowSingle);
+  const T* data = a.data();
+  return {std::move(a), data, n};
 }
 
 // Two batches that go together row by row: the same n, or one of them a single row broadcast
@@ -104,15 +167,15 @@ inline Vec3d direction(const double* data, std::size_t rowsInArray, std::size_t 
 
 // A batch of directions: shape (n, 3), or (3,) for one direction that broadcasts.
 struct Directions {
-  const double* data;
-  std::size_t rows;
-  Vec3d operator[](std::size_t i) const { return direction(data, rows, i); }
+  Batch<double> values;
+  Vec3d operator[](std::size_t i) const { return direction(values.data, values.rows, i); }
+  std::size_t rows() const { return values.rows; }
 };
 
-inline Directions directions(const Array<double>& a, const char* name) {
-  const std::size_t n = rows(a, 3, name, true);
-  requireDirections(a.data(), n, name);
-  return {a.data(), n};
+inline Directions directions(const ArrayArg& a, const char* name) {
+  Batch<double> b = batch<double>(a, 3, name, true);
+  requireDirections(b.data, b.rows, name);
+  return {std::move(b)};
 }
 
 inline void storeRgb(float* data, std::size_t i, const Rgb& c) {

@@ -33,9 +33,9 @@ namespace {
 
 // f(wo, wi) for batches of directions in the local frame; either may be one row (broadcast).
 template <class Evaluator>
-py::array_t<float> evalBatch(const Evaluator& f, const Array<double>& wo, const Array<double>& wi) {
+py::array_t<float> evalBatch(const Evaluator& f, const ArrayArg& wo, const ArrayArg& wi) {
   const Directions o = directions(wo, "wo"), i = directions(wi, "wi");
-  const std::size_t n = pairedRows(o.rows, i.rows, "wo and wi");
+  const std::size_t n = pairedRows(o.rows(), i.rows(), "wo and wi");
   auto out = output<float>(n, 3);
   float* data = out.mutable_data();
   forEachRow(n, [&](std::size_t k) { storeRgb(data, k, f.eval(o[k], i[k])); });
@@ -105,7 +105,7 @@ void bindModels(py::module_& m) {
 
 f is 0 unless both directions are above the horizon (z > 0).)");
   model.def(
-      "eval", [](const BrdfModel& f, const Array<double>& wo, const Array<double>& wi) { return evalBatch(f, wo, wi); },
+      "eval", [](const BrdfModel& f, const ArrayArg& wo, const ArrayArg& wi) { return evalBatch(f, wo, wi); },
       "wo"_a, "wi"_a, (std::string("f(wo, wi) as RGB float32, shape (n, 3). ") + kFrameDoc).c_str());
   model.def_property_readonly("isotropic", &BrdfModel::isotropic);
 
@@ -172,13 +172,17 @@ sample(wo, u) -> (wi, weight, pdf): wi (n, 3) float64, weight = f cos(theta_i) /
 the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell boundaries).)");
   s.def(
       "sample",
-      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<float>& u) {
+      [](const BrdfSampler& sampler, const ArrayArg& wo, const ArrayArg& u) {
         const Directions o = directions(wo, "wo");
-        const std::size_t n = pairedRows(rows(u, 2, "u"), o.rows, "u and wo");
-        if (o.rows != 1 && o.rows != n) throw py::value_error("wo: one row or one per sample");
+        const Batch<float> variates = batch<float>(u, 2, "u");
+        const std::size_t n = pairedRows(variates.rows, o.rows(), "u and wo");
+        if (o.rows() != 1 && o.rows() != n) throw py::value_error("wo: one row or one per sample");
+        if (variates.rows != n)
+          throw py::value_error("u: expected shape (" + std::to_string(n) + ", 2), one row per sample, got " +
+                                shapeText(variates.array));
         auto wi = output<double>(n, 3), pdf = output<double>(n);
         auto weight = output<float>(n, 3);
-        const float* in = u.data();
+        const float* in = variates.data;
         double *ws = wi.mutable_data(), *ps = pdf.mutable_data();
         float* fs = weight.mutable_data();
         forEachRow(n, [&](std::size_t i) {
@@ -192,9 +196,9 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
       "wo"_a, "u"_a, "u: (n, 2) float32 variates; wo: (n, 3) or one (3,) direction.");
   s.def(
       "pdf",
-      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<double>& wi) {
+      [](const BrdfSampler& sampler, const ArrayArg& wo, const ArrayArg& wi) {
         const Directions o = directions(wo, "wo"), i = directions(wi, "wi");
-        const std::size_t n = pairedRows(o.rows, i.rows, "wo and wi");
+        const std::size_t n = pairedRows(o.rows(), i.rows(), "wo and wi");
         auto pdf = output<double>(n);
         double* ps = pdf.mutable_data();
         forEachRow(n, [&](std::size_t k) { ps[k] = sampler.pdf(o[k], i[k]); });
@@ -203,7 +207,7 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
       "wo"_a, "wi"_a, kFrameDoc);
   s.def(
       "eval",
-      [](const BrdfSampler& sampler, const Array<double>& wo, const Array<double>& wi) {
+      [](const BrdfSampler& sampler, const ArrayArg& wo, const ArrayArg& wi) {
         return evalBatch(sampler, wo, wi);
       },
       "wo"_a, "wi"_a, "The model's f(wo, wi), RGB float32 (n, 3).");

@@ -31,7 +31,8 @@ py::array_t<T> image(const EnvironmentMap& map, const T* data, std::size_t chann
   return out;
 }
 
-std::shared_ptr<EnvironmentMap> mapFromArray(const Array<float>& rgb) {
+std::shared_ptr<EnvironmentMap> mapFromArray(const ArrayArg& rgbArg) {
+  const Array<float> rgb = numbers<float>(rgbArg, "rgb", "of shape (height, width, 3)");
   if (rgb.ndim() != 3 || rgb.shape(2) != 3)
     throw py::value_error("rgb: expected shape (height, width, 3), got " + shapeText(rgb));
   std::vector<float> values(rgb.data(), rgb.data() + rgb.size());
@@ -70,12 +71,12 @@ struct Contexts {
   }
 };
 
-Contexts contextsOf(bool allowIncomplete, const std::optional<Array<double>>& normal, std::size_t n) {
+Contexts contextsOf(bool allowIncomplete, const std::optional<ArrayArg>& normal, std::size_t n) {
   Contexts c{allowIncomplete, std::nullopt};
   if (normal) {
     c.normals = directions(*normal, "normal");
-    pairedRows(n, c.normals->rows, "normal and the samples");
-    if (c.normals->rows != 1 && c.normals->rows != n) throw py::value_error("normal: one row or one per sample");
+    pairedRows(n, c.normals->rows(), "normal and the samples");
+    if (c.normals->rows() != 1 && c.normals->rows() != n) throw py::value_error("normal: one row or one per sample");
   }
   return c;
 }
@@ -129,13 +130,14 @@ void bindLight(py::module_& m) {
       "block_size"_a = d.blockSize, "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
   c.def(
       "sample",
-      [](const EnvironmentLight& light, const Array<float>& u, const std::optional<Array<double>>& normal,
+      [](const EnvironmentLight& light, const ArrayArg& u, const std::optional<ArrayArg>& normal,
          bool allowIncomplete) {
-        const std::size_t n = rows(u, 2, "u");
+        const Batch<float> variates = batch<float>(u, 2, "u");
+        const std::size_t n = variates.rows;
         const Contexts context = contextsOf(allowIncomplete, normal, n);
         auto dirs = output<double>(n, 3), pdf = output<double>(n);
         auto radiance = output<float>(n, 3);
-        const float* in = u.data();
+        const float* in = variates.data;
         double *ds = dirs.mutable_data(), *ps = pdf.mutable_data();
         float* rs = radiance.mutable_data();
         forEachRow(n, [&](std::size_t i) {
@@ -153,24 +155,24 @@ void bindLight(py::module_& m) {
       "light samples its adaptive table. pdf() must be given the same normals.");
   c.def(
       "pdf",
-      [](const EnvironmentLight& light, const Array<double>& dirs, const std::optional<Array<double>>& normal,
+      [](const EnvironmentLight& light, const ArrayArg& dirs, const std::optional<ArrayArg>& normal,
          bool allowIncomplete) {
         const Directions w = directions(dirs, "dirs");
-        const Contexts context = contextsOf(allowIncomplete, normal, w.rows);
-        auto pdf = output<double>(w.rows);
+        const Contexts context = contextsOf(allowIncomplete, normal, w.rows());
+        auto pdf = output<double>(w.rows());
         double* ps = pdf.mutable_data();
-        forEachRow(w.rows, [&](std::size_t i) { ps[i] = light.pdf(context(i), w[i]); });
+        forEachRow(w.rows(), [&](std::size_t i) { ps[i] = light.pdf(context(i), w[i]); });
         return pdf;
       },
       "dirs"_a, "normal"_a = py::none(), "allow_incomplete_pdf"_a = false,
       "Density per steradian of sample() at each direction, shape (n,) (with the same normals).");
   c.def(
       "eval",
-      [](const EnvironmentLight& light, const Array<double>& dirs) {
+      [](const EnvironmentLight& light, const ArrayArg& dirs) {
         const Directions w = directions(dirs, "dirs");
-        auto radiance = output<float>(w.rows, 3);
+        auto radiance = output<float>(w.rows(), 3);
         float* rs = radiance.mutable_data();
-        forEachRow(w.rows, [&](std::size_t i) { storeRgb(rs, i, light.eval(w[i])); });
+        forEachRow(w.rows(), [&](std::size_t i) { storeRgb(rs, i, light.eval(w[i])); });
         return radiance;
       },
       "dirs"_a, "Radiance arriving from each direction (nearest pixel, times the scale), shape (n, 3).");

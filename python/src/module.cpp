@@ -32,14 +32,7 @@ Errors
 
   // FileError carries the file and the problem in what(); OSError is what Python code catches for
   // a file it could not use.
-  static py::exception<acdf::FileError> fileError(m, "FileError", PyExc_OSError);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const acdf::FileError& e) {
-      fileError(e.what());
-    }
-  });
+  py::register_exception<acdf::FileError>(m, "FileError", PyExc_OSError);
 
   acdf::python::bindSampling(m);
   acdf::python::bindEnvmap(m);

@@ -42,15 +42,16 @@ ProductSampler(light, material, candidates=2, bsdf_fraction=0.5): each shading p
 the light's local table for the point's normal when its strategy is "local"), weights each by
 w = luminance(f L cos) / q and keeps one in proportion to w.
 
-sample(wo, normal, seed=0) -> (wi, estimate, mixture_pdf):
+sample(wo, normal, seed=0, first_stream=0) -> (wi, estimate, mixture_pdf):
   wo, normal: (n, 3) or (3,) float64, world frame; wo points away from the surface. The shading
     frame is acdf's Frame(normal): a 4D-tabulated material sees the tangent it derives.
   wi (n, 3): the direction kept (world frame; 0 where every candidate's weight was 0);
   estimate (n, 3) float32: f L cos(theta_i) / p_hat(wi) * (1/M) sum(w), the unbiased estimate of
     the direct light for an unoccluded wi (multiply by its visibility); 0 where nothing was kept;
   mixture_pdf (n,): q at wi, per steradian (0 where nothing was kept).
-  Row i draws its values from PCG32 stream i of `seed`: results do not depend on the batch's
-  threads, and the same (seed, row) gives the same sample.
+  Row i draws its values from PCG32 stream first_stream + i of `seed`: results do not depend on
+  the batch's threads, and a batch split into chunks (each given its first row's index as
+  first_stream) gives the same samples as the whole.
 mixture_pdf(wo, normal, wi) -> (n,): q at world directions wi.)";
 
 }  // namespace
@@ -74,15 +75,16 @@ void bindProductSampling(py::module_& m) {
       .def_property_readonly("bsdf_fraction", [](const ProductSampler& s) { return s.options.bsdfFraction; })
       .def(
           "sample",
-          [](const ProductSampler& s, const Array<double>& wo, const Array<double>& normal, uint64_t seed) {
+          [](const ProductSampler& s, const ArrayArg& wo, const ArrayArg& normal, uint64_t seed,
+             uint64_t firstStream) {
             const Directions o = directions(wo, "wo"), nrm = directions(normal, "normal");
-            const std::size_t n = pairedRows(o.rows, nrm.rows, "wo and normal");
+            const std::size_t n = pairedRows(o.rows(), nrm.rows(), "wo and normal");
             auto wi = output<double>(n, 3), pdf = output<double>(n);
             auto estimate = output<float>(n, 3);
             double *ws = wi.mutable_data(), *ps = pdf.mutable_data();
             float* es = estimate.mutable_data();
             forEachRow(n, [&](std::size_t i) {
-              CandidateValues values{Pcg32(seed, i)};
+              CandidateValues values{Pcg32(seed, firstStream + i)};
               const std::optional<ProductLightSample> l = s.at(o[i], nrm[i]).sample(values);
               storeVec3(ws, i, l ? l->direction : Vec3d{});
               storeRgb(es, i, l ? l->estimate : Rgb{});
@@ -90,12 +92,12 @@ void bindProductSampling(py::module_& m) {
             });
             return py::make_tuple(wi, estimate, pdf);
           },
-          "wo"_a, "normal"_a, "seed"_a = 0)
+          "wo"_a, "normal"_a, "seed"_a = 0, "first_stream"_a = 0)
       .def(
           "mixture_pdf",
-          [](const ProductSampler& s, const Array<double>& wo, const Array<double>& normal, const Array<double>& wi) {
+          [](const ProductSampler& s, const ArrayArg& wo, const ArrayArg& normal, const ArrayArg& wi) {
             const Directions o = directions(wo, "wo"), nrm = directions(normal, "normal"), w = directions(wi, "wi");
-            const std::size_t n = pairedRows(pairedRows(o.rows, nrm.rows, "wo and normal"), w.rows, "wo and wi");
+            const std::size_t n = pairedRows(pairedRows(o.rows(), nrm.rows(), "wo and normal"), w.rows(), "wo and wi");
             auto pdf = output<double>(n);
             double* ps = pdf.mutable_data();
             forEachRow(n, [&](std::size_t i) { ps[i] = s.at(o[i], nrm[i]).mixturePdf(w[i]); });

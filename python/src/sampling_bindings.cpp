@@ -30,10 +30,11 @@ template <class Table>
 void bindBatched1D(py::class_<Table>& c) {
   c.def(
       "sample",
-      [](const Table& t, const Array<float>& u) {
-        const std::size_t n = rows(u, 0, "u");
+      [](const Table& t, const ArrayArg& u) {
+        const Batch<float> variates = batch<float>(u, 0, "u");
+        const std::size_t n = variates.rows;
         auto x = output<float>(n), pdf = output<float>(n);
-        const float* in = u.data();
+        const float* in = variates.data;
         float *xs = x.mutable_data(), *ps = pdf.mutable_data();
         forEachRow(n, [&](std::size_t i) {
           const Sample1D s = t.sample(in[i]);
@@ -45,10 +46,11 @@ void bindBatched1D(py::class_<Table>& c) {
       "u"_a, "Samples for variates u, shape (n,): (x, pdf), both float32 of shape (n,); pdf > 0.");
   c.def(
       "pdf",
-      [](const Table& t, const Array<float>& x) {
-        const std::size_t n = rows(x, 0, "x");
+      [](const Table& t, const ArrayArg& x) {
+        const Batch<float> points = batch<float>(x, 0, "x");
+        const std::size_t n = points.rows;
         auto pdf = output<float>(n);
-        const float* in = x.data();
+        const float* in = points.data;
         float* ps = pdf.mutable_data();
         forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(in[i]); });
         return pdf;
@@ -57,10 +59,11 @@ void bindBatched1D(py::class_<Table>& c) {
   if constexpr (requires(const Table& t) { t.invert(0.0f); }) {
     c.def(
         "invert",
-        [](const Table& t, const Array<float>& x) {
-          const std::size_t n = rows(x, 0, "x");
+        [](const Table& t, const ArrayArg& x) {
+          const Batch<float> points = batch<float>(x, 0, "x");
+          const std::size_t n = points.rows;
           auto u = output<float>(n);
-          const float* in = x.data();
+          const float* in = points.data;
           float* us = u.mutable_data();
           forEachRow(n, [&](std::size_t i) { us[i] = t.invert(in[i]); });
           return u;
@@ -79,7 +82,11 @@ void bindBatched1D(py::class_<Table>& c) {
       "(lo, hi) of the domain.");
 }
 
-std::vector<float> asVector(const Array<float>& a) { return {a.data(), a.data() + a.size()}; }
+// A 1D table's function values, shape (n,).
+std::vector<float> functionValues(const ArrayArg& f) {
+  const Batch<float> values = batch<float>(f, 0, "function");
+  return {values.data, values.data + values.rows};
+}
 
 // Row i of an (n, k) float array, or its only row (broadcast).
 std::span<const float> rowOf(const float* data, std::size_t columns, std::size_t rowsInArray, std::size_t i) {
@@ -87,33 +94,42 @@ std::span<const float> rowOf(const float* data, std::size_t columns, std::size_t
 }
 
 // The condition argument of a Cascade call: none (no conditioning axes), one row, or one per row.
+// `values` owns what `data` points to.
 struct Condition {
+  std::optional<Batch<float>> values;
   const float* data = nullptr;
   std::size_t rows = 1;
 };
 
-Condition conditionOf(const Cascade& c, const std::optional<Array<float>>& condition, std::size_t n) {
+Condition conditionOf(const Cascade& c, const std::optional<ArrayArg>& condition, std::size_t n) {
   const std::size_t k = c.conditioningDims();
   if (!condition) {
     if (k != 0) throw py::value_error("condition: the cascade has " + std::to_string(k) + " conditioning axes");
     return {};
   }
-  const std::size_t r = rows(*condition, k, "condition", true);
-  pairedRows(n, r, "condition and the samples");
-  if (r != 1 && r != n) throw py::value_error("condition: one row or one per sample");
-  return {condition->data(), r};
+  if (k == 0) throw py::value_error("condition: the cascade has no conditioning axes");
+  Batch<float> b = batch<float>(*condition, k, "condition", true);
+  pairedRows(n, b.rows, "condition and the samples");
+  if (b.rows != 1 && b.rows != n) throw py::value_error("condition: one row or one per sample");
+  const float* data = b.data;
+  const std::size_t r = b.rows;
+  return {std::move(b), data, r};
 }
 
-// Rows of a (n, k) coordinate array, or (n,) for k = 1.
-std::size_t coordinateRows(const Array<float>& a, std::size_t k, const char* name) {
-  if (k == 1 && a.ndim() == 1) return static_cast<std::size_t>(a.shape(0));
-  return rows(a, k, name);
+// A (n, k) coordinate argument, or (n,) for k = 1.
+Batch<float> coordinates(const ArrayArg& a, std::size_t k, const char* name) {
+  Array<float> values = numbers<float>(a, name, "of shape " + (k == 1 ? "(n,) or (n, 1)" : rowShape(k)));
+  const std::size_t n =
+      k == 1 && values.ndim() == 1 ? static_cast<std::size_t>(values.shape(0)) : rows(values, k, name);
+  const float* data = values.data();
+  return {std::move(values), data, n};
 }
 
-Cascade makeCascade(const Array<float>& values, const std::optional<std::vector<std::pair<float, float>>>& domains,
+Cascade makeCascade(const ArrayArg& valuesArg, const std::optional<std::vector<std::pair<float, float>>>& domains,
                     uint32_t conditioningDims, const std::optional<std::vector<std::string>>& methods,
                     std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify,
                     const std::string& conditional, const std::string& tolerance, double sliceGrouping) {
+  const Array<float> values = numbers<float>(valuesArg, "values", "of shape (n0, n1, ...)");
   if (values.ndim() < 1 || static_cast<std::size_t>(values.ndim()) > kMaxDims)
     throw py::value_error("values: expected 1 to " + std::to_string(kMaxDims) + " dimensions, got " +
                           std::to_string(values.ndim()));
@@ -164,12 +180,14 @@ NaN or Inf value or bad options.)");
         "slice_grouping_tolerance"_a = 0.0);
   c.def(
       "sample",
-      [](const Cascade& t, const Array<float>& u, const std::optional<Array<float>>& condition) {
-        const std::size_t k = t.sampledDims(), n = coordinateRows(u, k, "u");
+      [](const Cascade& t, const ArrayArg& u, const std::optional<ArrayArg>& condition) {
+        const std::size_t k = t.sampledDims();
+        const Batch<float> variates = coordinates(u, k, "u");
+        const std::size_t n = variates.rows;
         const Condition cond = conditionOf(t, condition, n);
         auto x = output<float>(n, k);
         auto pdf = output<float>(n);
-        const float* in = u.data();
+        const float* in = variates.data;
         float *xs = x.mutable_data(), *ps = pdf.mutable_data();
         const std::size_t kc = t.conditioningDims();
         forEachRow(n, [&](std::size_t i) {
@@ -185,11 +203,13 @@ NaN or Inf value or bad options.)");
       "(n, conditioning_dims) coordinates of the conditioning axes.");
   c.def(
       "pdf",
-      [](const Cascade& t, const Array<float>& x, const std::optional<Array<float>>& condition) {
-        const std::size_t k = t.sampledDims(), n = coordinateRows(x, k, "x");
+      [](const Cascade& t, const ArrayArg& x, const std::optional<ArrayArg>& condition) {
+        const std::size_t k = t.sampledDims();
+        const Batch<float> points = coordinates(x, k, "x");
+        const std::size_t n = points.rows;
         const Condition cond = conditionOf(t, condition, n);
         auto pdf = output<float>(n);
-        const float* in = x.data();
+        const float* in = points.data;
         float* ps = pdf.mutable_data();
         const std::size_t kc = t.conditioningDims();
         forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k}); });
@@ -198,11 +218,13 @@ NaN or Inf value or bad options.)");
       "x"_a, "condition"_a = py::none(), "Density at each point x (rows as in sample()); 0 outside the domain.");
   c.def(
       "invert",
-      [](const Cascade& t, const Array<float>& x, const std::optional<Array<float>>& condition) {
-        const std::size_t k = t.sampledDims(), n = coordinateRows(x, k, "x");
+      [](const Cascade& t, const ArrayArg& x, const std::optional<ArrayArg>& condition) {
+        const std::size_t k = t.sampledDims();
+        const Batch<float> points = coordinates(x, k, "x");
+        const std::size_t n = points.rows;
         const Condition cond = conditionOf(t, condition, n);
         auto u = output<float>(n, k);
-        const float* in = x.data();
+        const float* in = points.data;
         float* us = u.mutable_data();
         const std::size_t kc = t.conditioningDims();
         forEachRow(n, [&](std::size_t i) {
@@ -230,11 +252,16 @@ NaN or Inf value or bad options.)");
                           "Per axis: the average number of intervals of its 1D CDFs (the paper's average resolution).");
   c.def_property_readonly("slices", &Cascade::slices);
   c.def_property_readonly("distinct_slices", &Cascade::distinctSlices);
-  c.def("slice_of", [](const Cascade& t, const Array<float>& condition) {
-    if (static_cast<std::size_t>(condition.size()) != t.conditioningDims())
-      throw py::value_error("condition: expected " + std::to_string(t.conditioningDims()) + " coordinates");
-    return t.sliceOf({condition.data(), t.conditioningDims()});
-  });
+  c.def(
+      "slice_of",
+      [](const Cascade& t, const ArrayArg& condition) {
+        const std::size_t k = t.conditioningDims();
+        const Array<float> c = numbers<float>(condition, "condition", "of shape (" + std::to_string(k) + ",)");
+        if (c.ndim() != 1 || static_cast<std::size_t>(c.shape(0)) != k)
+          throw py::value_error("condition: expected shape (" + std::to_string(k) + ",), got " + shapeText(c));
+        return t.sliceOf({c.data(), k});
+      },
+      "condition"_a, "The slice (index) the conditioning coordinates fall in.");
   c.def("integral", &Cascade::integral, "slice"_a = 0, "Integral of the values over the sampled axes of a slice.");
   c.def(
       "cell_probabilities",
@@ -279,7 +306,7 @@ void bindTables1D(py::module_& m) {
   py::class_<PiecewiseConstant1D> pc(m, "PiecewiseConstant1D", R"(The classic tabulated 1D distribution (pbrt, Mitsuba).
 
 PiecewiseConstant1D(function, lo=0.0, hi=1.0): function gives n equal cells over [lo, hi).)");
-  pc.def(py::init([](const Array<float>& f, float lo, float hi) { return PiecewiseConstant1D(asVector(f), lo, hi); }),
+  pc.def(py::init([](const ArrayArg& f, float lo, float hi) { return PiecewiseConstant1D(functionValues(f), lo, hi); }),
          "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f);
   bindBatched1D(pc);
   pc.def_property_readonly(
@@ -289,9 +316,9 @@ PiecewiseConstant1D(function, lo=0.0, hi=1.0): function gives n equal cells over
                                R"(An adaptive 1D CDF: the table's CDF simplified to the vertices that matter.
 
 AdaptiveCdf1D(function, lo=0.0, hi=1.0, epsilon=None, simplify=None))");
-  ad.def(py::init([](const Array<float>& f, float lo, float hi, std::optional<double> epsilon,
+  ad.def(py::init([](const ArrayArg& f, float lo, float hi, std::optional<double> epsilon,
                      const std::optional<SimplifyOptions>& simplify) {
-           return AdaptiveCdf1D(asVector(f), lo, hi, simplifyOptions({}, simplify, epsilon));
+           return AdaptiveCdf1D(functionValues(f), lo, hi, simplifyOptions({}, simplify, epsilon));
          }),
          "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f, "epsilon"_a = py::none(), "simplify"_a = py::none());
   bindBatched1D(ad);
@@ -312,7 +339,7 @@ AdaptiveCdf1D(function, lo=0.0, hi=1.0, epsilon=None, simplify=None))");
   py::class_<AliasTable1D> al(m, "AliasTable1D", R"(A 1D distribution sampled in O(1) by Walker's alias method.
 
 AliasTable1D(function, lo=0.0, hi=1.0). Not invertible.)");
-  al.def(py::init([](const Array<float>& f, float lo, float hi) { return AliasTable1D(asVector(f), lo, hi); }),
+  al.def(py::init([](const ArrayArg& f, float lo, float hi) { return AliasTable1D(functionValues(f), lo, hi); }),
          "function"_a, "lo"_a = 0.0f, "hi"_a = 1.0f);
   bindBatched1D(al);
 }
@@ -356,7 +383,8 @@ void bindStatistics(py::module_& m) {
       .def_readonly("unreachable_mass", &CompressionQuality::unreachableMass, "sum p over cells where q == 0.");
   m.def(
       "compare_cell_probabilities",
-      [](const Array<double>& p, const Array<double>& q) {
+      [](const ArrayArg& pArg, const ArrayArg& qArg) {
+        const Array<double> p = numbers<double>(pArg, "p", "of any shape"), q = numbers<double>(qArg, "q", "of any shape");
         if (p.size() != q.size())
           throw py::value_error("p and q: " + std::to_string(p.size()) + " and " + std::to_string(q.size()) + " cells");
         return compareCellProbabilities({p.data(), static_cast<std::size_t>(p.size())},
@@ -373,7 +401,9 @@ void bindStatistics(py::module_& m) {
       .def_readonly("pooled_cells", &ChiSquareResult::pooledCells);
   m.def(
       "chi_square_test",
-      [](const Array<double>& observed, const Array<double>& expected, double minExpected) {
+      [](const ArrayArg& observedArg, const ArrayArg& expectedArg, double minExpected) {
+        const Array<double> observed = numbers<double>(observedArg, "observed", "of any shape"),
+                            expected = numbers<double>(expectedArg, "expected", "of any shape");
         if (observed.size() != expected.size())
           throw py::value_error("observed and expected: " + std::to_string(observed.size()) + " and " +
                                 std::to_string(expected.size()) + " cells");

@@ -35,3 +35,14 @@ def reference(tmp_path_factory):
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261202)
+
+
+@pytest.fixture
+def shared_map():
+    """The real sun-lit map of ../shared (ACDF_SHARED_DATA); the test skips, saying so, without it."""
+    directory = os.environ.get("ACDF_SHARED_DATA", os.path.join(os.path.dirname(__file__), "..", "..", "..",
+                                                                "shared", "data"))
+    path = os.path.join(directory, "envmaps", "sunset_1024x512.exr")
+    if not os.path.exists(path):
+        pytest.skip(f"{path} is absent (the shared data is not on this machine)")
+    return path

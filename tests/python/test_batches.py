@@ -1,0 +1,348 @@
+"""Every batched call: a batch of n rows equals its n one-row calls, element for element, whatever
+the arrays' dtype and layout (C order, Fortran order, a slice with a step, negative strides,
+float32 and float64); what cannot be read as numbers of the expected shape is refused naming the
+argument; and the arrays the module returns hold what they say. Under NumPy 2 with a pybind11
+older than 2.12, batches came back with every row equal to row 0's: these tests fail then."""
+import inspect
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+import acdf
+
+ROWS = 9
+F32, F64 = np.float32, np.float64
+
+
+def unit(v):
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def upper_hemisphere(rng, n):
+    v = unit(rng.normal(size=(n, 3)))
+    v[:, 2] = np.abs(v[:, 2]) + 0.05
+    return unit(v)
+
+
+def sky(rng):
+    """A 16 x 32 map: a smooth sky and a bright patch (the tables keep few points elsewhere)."""
+    rgb = (0.2 + rng.random((16, 32, 3))).astype(F32)
+    rgb[3:5, 20:23] = 200.0
+    return acdf.EnvironmentMap(rgb)
+
+
+@dataclass
+class Arg:
+    """An argument of a batched call: its values (rows) and the dtype the binding computes in."""
+    values: np.ndarray
+    native: type
+
+
+@dataclass
+class Case:
+    name: str
+    call: object  # a bound method
+    args: dict
+    kwargs: dict = field(default_factory=dict)
+    row_kwargs: object = None  # row i -> extra keyword arguments of its one-row call
+
+
+def cases(rng):
+    n = ROWS
+    u1 = Arg(rng.random(n, dtype=F32), F32)
+    u2 = Arg(rng.random((n, 2), dtype=F32), F32)
+    x1 = Arg(rng.uniform(-1, 3, n).astype(F32), F32)
+
+    def dirs(k=n):
+        return Arg(unit(rng.normal(size=(k, 3))), F64)
+
+    def local_dirs(k=n):
+        return Arg(upper_hemisphere(rng, k), F64)
+
+    f = (rng.random(64) ** 4 + 0.01).astype(F32)
+    out = []
+    for table in (acdf.PiecewiseConstant1D(f, -1, 3), acdf.AdaptiveCdf1D(f, -1, 3, epsilon=1e-3),
+                  acdf.AliasTable1D(f, -1, 3)):
+        kind = type(table).__name__
+        out += [Case(f"{kind}.sample", table.sample, {"u": u1}), Case(f"{kind}.pdf", table.pdf, {"x": x1})]
+        if hasattr(table, "invert"):
+            out.append(Case(f"{kind}.invert", table.invert, {"x": x1}))
+
+    plain = acdf.Cascade(rng.random((24, 16), dtype=F32) ** 4, axes=[(-1, 1), (0, 2)], epsilon=1e-3)
+    x2 = Arg(np.stack([rng.uniform(-1, 1, n), rng.uniform(0, 2, n)], 1).astype(F32), F32)
+    conditioned = acdf.Cascade(rng.random((6, 16, 12), dtype=F32) ** 4, conditioning_dims=1, epsilon=1e-3)
+    condition = Arg(rng.random((n, 1), dtype=F32), F32)
+    x3 = Arg(rng.random((n, 2), dtype=F32), F32)
+    one_axis = acdf.Cascade(rng.random((5, 32), dtype=F32), conditioning_dims=1)
+    for kind, c, points, cond in [("Cascade", plain, x2, {}), ("Cascade|condition", conditioned, x3,
+                                                                {"condition": condition})]:
+        out += [Case(f"{kind}.sample", c.sample, {"u": u2, **cond}),
+                Case(f"{kind}.pdf", c.pdf, {"x": points, **cond}),
+                Case(f"{kind}.invert", c.invert, {"x": points, **cond})]
+    out.append(Case("Cascade|one axis.sample", one_axis.sample, {"u": u1, "condition": condition}))
+
+    light = acdf.EnvironmentLight(sky(rng), strategy="adaptive", rotation=30.0)
+    local = acdf.EnvironmentLight(sky(rng), strategy="local", normal_rows=4, normal_columns=8, block_size=4)
+    normals = dirs()
+    towards = Arg(unit(normals.values + 0.8 * unit(rng.normal(size=(n, 3)))), F64)  # above each normal
+    out += [Case("EnvironmentLight.sample", light.sample, {"u": u2}),
+            Case("EnvironmentLight.pdf", light.pdf, {"dirs": dirs()}),
+            Case("EnvironmentLight.eval", light.eval, {"dirs": dirs()}),
+            Case("EnvironmentLight|normal.sample", local.sample, {"u": u2, "normal": normals},
+                 {"allow_incomplete_pdf": True}),
+            Case("EnvironmentLight|normal.pdf", local.pdf, {"dirs": towards, "normal": normals},
+                 {"allow_incomplete_pdf": True})]
+
+    gold = acdf.AnalyticBrdf.preset("gold")
+    tabulated = acdf.TabulatedBrdfSampler(gold, layout="isotropic", theta_out=4, theta_half=16, phi_half=8)
+    out.append(Case("BrdfModel.eval", gold.eval, {"wo": local_dirs(), "wi": local_dirs()}))
+    for sampler in (tabulated, acdf.GgxBrdfSampler(gold)):
+        kind = type(sampler).__name__
+        out += [Case(f"{kind}.sample", sampler.sample, {"wo": local_dirs(), "u": u2}),
+                Case(f"{kind}.pdf", sampler.pdf, {"wo": local_dirs(), "wi": local_dirs()}),
+                Case(f"{kind}.eval", sampler.eval, {"wo": local_dirs(), "wi": local_dirs()})]
+
+    product = acdf.ProductSampler(light, tabulated, candidates=3)
+    normal = dirs()
+    wo = Arg(unit(normal.values + 0.5 * unit(rng.normal(size=(n, 3)))), F64)
+    out += [Case("ProductSampler.sample", product.sample, {"wo": wo, "normal": normal}, {"seed": 5},
+                 row_kwargs=lambda i: {"first_stream": i}),
+            Case("ProductSampler.mixture_pdf", product.mixture_pdf, {"wo": wo, "normal": normal, "wi": dirs()})]
+    return out
+
+
+def with_layout(a, layout):
+    """The same values as an array of another layout (a view where the layout is a view's)."""
+    if layout == "C":
+        return np.ascontiguousarray(a)
+    if layout == "F":
+        return np.asfortranarray(a)
+    if layout == "step":
+        base = np.zeros((2 * a.shape[0],) + a.shape[1:], a.dtype)
+        base[::2] = a
+        return base[::2]
+    if layout == "reversed":
+        return a[::-1].copy()[::-1]
+    if layout == "column step" and a.ndim == 2:
+        base = np.zeros((a.shape[0], 2 * a.shape[1]), a.dtype)
+        base[:, ::2] = a
+        return base[:, ::2]
+    return np.ascontiguousarray(a)
+
+
+LAYOUTS = [(layout, dtype) for layout in ["C", "F", "step", "reversed", "column step"] for dtype in [F32, F64]]
+
+
+def results(value):
+    return value if isinstance(value, tuple) else (value,)
+
+
+@pytest.fixture(scope="module")
+def all_cases():
+    return cases(np.random.default_rng(41))
+
+
+def case_names():
+    return [c.name for c in cases(np.random.default_rng(41))]
+
+
+@pytest.mark.parametrize("layout,dtype", LAYOUTS, ids=[f"{l}-{np.dtype(d).name}" for l, d in LAYOUTS])
+def test_a_batch_equals_its_one_row_calls(all_cases, layout, dtype):
+    for case in all_cases:
+        given = {k: with_layout(a.values.astype(dtype), layout) for k, a in case.args.items()}
+        batch = results(case.call(**given, **case.kwargs))
+        # Each row alone, C-contiguous, in the dtype the binding computes in: the values given above.
+        canonical = {k: np.ascontiguousarray(a.values.astype(dtype).astype(a.native)) for k, a in case.args.items()}
+        rows = [results(case.call(**{k: v[i:i + 1] for k, v in canonical.items()}, **case.kwargs,
+                                  **(case.row_kwargs(i) if case.row_kwargs else {})))
+                for i in range(ROWS)]
+        for j, whole in enumerate(batch):
+            assert whole.shape[0] == ROWS, case.name
+            np.testing.assert_array_equal(whole, np.concatenate([r[j] for r in rows]), err_msg=case.name)
+            assert whole.dtype == rows[0][j].dtype and whole.flags.c_contiguous, case.name
+        # Rows differ: a batch answering row 0's values for every row fails here too.
+        assert any(np.unique(whole, axis=0).shape[0] > 1 for whole in batch), case.name
+
+
+def public_methods():
+    """Every public method and function of the module, as "Class.method" or "function"."""
+    names = set()
+    for name, value in vars(acdf).items():
+        if name.startswith("_"):
+            continue
+        if inspect.isclass(value) and not issubclass(value, BaseException):
+            for attr, member in vars(value).items():
+                if not attr.startswith("_") and not isinstance(member, property) and callable(
+                        getattr(value, attr)):
+                    names.add(f"{name}.{attr}")
+        elif callable(value) and not inspect.isclass(value):
+            names.add(name)
+    return names
+
+
+# Methods that take or return arrays but not as batches of rows, each tested where named.
+NOT_BATCHED = {
+    "Cascade.slice_of": "one row; test_arrays_in_any_layout",
+    "Cascade.integral": "no array",
+    "Cascade.cell_probabilities": "an output; test_returned_arrays",
+    "Cascade.breakpoints": "an output; test_returned_arrays",
+    "Cascade.serialize": "bytes; test_api",
+    "Cascade.deserialize": "bytes; test_api",
+    "EnvironmentLight.load": "a file",
+    "EnvironmentLight.pixel_probabilities": "an output; test_returned_arrays",
+    "EnvironmentMap.load": "a file",
+    "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
+    "MerlBrdf.load": "a file",
+    "RglBrdf.load": "a file",
+    "AnalyticBrdf.preset": "no array",
+    "AnalyticBrdf.preset_names": "no array",
+    "AnalyticBrdf.conductor": "no array",
+    "AnalyticBrdf.coated_diffuse": "no array",
+    "compare_cell_probabilities": "whole arrays; test_arrays_in_any_layout",
+    "chi_square_test": "whole arrays; test_arrays_in_any_layout",
+    "sidak_alpha": "no array",
+    "table_options": "no array",
+}
+# BrdfSampler's methods are one binding each, shared by its subclasses, which cases() call.
+SHARED_BINDINGS = {"BrdfSampler.sample", "BrdfSampler.pdf", "BrdfSampler.eval"}
+
+
+def test_every_batched_method_is_tested_above():
+    tested = {name.split("|")[0].split(".")[0] + "." + name.split(".")[-1] for name in case_names()}
+    tested |= SHARED_BINDINGS
+    untested = public_methods() - tested - set(NOT_BATCHED)
+    assert not untested, f"batched methods without a case in cases(): {sorted(untested)}"
+    assert not (set(NOT_BATCHED) - public_methods()), "NOT_BATCHED names a method that is gone"
+
+
+def test_arrays_in_any_layout(rng):
+    """Arguments read whole (tables' values, maps, cell probabilities) in every layout give what
+    C-contiguous float32 gives."""
+    values = (rng.random((24, 16)) ** 3).astype(F32)
+    rgb = (rng.random((8, 16, 3)) + 0.1).astype(F32)
+    p, q = rng.random(50), rng.random(50)
+    p, q = p / p.sum(), q / q.sum()
+    u = rng.random((100, 2), dtype=F32)
+    reference = {
+        "cascade": acdf.Cascade(values).sample(u)[1],
+        "1d": acdf.AdaptiveCdf1D(values[3]).sample(u[:, 0])[1],
+        "map": acdf.EnvironmentMap(rgb).rgb,
+        "compare": acdf.compare_cell_probabilities(p, q).chi2_divergence,
+        "chi2": acdf.chi_square_test(p * 1000, q * 1000).statistic,
+    }
+    conditioned = acdf.Cascade(rng.random((6, 4, 5), dtype=F32), axes=[(0, 3), (0, 1), (0, 1)], conditioning_dims=1)
+    for layout, dtype in LAYOUTS:
+        def given(a):
+            return with_layout(a.astype(dtype), layout)
+
+        assert np.array_equal(acdf.Cascade(given(values)).sample(u)[1], reference["cascade"]), layout
+        assert np.array_equal(acdf.AdaptiveCdf1D(given(values[3])).sample(u[:, 0])[1], reference["1d"]), layout
+        assert np.array_equal(acdf.EnvironmentMap(given(rgb)).rgb, reference["map"]), layout
+        assert acdf.compare_cell_probabilities(given(p), given(q)).chi2_divergence == pytest.approx(
+            reference["compare"], rel=1e-5 if dtype == F32 else 1e-15)
+        assert acdf.chi_square_test(given(p * 1000), given(q * 1000)).statistic == pytest.approx(
+            reference["chi2"], rel=1e-5 if dtype == F32 else 1e-15)
+        assert conditioned.slice_of(given(np.array([2.6]))[::-1]) == 5, layout
+
+
+def test_returned_arrays(rng):
+    """Outputs hold what they say: a map's pixels, its power per pixel, exact cell probabilities
+    and the kept breakpoints."""
+    rgb = (rng.random((8, 16, 3)) + 0.1).astype(F32)
+    rgb[2, 5] = 50
+    world = acdf.EnvironmentMap(rgb)
+    np.testing.assert_array_equal(world.rgb, rgb)
+    edges = np.cos(np.arange(9) * np.pi / 8)
+    solid_angle = (edges[:-1] - edges[1:]) * 2 * np.pi / 16
+    power = (rgb.astype(F64) @ [0.2126, 0.7152, 0.0722]) * solid_angle[:, None]
+    np.testing.assert_allclose(world.pixel_power(), power, rtol=1e-5)
+    uniform = acdf.EnvironmentLight(world, strategy="uniform").pixel_probabilities()
+    np.testing.assert_allclose(uniform, power / power.sum(), rtol=1e-5)
+    values = (rng.random((12, 10)) + 0.01).astype(F32)
+    cascade = acdf.Cascade(values, methods=["uniform", "uniform"])
+    np.testing.assert_allclose(cascade.cell_probabilities(), values / values.sum(dtype=F64), rtol=1e-5)
+    rows = cascade.breakpoints(0)[0]
+    np.testing.assert_array_equal(rows, np.arange(13))
+    vertices, cdf = acdf.AdaptiveCdf1D(values[0]).breakpoints
+    assert vertices[0] == 0 and vertices[-1] == 10 and np.all(np.diff(vertices) > 0) and np.all(np.diff(cdf) > 0)
+
+
+NOT_NUMBERS = [np.array([[0.1, 0.2]], dtype=np.complex128), np.array([[True, False]]), np.array([["a", "b"]]),
+               np.array([[object(), None]]), [[0.1], [0.2, 0.3]], "0.5"]
+
+
+@pytest.mark.parametrize("bad", NOT_NUMBERS, ids=["complex", "bool", "text", "object", "ragged", "str"])
+def test_what_is_not_numbers_is_refused_naming_the_argument(bad):
+    light = acdf.EnvironmentLight(acdf.EnvironmentMap(np.ones((4, 8, 3), F32)))
+    with pytest.raises(ValueError, match=r"^u: expected real numbers of shape \(n, 2\), got"):
+        light.sample(bad)
+    with pytest.raises(ValueError, match=r"^dirs: expected real numbers of shape \(n, 3\), got"):
+        light.pdf(bad)
+    sampler = acdf.GgxBrdfSampler(acdf.AnalyticBrdf.preset("gold"))
+    with pytest.raises(ValueError, match=r"^wo: expected real numbers"):
+        sampler.sample(bad, np.zeros((1, 2)))
+    with pytest.raises(ValueError, match=r"^values: expected real numbers"):
+        acdf.Cascade(bad)
+    with pytest.raises(ValueError, match=r"^x: expected real numbers of shape \(n,\)"):
+        acdf.PiecewiseConstant1D(np.ones(4)).pdf(bad)
+
+
+def test_wrong_shapes_are_refused_naming_the_argument_and_the_shape():
+    light = acdf.EnvironmentLight(acdf.EnvironmentMap(np.ones((4, 8, 3), F32)))
+    with pytest.raises(ValueError, match=r"^u: expected shape \(n, 2\), got \(4, 2, 1\)"):
+        light.sample(np.zeros((4, 2, 1)))
+    with pytest.raises(ValueError, match=r"^u: expected shape \(n, 2\), got \(2,\)"):
+        light.sample(np.zeros(2))
+    with pytest.raises(ValueError, match=r"^dirs: expected shape \(n, 3\), got \(3, 2\)"):
+        light.eval(np.ones((3, 2)))
+    sampler = acdf.GgxBrdfSampler(acdf.AnalyticBrdf.preset("gold"))
+    with pytest.raises(ValueError, match=r"^u: expected shape \(4, 2\), one row per sample, got \(1, 2\)"):
+        sampler.sample(np.tile([0.0, 0.0, 1.0], (4, 1)), np.zeros((1, 2)))
+    with pytest.raises(ValueError, match=r"^condition: expected shape \(1,\), got \(2,\)"):
+        acdf.Cascade(np.ones((3, 4), F32), conditioning_dims=1).slice_of(np.zeros(2))
+    with pytest.raises(ValueError, match=r"^condition: the cascade has no conditioning axes"):
+        acdf.Cascade(np.ones((3, 4), F32)).sample(np.zeros((2, 2)), np.zeros((2, 1)))
+
+
+def map_power(rgb):
+    """The integral of a lat-long map over the sphere, per channel: each pixel times its solid angle."""
+    rows, columns = rgb.shape[:2]
+    edges = np.cos(np.arange(rows + 1) * np.pi / rows)
+    solid_angle = (edges[:-1] - edges[1:]) * 2 * np.pi / columns
+    return np.einsum("r,rcx->x", solid_angle, rgb.astype(F64))
+
+
+STRATEGIES = ["uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local"]
+
+
+def assert_power(light, rgb, n, seed, tests):
+    """The mean of L / pdf over n samples is the map's power (z-test at alpha 0.01, Sidak over
+    `tests` tests): every row's pdf must belong to its own direction and radiance."""
+    u = np.random.default_rng(seed).random((n, 2))
+    _, radiance, pdf = light.sample(u)
+    assert np.all(pdf > 0) and np.all(np.isfinite(pdf)), light.strategy
+    estimate = radiance.astype(F64) / pdf[:, None]
+    mean, stderr = estimate.mean(0), estimate.std(0, ddof=1) / np.sqrt(n)
+    bound = norm.ppf(1 - acdf.sidak_alpha(0.01, tests) / 2)
+    z = (mean - map_power(rgb)) / stderr
+    assert np.all(np.abs(z) < bound), f"{light.strategy}: z = {z}, means {mean}, power {map_power(rgb)}"
+
+
+def test_mean_of_radiance_over_pdf_is_the_maps_power(rng):
+    rgb = (0.2 + rng.random((32, 64, 3))).astype(F32)
+    rgb[6:9, 40:44] = [400.0, 300.0, 150.0]
+    world = acdf.EnvironmentMap(rgb)
+    for seed, strategy in enumerate(STRATEGIES):
+        assert_power(acdf.EnvironmentLight(world, strategy=strategy), rgb, 200_000, seed, 3 * len(STRATEGIES))
+
+
+def test_a_real_map_answers_each_row(shared_map):
+    """The report's case: the sunset map, three rows, each pdf its own direction's."""
+    light = acdf.EnvironmentLight.load(shared_map, strategy="uniform")
+    dirs, _, pdf = light.sample(np.array([[0.1, 0.9], [0.5, 0.5], [0.99, 0.01]]))
+    np.testing.assert_array_equal(pdf, light.pdf(dirs))
+    assert len(set(pdf.tolist())) == 3
+    default = acdf.EnvironmentLight.load(shared_map)
+    assert_power(default, default.map.rgb, 200_000, 7, 3)
