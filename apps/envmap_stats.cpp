@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,12 @@
 namespace acdf::app {
 
 namespace {
+
+std::string chromaticitiesText(const std::optional<Chromaticities>& declared) {
+  if (!declared) return "none declared (Rec. 709 primaries, D65 white assumed)";
+  if (sameChromaticities(*declared, kRec709)) return "declared " + toString(*declared) + " (Rec. 709 / D65)";
+  return "declared " + toString(*declared) + ", converted to Rec. 709 / D65 (through XYZ, no chromatic adaptation)";
+}
 
 // The fixed estimator of the strategies (acdf/envmap/irradiance_estimator.h), at its defaults.
 const IrradianceEstimatorOptions kEstimator;
@@ -143,6 +150,14 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
     j["uniform_chi2_divergence"] = uniformQuality.chi2Divergence;
     j["uniform_unreachable_mass"] = uniformQuality.unreachableMass;
     j["negative_pixels_clamped"] = map->negativePixelsClamped();
+    if (const auto& c = map->declaredChromaticities())
+      j["declared_chromaticities"] = {{"red", c->red},
+                                      {"green", c->green},
+                                      {"blue", c->blue},
+                                      {"white", c->white},
+                                      {"converted_to_rec709", !sameChromaticities(*c, kRec709)}};
+    else
+      j["declared_chromaticities"] = nullptr;
     if (args.sanitize) j["nonfinite_pixels_replaced"] = map->nonFiniteReplaced();
     j["build_ms"] = {{"uniform", uniform.buildMs},
                      {"alias", alias.buildMs},
@@ -172,6 +187,7 @@ int runEnvmapStats(const EnvmapStatsArgs& args) {
   } else {
     std::string out;
     out += fmt::format("input              {} ({} x {})\n", args.input, map->width(), map->height());
+    out += "chromaticities     " + chromaticitiesText(map->declaredChromaticities()) + "\n";
     out +=
         fmt::format("negative clamped   {} pixels had a negative channel (set to 0)\n", map->negativePixelsClamped());
     if (args.sanitize)

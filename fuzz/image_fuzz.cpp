@@ -2,7 +2,8 @@
 // scratch file whose extension the first byte picks (OpenImageIO reads from a path; its format
 // plugins are chosen by extension first, then by content), then readImage(), and for a small
 // image EnvironmentMap::fromImage() and an EnvironmentLight of each strategy.
-// Invariants: readImage() returns an image of consistent size with finite pixels, or throws
+// Invariants: readImage() returns an image of consistent size with finite pixels (converted from
+// chromaticities that define an RGB space, when the file declares them), or throws
 // FileError with a one-line message naming the file; the light's samples are unit
 // directions with a finite pdf > 0 (a light that emits nothing returns pdf 0).
 
@@ -65,6 +66,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   fuzz::require(image.channels == 1 || image.channels == 3, "image: channel count");
   fuzz::require(image.pixels.size() == std::size_t{image.width} * image.height * image.channels, "image: pixel count");
   for (float v : image.pixels) fuzz::require(std::isfinite(v), "image: non-finite pixel returned");
+  if (image.declaredChromaticities)
+    fuzz::require(!chromaticitiesProblem(*image.declaredChromaticities), "image: unusable chromaticities accepted");
   if (std::size_t{image.width} * image.height > kMaxLightPixels) return 0;
 
   const auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::fromImage(image, file.path()));

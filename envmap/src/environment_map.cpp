@@ -50,6 +50,7 @@ EnvironmentMap EnvironmentMap::fromImage(const Image& image, const std::string& 
   try {
     EnvironmentMap map(image.width, image.height, std::move(rgb));
     map.nonFiniteReplaced_ = image.nonFiniteReplaced;
+    map.declaredChromaticities_ = image.declaredChromaticities;
     return map;
   } catch (const std::invalid_argument& e) {
     throw FileError(path, e.what());

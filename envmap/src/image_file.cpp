@@ -1,5 +1,7 @@
 #include "acdf/envmap/image_file.h"
 
+#include "acdf/envmap/color_space.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +44,16 @@ constexpr double kMaxDecodedBytesPerFileByte = 1 << 18;
 constexpr double kMaxConversionBufferBytes = double(1 << 30);
 constexpr int kScanlinesPerConversion = 256;
 
+// RGB triples converted in place by m (in double). A triple with a NaN or Inf is left as the file
+// has it, for the check that follows to name; one that overflows float becomes Inf.
+void convertRgb(std::vector<float>& rgb, const ColorMatrix& m) {
+  for (std::size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    const double r = rgb[i], g = rgb[i + 1], b = rgb[i + 2];
+    if (!std::isfinite(r + g + b)) continue;
+    for (int k = 0; k < 3; ++k) rgb[i + k] = static_cast<float>(m[k][0] * r + m[k][1] * g + m[k][2] * b);
+  }
+}
+
 }  // namespace
 
 Image readImage(const std::string& path, const ImageReadOptions& options) {
@@ -64,6 +76,15 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
   if (spec.depth > 1) fail(fmt::format("volume images (depth {}) are not supported", spec.depth));
 
   Image image;
+  // OpenEXR's `chromaticities` (OpenImageIO gives it as 8 floats): red, green, blue, white xy.
+  if (const OIIO::ParamValue* declared =
+          spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8))) {
+    const auto* v = static_cast<const float*>(declared->data());
+    const Chromaticities c{{v[0], v[1]}, {v[2], v[3]}, {v[4], v[5]}, {v[6], v[7]}};
+    if (const auto problem = chromaticitiesProblem(c))
+      fail(fmt::format("its chromaticities cannot be used: {} ({})", *problem, toString(c)));
+    image.declaredChromaticities = c;
+  }
   image.width = static_cast<uint32_t>(spec.width);
   image.height = static_cast<uint32_t>(spec.height);
   image.fileChannels = static_cast<uint32_t>(spec.nchannels);
@@ -95,6 +116,9 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
   (void)input->geterror();
   (void)takeGlobalError();
 
+  const bool converted = image.channels == 3 && image.declaredChromaticities &&
+                         !sameChromaticities(*image.declaredChromaticities, kRec709);
+  if (converted) convertRgb(image.pixels, rec709FromRgb(*image.declaredChromaticities));
   for (std::size_t i = 0; i < values; ++i) {
     float& v = image.pixels[i];
     if (std::isfinite(v)) continue;
@@ -102,8 +126,9 @@ Image readImage(const std::string& path, const ImageReadOptions& options) {
       static const char* const kRgb[3] = {"R", "G", "B"};
       const std::size_t pixel = i / image.channels;
       const std::string channel = image.channels == 3 ? kRgb[i % 3] : "0";
-      throw FileError(path, fmt::format("pixel (x {}, y {}) has channel {} = {}; NaN and Inf are not allowed",
-                                        pixel % image.width, pixel / image.width, channel, v));
+      throw FileError(path, fmt::format("pixel (x {}, y {}) has channel {} = {}{}; NaN and Inf are not allowed",
+                                        pixel % image.width, pixel / image.width, channel, v,
+                                        converted ? " (in Rec. 709, from the declared chromaticities)" : ""));
     }
     v = 0.0f;
     ++image.nonFiniteReplaced;
@@ -123,7 +148,7 @@ void checkWritable(const std::string& path, const Image& image) {
 // Writes `pixels` (of `type`, image's size and channels) in OpenImageIO's `format` to a temporary
 // file next to `path`, then renames it over `path`: a failure leaves no partial file.
 void writeAtomically(const std::string& path, const char* format, const Image& image, OIIO::TypeDesc type,
-                     const void* pixels, const char* compression) {
+                     const void* pixels, const char* compression, const std::optional<Chromaticities>& pixelsIn) {
   writeFileAtomically(path, [&](const std::string& temp) {
     auto output = OIIO::ImageOutput::create(format);
     if (!output)
@@ -132,6 +157,12 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
                          static_cast<int>(image.channels), type);
     if (image.channels == 1) spec.channelnames = {"Y"};
     if (compression) spec.attribute("compression", compression);
+    if (pixelsIn) {
+      const float declared[8] = {float(pixelsIn->red[0]),   float(pixelsIn->red[1]),   float(pixelsIn->green[0]),
+                                 float(pixelsIn->green[1]), float(pixelsIn->blue[0]),  float(pixelsIn->blue[1]),
+                                 float(pixelsIn->white[0]), float(pixelsIn->white[1])};
+      spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), declared);
+    }
     auto fail = [&](const std::string& what) {
       const std::string detail = output->geterror();
       (void)takeGlobalError();
@@ -146,9 +177,12 @@ void writeAtomically(const std::string& path, const char* format, const Image& i
 
 }  // namespace
 
-void writeExr(const std::string& path, const Image& image) {
+void writeExr(const std::string& path, const Image& image, const std::optional<Chromaticities>& pixelsIn) {
   checkWritable(path, image);
-  writeAtomically(path, "openexr", image, OIIO::TypeDesc::FLOAT, image.pixels.data(), "zip");
+  if (pixelsIn)
+    if (const auto problem = chromaticitiesProblem(*pixelsIn))
+      throw FileError(path, "cannot declare chromaticities: " + *problem);
+  writeAtomically(path, "openexr", image, OIIO::TypeDesc::FLOAT, image.pixels.data(), "zip", pixelsIn);
 }
 
 void writeSrgbPng(const std::string& path, const Image& image) {
@@ -160,7 +194,7 @@ void writeSrgbPng(const std::string& path, const Image& image) {
     const float encoded = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
     bytes[i] = static_cast<unsigned char>(std::lround(encoded * 255.0f));
   }
-  writeAtomically(path, "png", image, OIIO::TypeDesc::UINT8, bytes.data(), nullptr);
+  writeAtomically(path, "png", image, OIIO::TypeDesc::UINT8, bytes.data(), nullptr, std::nullopt);
 }
 
 }  // namespace acdf

@@ -217,6 +217,19 @@ EnvironmentMap.load(path): any image OpenImageIO reads (acdf.FileError if it can
       "pixel_power", [](const EnvironmentMap& map) { return image(map, map.pixelPower().data(), 1); },
       "Luminance x solid angle per pixel, (height, width): what the tables are built from.");
   c.def_property_readonly("is_black", &EnvironmentMap::isBlack);
+  c.def_property_readonly(
+      "declared_chromaticities",
+      [](const EnvironmentMap& map) -> py::object {
+        const auto& c = map.declaredChromaticities();
+        if (!c) return py::none();
+        return py::dict("red"_a = py::make_tuple(c->red[0], c->red[1]),
+                        "green"_a = py::make_tuple(c->green[0], c->green[1]),
+                        "blue"_a = py::make_tuple(c->blue[0], c->blue[1]),
+                        "white"_a = py::make_tuple(c->white[0], c->white[1]));
+      },
+      "The CIE xy of the primaries and white the file declared (OpenEXR's chromaticities), as a dict, or\n"
+      "None. rgb is linear Rec. 709 / D65 either way: declared pixels were converted through XYZ without\n"
+      "chromatic adaptation, as Mitsuba 3 reads them.");
 }
 
 }  // namespace

@@ -113,6 +113,7 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
                                           "uniform_chi2_divergence",
                                           "uniform_unreachable_mass",
                                           "negative_pixels_clamped",
+                                          "declared_chromaticities",
                                           "build_ms",
                                           "uniform_sphere",
                                           "cosine",
@@ -123,6 +124,7 @@ TEST_F(EnvmapCli, EnvmapStatsReportsTheDocumentedKeys) {
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(j["width"], 128);
   EXPECT_EQ(j["height"], 64);
+  EXPECT_TRUE(j["declared_chromaticities"].is_null());
   EXPECT_GT(j["compression"].get<double>(), 1.0);
   // Every lit pixel is reachable, and the uniform table is the exact distribution up to float CDFs.
   EXPECT_EQ(j["unreachable_mass"].get<double>(), 0.0);
@@ -175,6 +177,38 @@ TEST_F(EnvmapCli, DirtyAndBrokenMapsExitTwoWithOneLine) {
   expectOneLineFailure(run({"envmap-stats", truncated}), "acdf: " + truncated + ":", "");
   expectOneLineFailure(run({"chi2", "--envmap", path("missing.exr"), "--sampler", "uniform"}),
                        "acdf: " + path("missing.exr") + ":", "no such file");
+}
+
+TEST_F(EnvmapCli, EnvmapStatsReportsTheDeclaredPrimaries) {
+  // A map saved in ProPhoto RGB (D50 white): reported as declared and converted; a Rec. 709 one as
+  // declared and left; one declaring nothing as assumed Rec. 709.
+  acdf::Image image;
+  image.width = 8;
+  image.height = 4;
+  image.channels = 3;
+  image.pixels.assign(8 * 4 * 3, 1.0f);
+  image.pixels[40] = 50.0f;
+  const acdf::Chromaticities proPhoto{{0.7347, 0.2653}, {0.1596, 0.8404}, {0.0366, 0.0001}, {0.3457, 0.3585}};
+  const std::string file = path("prophoto.exr");
+  acdf::writeExr(file, image, proPhoto);
+  const RunResult json = run({"envmap-stats", file, "--json"});
+  ASSERT_EQ(json.exitCode, 0) << describe(json);
+  const auto declared = nlohmann::json::parse(json.out)["declared_chromaticities"];
+  EXPECT_NEAR(declared["white"][0].get<double>(), 0.3457, 1e-6);
+  EXPECT_NEAR(declared["blue"][1].get<double>(), 0.0001, 1e-6);
+  EXPECT_TRUE(declared["converted_to_rec709"].get<bool>());
+  const RunResult text = run({"envmap-stats", file});
+  ASSERT_EQ(text.exitCode, 0) << describe(text);
+  EXPECT_NE(text.out.find("chromaticities     declared red (0.7347, 0.2653), green (0.1596, 0.8404), blue (0.0366, "
+                          "0.0001), white (0.3457, 0.3585), converted to Rec. 709 / D65"),
+            std::string::npos)
+      << text.out;
+  acdf::writeExr(file, image, acdf::kRec709);
+  EXPECT_FALSE(nlohmann::json::parse(run({"envmap-stats", file, "--json"}).out)["declared_chromaticities"]
+                   ["converted_to_rec709"]
+                       .get<bool>());
+  EXPECT_NE(run({"envmap-stats", writeMap("plain.exr", 8, 4, image.pixels)}).out.find("none declared"),
+            std::string::npos);
 }
 
 // --local adds local sampling: its tables against the dense 4D one, and its irradiance variance,

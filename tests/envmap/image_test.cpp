@@ -238,6 +238,59 @@ void expectReadError(const std::string& file, const std::string& needle) {
   }
 }
 
+TEST_F(ReadImage, DeclaredChromaticitiesAreConvertedToRec709) {
+  // ProPhoto RGB with its D50 white, as Photoshop saves maps: read as Rec. 709 / D65 through XYZ
+  // (color_space.h), as Mitsuba 3 reads the same file; the declaration is kept for reports.
+  const Chromaticities proPhoto{{0.7347, 0.2653}, {0.1596, 0.8404}, {0.0366, 0.0001}, {0.3457, 0.3585}};
+  Image image;
+  image.width = 3;
+  image.height = 1;
+  image.channels = 3;
+  image.pixels = {1, 1, 1, 0.25f, 2, 0, 5, 0.5f, 0.125f};
+  const std::string file = path("prophoto.exr");
+  writeExr(file, image, proPhoto);
+  const Image read = readImage(file);
+  ASSERT_TRUE(read.declaredChromaticities);
+  EXPECT_TRUE(sameChromaticities(*read.declaredChromaticities, proPhoto));
+  const ColorMatrix m = rec709FromRgb(*read.declaredChromaticities);  // as stored: floats
+  for (std::size_t p = 0; p < 3; ++p)
+    for (int k = 0; k < 3; ++k) {
+      const double want = m[k][0] * image.pixels[3 * p] + m[k][1] * image.pixels[3 * p + 1] +
+                          m[k][2] * image.pixels[3 * p + 2];
+      EXPECT_NEAR(read.pixels[3 * p + k], want, 1e-6 * std::abs(want) + 1e-7) << "pixel " << p << " channel " << k;
+    }
+  EXPECT_NEAR(read.pixels[0], 1.176464f, 1e-5);  // D50 white: no chromatic adaptation
+  EXPECT_TRUE(EnvironmentMap::load(file).declaredChromaticities());
+  // Declaring Rec. 709 changes nothing, bit for bit; declaring nothing is Rec. 709 too.
+  writeExr(file, image, kRec709);
+  EXPECT_EQ(readImage(file).pixels, image.pixels);
+  writeExr(file, image);
+  EXPECT_FALSE(readImage(file).declaredChromaticities);
+  EXPECT_FALSE(EnvironmentMap::load(file).declaredChromaticities());
+  // A value that overflows float in Rec. 709 is named like an Inf in the file.
+  image.pixels[3] = 3e38f;
+  writeExr(file, image, proPhoto);
+  expectReadError(file, "pixel (x 1, y 0) has channel R = inf (in Rec. 709, from the declared chromaticities)");
+}
+
+TEST_F(ReadImage, ChromaticitiesThatDefineNoSpaceAreAnErrorNamingTheFile) {
+  const std::string file = path("collinear.exr");
+  OIIO::ImageSpec spec(4, 2, 3, OIIO::TypeDesc::FLOAT);
+  const float collinear[8] = {0.64f, 0.33f, 0.395f, 0.195f, 0.15f, 0.06f, 0.3127f, 0.329f};
+  spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), collinear);
+  writeConstantImage(file, spec, 1.0f);
+  expectReadError(file, "its chromaticities cannot be used: the red, green and blue chromaticities are collinear");
+  // Nor are they written: no file is left.
+  Image image;
+  image.width = image.height = 1;
+  image.channels = 3;
+  image.pixels = {1, 1, 1};
+  Chromaticities bad = kRec709;
+  bad.white = {0.3, 0.0};
+  EXPECT_THROW(writeExr(path("never.exr"), image, bad), FileError);
+  EXPECT_FALSE(fs::exists(path("never.exr")));
+}
+
 // CRC-32 of PNG chunks (ISO 3309), bit by bit.
 uint32_t pngCrc(const std::string& bytes) {
   uint32_t crc = 0xffffffffu;

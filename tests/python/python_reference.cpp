@@ -186,6 +186,34 @@ void brdf() {
   write("brdf_bytes", std::vector<double>{double(sampler.bytes())});
 }
 
+// A 64 x 128 map of 8 x 8 constant blocks saved in ProPhoto RGB with its D50 white (as Photoshop
+// saves maps), for comparing acdf_envmap with Mitsuba's envmap on a file that declares its
+// chromaticities: blocks_prophoto.exr, and its blocks' values as stored (prophoto_blocks). The
+// blocks are inside Rec. 709's gamut (acdf clamps negative channels, Mitsuba keeps them).
+void declaredPrimaries() {
+  const uint32_t width = 128, height = 64, block = 8;
+  const Chromaticities proPhoto{{0.7347, 0.2653}, {0.1596, 0.8404}, {0.0366, 0.0001}, {0.3457, 0.3585}};
+  const ColorMatrix toProPhoto = rgbFromRgb(proPhoto, kRec709);
+  Pcg32 rng(35, 1);
+  std::vector<float> blocks;
+  for (uint32_t b = 0; b < (width / block) * (height / block); ++b) {
+    const double rgb[3] = {0.5 + 4.5 * rng.nextFloat(), 0.5 + 4.5 * rng.nextFloat(), 0.5 + 4.5 * rng.nextFloat()};
+    for (const auto& row : toProPhoto)
+      blocks.push_back(static_cast<float>(row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]));
+  }
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.channels = 3;
+  for (uint32_t r = 0; r < height; ++r)
+    for (uint32_t c = 0; c < width; ++c) {
+      const float* v = &blocks[3 * ((r / block) * (width / block) + c / block)];
+      image.pixels.insert(image.pixels.end(), v, v + 3);
+    }
+  writeExr((out / "blocks_prophoto.exr").string(), image, proPhoto);
+  write("prophoto_blocks", blocks);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -200,6 +228,7 @@ int main(int argc, char** argv) {
     cascades();
     environment();
     brdf();
+    declaredPrimaries();
   } catch (const std::exception& e) {
     std::cerr << "python_reference: " << e.what() << "\n";
     return 1;

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ class EnvironmentMap {
   // NaN / Inf channel values the reader replaced with 0 (load() with replaceNonFinite).
   std::size_t nonFiniteReplaced() const { return nonFiniteReplaced_; }
   bool isBlack() const { return black_; }
+  // The chromaticities the file declared (the pixels were converted from them to Rec. 709 /
+  // D65, image_file.h); none for a map made from pixels or a file that declares nothing.
+  const std::optional<Chromaticities>& declaredChromaticities() const { return declaredChromaticities_; }
 
   // Per pixel, row-major: luminance × the pixel's solid angle ΔΩ (∝ luminance × sin θ at the
   // row's centre, since cos θa − cos θb = 2 sin(Δθ/2) sin θc): the power each pixel sends, the
@@ -62,6 +66,7 @@ class EnvironmentMap {
   std::vector<float> rgb_;
   std::size_t negativePixelsClamped_ = 0;
   std::size_t nonFiniteReplaced_ = 0;
+  std::optional<Chromaticities> declaredChromaticities_;
   bool black_ = true;
 };
 

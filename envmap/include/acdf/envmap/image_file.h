@@ -5,16 +5,21 @@
 // Reading takes subimage 0 at MIP level 0, whatever the file's layout (scanline or tiled), pixel
 // type (half, float, integer) or compression: OpenImageIO converts every pixel to float. Channels:
 // three or more are read as RGB (the first three; alpha and the rest are ignored), one or two as
-// gray (channel 0; the second is taken to be alpha). Pixel values are returned as stored —
-// negative values included, since what they mean is the caller's business — but NaN and Inf are
-// an error naming the file and the pixel, unless the caller asks to replace them.
+// gray (channel 0; the second is taken to be alpha). RGB is returned in linear Rec. 709 / D65:
+// a file that declares other chromaticities (OpenEXR's attribute) is converted as Mitsuba 3 does
+// (color_space.h); gray values are taken as luminance, as stored. Pixel values are otherwise
+// returned as stored — negative values included, since what they mean is the caller's business —
+// but NaN and Inf are an error naming the file and the pixel, unless the caller asks to replace
+// them.
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "acdf/envmap/color_space.h"
 #include "acdf/sampling/file_error.h"
 
 namespace acdf {
@@ -26,6 +31,8 @@ struct Image {
   uint32_t fileChannels = 0;          // channels stored in the file
   std::string format;                 // OpenImageIO's format name, e.g. "openexr"
   std::size_t nonFiniteReplaced = 0;  // NaN / Inf channel values set to 0 (ImageReadOptions)
+  // The chromaticities the file declared, if any; `pixels` are Rec. 709 / D65 whatever they were.
+  std::optional<Chromaticities> declaredChromaticities;
 };
 
 struct ImageReadOptions {
@@ -34,14 +41,16 @@ struct ImageReadOptions {
 };
 
 // Throws FileError: missing file, not a regular file, not an image OpenImageIO reads, no
-// pixels, a volume image, a read error (e.g. a truncated file), NaN / Inf (see above), or an
+// pixels, chromaticities that define no RGB space, a volume image, a read error (e.g. a truncated file), NaN / Inf (see above), or an
 // image too large for memory.
 Image readImage(const std::string& path, const ImageReadOptions& options = {});
 
 // Writes a float OpenEXR file (ZIP compression) of `image` (1 or 3 channels, named Y or R, G, B).
-// The pixels go to a temporary file next to `path`, renamed over it once complete: a failure
-// leaves no partial file (an existing file stays as it was). Throws FileError.
-void writeExr(const std::string& path, const Image& image);
+// `pixelsIn`: the chromaticities the RGB values are expressed in, declared in the file (nothing is
+// converted; none: Rec. 709 / D65, declared by omission). The pixels go to a temporary file next
+// to `path`, renamed over it once complete: a failure leaves no partial file (an existing file
+// stays as it was). Throws FileError.
+void writeExr(const std::string& path, const Image& image, const std::optional<Chromaticities>& pixelsIn = {});
 
 // Writes an 8-bit PNG of `image`'s linear values, sRGB-encoded after clamping to [0, 1] (a
 // preview: no tone mapping), with the same temporary file and rename. Throws FileError.
