@@ -94,11 +94,10 @@ std::span<const float> rowOf(const float* data, std::size_t columns, std::size_t
 }
 
 // The condition argument of a Cascade call: none (no conditioning axes), one row, or one per row.
-// `values` owns what `data` points to.
 struct Condition {
   std::optional<Batch<float>> values;
-  const float* data = nullptr;
-  std::size_t rows = 1;
+  const float* data() const { return values ? values->data : nullptr; }
+  std::size_t rows() const { return values ? values->rows : 1; }
 };
 
 Condition conditionOf(const Cascade& c, const std::optional<ArrayArg>& condition, std::size_t n) {
@@ -111,9 +110,7 @@ Condition conditionOf(const Cascade& c, const std::optional<ArrayArg>& condition
   Batch<float> b = batch<float>(*condition, k, "condition", true);
   pairedRows(n, b.rows, "condition and the samples");
   if (b.rows != 1 && b.rows != n) throw py::value_error("condition: one row or one per sample");
-  const float* data = b.data;
-  const std::size_t r = b.rows;
-  return {std::move(b), data, r};
+  return {std::move(b)};
 }
 
 // A (n, k) coordinate argument, or (n,) for k = 1.
@@ -191,7 +188,7 @@ NaN or Inf value or bad options.)");
         float *xs = x.mutable_data(), *ps = pdf.mutable_data();
         const std::size_t kc = t.conditioningDims();
         forEachRow(n, [&](std::size_t i) {
-          const SampleND s = t.sample(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k});
+          const SampleND s = t.sample(rowOf(cond.data(), kc, cond.rows(), i), {in + k * i, k});
           std::memcpy(xs + k * i, s.x.data(), k * sizeof(float));
           ps[i] = s.pdf;
         });
@@ -212,7 +209,7 @@ NaN or Inf value or bad options.)");
         const float* in = points.data;
         float* ps = pdf.mutable_data();
         const std::size_t kc = t.conditioningDims();
-        forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k}); });
+        forEachRow(n, [&](std::size_t i) { ps[i] = t.pdf(rowOf(cond.data(), kc, cond.rows(), i), {in + k * i, k}); });
         return pdf;
       },
       "x"_a, "condition"_a = py::none(), "Density at each point x (rows as in sample()); 0 outside the domain.");
@@ -228,7 +225,7 @@ NaN or Inf value or bad options.)");
         float* us = u.mutable_data();
         const std::size_t kc = t.conditioningDims();
         forEachRow(n, [&](std::size_t i) {
-          t.invert(rowOf(cond.data, kc, cond.rows, i), {in + k * i, k}, {us + k * i, k});
+          t.invert(rowOf(cond.data(), kc, cond.rows(), i), {in + k * i, k}, {us + k * i, k});
         });
         return u;
       },
