@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -81,12 +82,10 @@ ColorMatrix rgbFromRgb(const Chromaticities& to, const Chromaticities& from) {
 ColorMatrix rec709FromRgb(const Chromaticities& c) { return rgbFromRgb(kRec709, c); }
 
 bool sameChromaticities(const Chromaticities& a, const Chromaticities& b) {
-  const Chromaticities::Xy* pa[] = {&a.red, &a.green, &a.blue, &a.white};
-  const Chromaticities::Xy* pb[] = {&b.red, &b.green, &b.blue, &b.white};
-  for (int k = 0; k < 4; ++k)
-    for (int i = 0; i < 2; ++i)
-      if (!(std::abs((*pa[k])[i] - (*pb[k])[i]) <= 1e-4)) return false;
-  return true;
+  const auto near = [](const Chromaticities::Xy& p, const Chromaticities::Xy& q) {
+    return std::abs(p[0] - q[0]) <= 1e-4 && std::abs(p[1] - q[1]) <= 1e-4;
+  };
+  return near(a.red, b.red) && near(a.green, b.green) && near(a.blue, b.blue) && near(a.white, b.white);
 }
 
 std::string toString(const Chromaticities& c) {

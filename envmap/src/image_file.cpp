@@ -1,7 +1,5 @@
 #include "acdf/envmap/image_file.h"
 
-#include "acdf/envmap/color_space.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +10,7 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "acdf/envmap/color_space.h"
 #include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/write_atomically.h"
 
