@@ -1,20 +1,26 @@
 #include "acdf/envmap/pixel_alias.h"
 
+#include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace acdf {
 
 namespace {
 
+// Each row's sum of values, in double. The masses are only compared with one another: when a row's
+// sum would overflow float (pixels near float's maximum), all are scaled down alike.
 std::vector<float> rowMasses(std::span<const float> values, uint32_t width, uint32_t height) {
   if (values.size() != std::size_t{width} * height || values.empty())
     throw std::invalid_argument("PixelAlias: the values do not match width x height");
+  std::vector<double> sums(height);
+  for (uint32_t r = 0; r < height; ++r)
+    for (float v : values.subspan(std::size_t{r} * width, width)) sums[r] += v;
+  const double largest = *std::max_element(sums.begin(), sums.end());
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
+  const double scale = largest > kFloatMax ? kFloatMax / largest : 1.0;
   std::vector<float> masses(height);
-  for (uint32_t r = 0; r < height; ++r) {
-    double sum = 0;
-    for (float v : values.subspan(std::size_t{r} * width, width)) sum += v;
-    masses[r] = static_cast<float>(sum);
-  }
+  for (uint32_t r = 0; r < height; ++r) masses[r] = static_cast<float>(sums[r] * scale);
   return masses;
 }
 
