@@ -127,6 +127,7 @@ class PixelDistribution {
   virtual std::vector<double> pixelProbabilities() const = 0;  // row-major, exact
   // What the table cache saves (empty: not worth saving, rebuilt in O(pixels)).
   virtual std::vector<std::byte> serialize() const { return {}; }
+  virtual const Cascade* cascade() const { return nullptr; }
 };
 
 namespace {
@@ -149,6 +150,7 @@ class CascadePixels final : public PixelDistribution {
   std::size_t bytes() const override { return cascade_.bytes(); }
   std::vector<double> pixelProbabilities() const override { return cascade_.cellProbabilities(0); }
   std::vector<std::byte> serialize() const override { return cascade_.serialize(); }
+  const Cascade* cascade() const override { return &cascade_; }
 
  private:
   Cascade cascade_;
@@ -272,6 +274,8 @@ double EnvironmentTable::pdf(PixelIndex p) const {
   if (strategy_ == EnvironmentTableStrategy::UniformSphere) return kUniformSpherePdf;
   return pixels_->density(p) * pdfScale_[p.row];
 }
+
+const Cascade* EnvironmentTable::cascade() const { return pixels_ ? pixels_->cascade() : nullptr; }
 
 std::size_t EnvironmentTable::bytes() const { return pixels_ ? pixels_->bytes() : 0; }
 

@@ -634,6 +634,19 @@ std::vector<std::vector<uint32_t>> Cascade::breakpoints(std::size_t axis) const 
   return result;
 }
 
+std::vector<std::vector<float>> Cascade::breakpointValues(std::size_t axis) const {
+  if (axis < conditioningDims_ || axis >= dims())
+    throw std::invalid_argument("cascade: axis " + std::to_string(axis) + " is not a sampled axis");
+  const std::size_t level = axis - conditioningDims_;
+  const LevelView view = viewOf(levels_[level], axes_[axis].cells());
+  std::vector<std::vector<float>> result(cdfsPerLevel()[level]);
+  for (std::size_t c = 0; c < result.size(); ++c) {
+    const detail::BreakpointCdf cdf = view.node(c).cdf;
+    for (std::size_t j = 0; j < cdf.count; ++j) result[c].push_back(cdf.value(j));
+  }
+  return result;
+}
+
 std::vector<double> Cascade::cellProbabilities(std::size_t slice) const {
   if (slice >= slices()) throw std::invalid_argument("cascade: no slice " + std::to_string(slice));
   return cellProbabilitiesOfRoot(rootOf(slice));

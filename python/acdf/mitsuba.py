@@ -29,9 +29,11 @@ uniform, rgl, cosine) and, for the tables, every table option of `acdf.Tabulated
 them). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
-In the LLVM variants every call receives a whole wavefront and makes one batched acdf call. Python
-plugins need evaluated mode there, because their arrays are read into numpy:
-`acdf.mitsuba.register()` turns drjit's symbolic loops and calls off (`evaluated_mode()`).
+In the JIT variants `acdf_envmap` with a table that is a cascade over the pixels (uniform, adaptive,
+compensated) or none (uniform-sphere) samples and evaluates it with drjit operations over the table's
+arrays, which Mitsuba traces into its kernels (NativeEnvmap). The other strategies and
+`acdf_measured` make one batched acdf call per wavefront, which reads the arrays into numpy: loading
+one turns drjit's symbolic loops and calls off (`evaluated_mode()`).
 """
 
 import numpy as np
@@ -114,11 +116,18 @@ _KINDS = {"count": int, "number": float, "boolean": bool, "name": str}
 _MEASURED_TABLE_OPTIONS = {option["key"]: _KINDS[option["type"]] for option in acdf.table_options()}
 
 
-def _make_envmap_class():
+def _strategy_of(props):
+    return str(props["strategy"]) if "strategy" in props else "adaptive"
+
+
+def _make_envmap_classes():
+    """(AcdfEnvmap, BatchedEnvmap, NativeEnvmap) of the current variant."""
     mi = _mi()
     import drjit as dr
 
     class AcdfEnvmap(mi.Emitter):
+        """What both implementations share: the parameters, the light, the scene's bounds."""
+
         def __init__(self, props):
             mi.Emitter.__init__(self, props)
             name = "acdf_envmap"
@@ -129,7 +138,7 @@ def _make_envmap_class():
             scale = props["scale"] if "scale" in props else 1.0
             if isinstance(scale, bool) or not isinstance(scale, (int, float)):
                 _refuse(name, f"scale must be a number (textured scales are not supported), got {type(scale).__name__}")
-            strategy = str(props["strategy"]) if "strategy" in props else "adaptive"
+            strategy = _strategy_of(props)
             if strategy not in _STRATEGIES:
                 _refuse(name, f"unknown strategy {strategy!r}; one of {', '.join(_STRATEGIES)}")
             table = _table_options(props, _ENVMAP_TABLE_OPTIONS)
@@ -140,6 +149,7 @@ def _make_envmap_class():
             self.world_from_map = linear
             self.map_from_world = linear.T
             self.strategy = strategy
+            self.scale = float(scale)
             self.incomplete = strategy in ("compensated", "local-compensated")
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
             self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), **table)
@@ -153,6 +163,21 @@ def _make_envmap_class():
                 sphere = box.bounding_sphere()
                 self.bounds = (np.asarray(sphere.center, dtype=np.float64).reshape(3),
                                max(float(sphere.radius) * (1 + 1e-4), 1e-4))
+
+        def bbox(self):
+            return mi.ScalarBoundingBox3f()
+
+        def to_string(self):
+            return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.light.bytes}]"
+
+    class BatchedEnvmap(AcdfEnvmap):
+        """Every strategy, in every variant: one batched acdf call per wavefront (in JIT variants under
+        evaluated mode, which it turns on)."""
+
+        def __init__(self, props):
+            AcdfEnvmap.__init__(self, props)
+            if dr.is_jit_v(mi.Float):
+                evaluated_mode()
 
         def _to_map(self, world_dirs):
             """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
@@ -225,13 +250,228 @@ def _make_envmap_class():
             ray = mi.Ray3f(_vector(mi, origin), _vector(mi, d), time)
             return ray, _color(mi, weight)
 
-        def bbox(self):
-            return mi.ScalarBoundingBox3f()
+    class NativeEnvmap(AcdfEnvmap):
+        """JIT variants, the strategies of _NATIVE_STRATEGIES: acdf's table as arrays of the variant,
+        sampled and evaluated by drjit operations that Mitsuba records into its kernels with the rest
+        of the path (no Python or acdf call per wavefront; drjit's symbolic modes stay as they are)."""
 
-        def to_string(self):
-            return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.light.bytes}]"
+        def __init__(self, props):
+            AcdfEnvmap.__init__(self, props)
+            light = self.light
+            width, height = light.map.width, light.map.height
+            rgb = light.map.rgb.reshape(-1) * np.float32(self.scale)
+            self.radiance = mi.Float(rgb.astype(np.float32))
+            self.width, self.height = width, height
+            self.m = [[float(x) for x in row] for row in self.world_from_map]
+            if self.strategy == "uniform-sphere" or light.emits_nothing:
+                self.table = self.complete = None
+            else:
+                self.table = _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=self.incomplete), width, height)
+                self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height) if self.incomplete
+                                 else self.table)
 
-    return AcdfEnvmap
+        def _to_world(self, d):
+            m = self.m
+            return mi.Vector3f(m[0][0] * d.x + m[0][1] * d.y + m[0][2] * d.z,
+                               m[1][0] * d.x + m[1][1] * d.y + m[1][2] * d.z,
+                               m[2][0] * d.x + m[2][1] * d.y + m[2][2] * d.z)
+
+        def _to_map(self, d):
+            m = self.m
+            return mi.Vector3f(m[0][0] * d.x + m[1][0] * d.y + m[2][0] * d.z,
+                               m[0][1] * d.x + m[1][1] * d.y + m[2][1] * d.z,
+                               m[0][2] * d.x + m[1][2] * d.y + m[2][2] * d.z)
+
+        def _radiance_of_pixel(self, row, column, active):
+            return dr.gather(mi.Color3f, self.radiance, row * self.width + column, active)
+
+        def _radiance(self, world_dir, active):
+            row, column = _pixel_of(mi, self._to_map(world_dir), self.width, self.height)
+            return self._radiance_of_pixel(row, column, active)
+
+        def _sample(self, table, u, active):
+            """Map-frame direction, its pixel and pdf per steradian (0 for a light that emits nothing)."""
+            if self.strategy == "uniform-sphere":
+                d = mi.warp.square_to_uniform_sphere(u)
+                row, column = _pixel_of(mi, d, self.width, self.height)
+                return d, row, column, mi.Float(dr.inv_four_pi)
+            if table is None:
+                zero = mi.UInt32(0)
+                return mi.Vector3f(0, 0, 1), zero, zero, mi.Float(0)
+            return table.sample(u, active)
+
+        def eval(self, si, active=True):
+            return self._radiance(-si.wi, active)
+
+        def eval_direction(self, it, ds, active=True):
+            return self._radiance(ds.d, active)
+
+        def pdf_direction(self, it, ds, active=True):
+            if self.strategy == "uniform-sphere":
+                return mi.Float(dr.inv_four_pi)
+            if self.table is None:
+                return mi.Float(0)
+            return self.table.pdf(self._to_map(ds.d), active)
+
+        def sample_direction(self, it, sample, active=True):
+            d_map, row, column, pdf = self._sample(self.table, sample, active)
+            d = self._to_world(d_map)
+            ds = dr.zeros(mi.DirectionSample3f)
+            ds.d = d
+            ds.dist = mi.Float(_FAR)
+            # A default interaction's fields are empty in JIT variants: those count as zero.
+            ds.p = (it.p if dr.width(it.p) else mi.Point3f(0)) + d * _FAR
+            ds.n = -d
+            ds.pdf = pdf
+            ds.time = it.time
+            ds.delta = mi.Bool(False)
+            ds.emitter = mi.EmitterPtr(self)
+            found = active & (pdf > 0)
+            weight = dr.select(found, self._radiance_of_pixel(row, column, found) / dr.select(found, pdf, 1), 0)
+            return ds, weight
+
+        def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
+            if self.bounds is None:
+                _refuse("acdf_envmap", "rays leaving the light need the scene's bounding sphere, which Mitsuba "
+                        "does not give Python emitters: load the scene with acdf.mitsuba.load_dict or load_file")
+            center, radius = self.bounds
+            d_map, row, column, pdf = self._sample(self.complete, sample3, active)
+            d = -self._to_world(d_map)  # the ray travels away from the light's direction
+            frame = mi.Frame3f(d)
+            offset = mi.warp.square_to_uniform_disk_concentric(sample2)
+            origin = mi.Point3f(*[float(x) for x in center]) + (frame.s * offset.x + frame.t * offset.y - d) * radius
+            found = active & (pdf > 0)
+            area = dr.pi * radius**2
+            weight = dr.select(found, self._radiance_of_pixel(row, column, found) * area / dr.select(found, pdf, 1), 0)
+            return mi.Ray3f(origin, d, time), weight
+
+    return AcdfEnvmap, BatchedEnvmap, NativeEnvmap
+
+
+# The strategies NativeEnvmap samples: a table that is a cascade over the pixels, or none.
+_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "adaptive", "compensated")
+# How far from a pixel's edges (a fraction of the pixel) NativeEnvmap places its samples: a float32
+# direction's pixel, found again by pdf_direction, is then the pixel it was drawn in (float32 angles
+# err by a few 1e-7 rad, 1e-3 of a pixel of a 8192 x 4096 map). The radiance and the pdf are
+# constant on a pixel, so where in it a sample lies changes no estimate of the map's light; against
+# a BRDF that varies inside a pixel, the shift is of order 1e-3 of the pixel's share of the light.
+_PIXEL_MARGIN = 2e-3
+
+
+def _pixel_of(mi, d, width, height):
+    """The pixel (row, column) of a map-frame direction: theta from +Y, phi from -Z towards +X
+    (acdf's lat-long mapping, envmap/lat_long.h), in the variant's float arithmetic."""
+    import drjit as dr
+
+    theta = dr.atan2(dr.sqrt(d.x * d.x + d.z * d.z), d.y)
+    phi = dr.atan2(d.x, -d.z)
+    phi = dr.select(phi < 0, phi + dr.two_pi, phi)
+    row = dr.minimum(mi.UInt32(dr.maximum(theta * (height * dr.inv_pi), 0)), height - 1)
+    column = dr.minimum(mi.UInt32(dr.maximum(phi * (width * dr.inv_two_pi), 0)), width - 1)
+    return row, column
+
+
+class _DrjitCdfs:
+    """One axis of a cascade (EnvironmentLight.cascade_arrays): its 1D CDFs laid end to end."""
+
+    def __init__(self, mi, arrays, cells):
+        self.mi = mi
+        self.start = mi.UInt32(arrays["start"])
+        self.vertex = mi.UInt32(arrays["vertex"])
+        self.value = mi.Float(arrays["value"])
+        self.last = len(arrays["vertex"]) - 1
+        self.cells = cells
+
+    def bounds(self, cdf, active):
+        """Breakpoints [first, end) of CDF `cdf`."""
+        import drjit as dr
+
+        return (dr.gather(self.mi.UInt32, self.start, cdf, active),
+                dr.gather(self.mi.UInt32, self.start, cdf + 1, active))
+
+    def _last_at_most(self, first, end, of, threshold):
+        """The last breakpoint k of [first, end) with of[k] <= threshold (of: the values or the
+        vertices, non-decreasing in each CDF): one binary search over every CDF of the axis, where
+        the breakpoints before `first` count as below and those from `end` on as above."""
+        import drjit as dr
+
+        kind = self.mi.Float if of is self.value else self.mi.UInt32
+        above = dr.binary_search(0, self.last, lambda k: (k < first) | ((k < end) & (dr.gather(kind, of, k) <= threshold)))
+        return above - 1
+
+    def interval_of_variate(self, first, end, u):
+        """Interval k of the CDF with value[k] <= u < value[k + 1] (u in [0, 1)): it has mass."""
+        return self._last_at_most(first, end, self.value, u)
+
+    def interval_of_cell(self, first, end, cell):
+        return self._last_at_most(first, end, self.vertex, cell)
+
+    def interval(self, k, active):
+        """(value at k, at k + 1, vertex at k, at k + 1) and the density on the axis' unit interval."""
+        import drjit as dr
+
+        mi = self.mi
+        lo, hi = dr.gather(mi.Float, self.value, k, active), dr.gather(mi.Float, self.value, k + 1, active)
+        a, b = dr.gather(mi.UInt32, self.vertex, k, active), dr.gather(mi.UInt32, self.vertex, k + 1, active)
+        density = (hi - lo) * self.cells / mi.Float(dr.maximum(b - a, 1))
+        return lo, hi, a, b, density
+
+
+class _DrjitTable:
+    """An acdf table of a map's pixels (a two-level cascade: rows, then the columns of each row
+    interval) in a JIT variant's arrays. Its density on the unit square is that of acdf's
+    EnvironmentTable; per steradian it is divided by W H times the pixel's solid angle, and inside a
+    pixel samples are uniform in solid angle, as acdf's (envmap/environment_table.h)."""
+
+    def __init__(self, mi, levels, width, height):
+        self.mi = mi
+        self.rows = _DrjitCdfs(mi, levels[0], height)
+        self.columns = _DrjitCdfs(mi, levels[1], width)
+        self.width, self.height = width, height
+        cos_edge = np.cos(np.pi * np.arange(height + 1) / height)
+        cos_edge[0], cos_edge[-1] = 1.0, -1.0
+        solid_angle = (cos_edge[:-1] - cos_edge[1:]) * (2 * np.pi / width)
+        # Directions are placed in double: in float32, cos theta near a pole cannot tell a pixel's rows apart.
+        self.cos_edge = mi.Float64(cos_edge)
+        self.pdf_scale = mi.Float((1.0 / (float(width) * height * solid_angle)).astype(np.float32))
+
+    def _density(self, row, row_density, column_density, active):
+        import drjit as dr
+
+        return row_density * column_density * dr.gather(self.mi.Float, self.pdf_scale, row, active)
+
+    def sample(self, u, active):
+        import drjit as dr
+
+        mi = self.mi
+        below_one = float(np.nextafter(np.float32(1), np.float32(0)))
+        u0, u1 = dr.clip(u.x, 0, below_one), dr.clip(u.y, 0, below_one)
+        k = self.rows.interval_of_variate(0, self.rows.last + 1, u0)
+        lo, hi, a, b, row_density = self.rows.interval(k, active)
+        row_at = mi.Float(a) + (u0 - lo) / (hi - lo) * mi.Float(b - a)
+        row = dr.clip(mi.UInt32(row_at), a, b - 1)
+        first, end = self.columns.bounds(k, active)
+        j = self.columns.interval_of_variate(first, end, u1)
+        lo, hi, a, b, column_density = self.columns.interval(j, active)
+        column_at = mi.Float(a) + (u1 - lo) / (hi - lo) * mi.Float(b - a)
+        column = dr.clip(mi.UInt32(column_at), a, b - 1)
+        down = dr.clip(row_at - mi.Float(row), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
+        right = dr.clip(column_at - mi.Float(column), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
+
+        top, bottom = dr.gather(mi.Float64, self.cos_edge, row, active), dr.gather(mi.Float64, self.cos_edge, row + 1, active)
+        cos_theta = top + mi.Float64(down) * (bottom - top)
+        sin_theta = dr.sqrt(dr.maximum(0, (1 - cos_theta) * (1 + cos_theta)))
+        sin_phi, cos_phi = dr.sincos((mi.Float64(column) + mi.Float64(right)) * (2 * np.pi / self.width))
+        d = mi.Vector3f(mi.Float(sin_theta * sin_phi), mi.Float(cos_theta), mi.Float(-sin_theta * cos_phi))
+        return d, row, column, self._density(row, row_density, column_density, active)
+
+    def pdf(self, d, active):
+        row, column = _pixel_of(self.mi, d, self.width, self.height)
+        k = self.rows.interval_of_cell(0, self.rows.last + 1, row)
+        row_density = self.rows.interval(k, active)[4]
+        first, end = self.columns.bounds(k, active)
+        j = self.columns.interval_of_cell(first, end, column)
+        return self._density(row, row_density, self.columns.interval(j, active)[4], active)
 
 
 _FAR = 1e15
@@ -254,6 +494,8 @@ def _make_measured_class():
     class AcdfMeasured(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
+            if dr.is_jit_v(mi.Float):
+                evaluated_mode()  # its calls read their arrays into numpy
             name = "acdf_measured"
             _refuse_unknown(name, props, ["filename", "sampling", *_MEASURED_TABLE_OPTIONS])
             if "filename" not in props:
@@ -332,14 +574,14 @@ def _make_measured_class():
 
 def register():
     """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
-    mi.set_variant) and, in JIT variants, turns on the evaluated mode Python plugins need."""
+    mi.set_variant)."""
     mi = _mi()
-    if not mi.variant().startswith("scalar"):
-        evaluated_mode()
-    envmap = _make_envmap_class()
-    _envmap_classes.append(envmap)
+    base, batched, native = _make_envmap_classes()
+    _envmap_classes.append(base)
+    jit = not mi.variant().startswith("scalar")
     measured = _make_measured_class()
-    mi.register_emitter("acdf_envmap", lambda props: envmap(props))
+    mi.register_emitter("acdf_envmap",
+                        lambda props: (native if jit and _strategy_of(props) in _NATIVE_STRATEGIES else batched)(props))
     mi.register_bsdf("acdf_measured", lambda props: measured(props))
 
 

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <numbers>
@@ -185,6 +186,41 @@ void bindLight(py::module_& m) {
         return image(light.map(), p.data(), 1);
       },
       "allow_incomplete_pdf"_a = false, "The probability the light's table gives each pixel (exact), (height, width).");
+  c.def(
+      "cascade_arrays",
+      [](const EnvironmentLight& light, bool allowIncomplete) -> py::object {
+        const Cascade* cascade = light.table({.allowIncompletePdf = allowIncomplete}).cascade();
+        if (!cascade) return py::none();
+        py::list levels;
+        for (std::size_t axis = 0; axis < cascade->dims(); ++axis) {
+          const std::vector<std::vector<uint32_t>> vertices = cascade->breakpoints(axis);
+          const std::vector<std::vector<float>> values = cascade->breakpointValues(axis);
+          std::size_t points = 0;
+          for (const auto& cdf : vertices) points += cdf.size();
+          auto start = output<uint32_t>(vertices.size() + 1), vertex = output<uint32_t>(points);
+          auto value = output<float>(points);
+          uint32_t *starts = start.mutable_data(), *vs = vertex.mutable_data();
+          float* fs = value.mutable_data();
+          std::size_t at = 0;
+          for (std::size_t k = 0; k < vertices.size(); ++k) {
+            starts[k] = static_cast<uint32_t>(at);
+            std::copy(vertices[k].begin(), vertices[k].end(), vs + at);
+            std::copy(values[k].begin(), values[k].end(), fs + at);
+            at += vertices[k].size();
+          }
+          starts[vertices.size()] = static_cast<uint32_t>(at);
+          levels.append(py::dict("start"_a = start, "vertex"_a = vertex, "value"_a = value));
+        }
+        return levels;
+      },
+      "allow_incomplete_pdf"_a = false,
+      "The cascade of a uniform, adaptive or compensated table (None for other strategies and a black map),\n"
+      "for sampling it in other arithmetic (acdf.mitsuba's drjit arrays): one dict per axis (rows, then\n"
+      "columns) of its 1D CDFs laid end to end: CDF k's breakpoints are [start[k], start[k + 1]), each a\n"
+      "grid vertex (pixel edge) and the CDF's value there, from (0, 0) to (cells, 1). The CDF of the\n"
+      "rows is CDF 0 of axis 0; below its interval j lies CDF j of axis 1. The density on the unit square\n"
+      "is the product over axes of (value step) / (vertex step / cells); per steradian, divide by\n"
+      "width x height x the row's pixel solid angle.");
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");
@@ -199,7 +235,8 @@ void bindMap(py::module_& m) {
 
 EnvironmentMap(rgb): rgb of shape (height, width, 3), row 0 the top scanline (theta = 0, +Y),
 column j at phi = 2 pi (j + 0.5) / width, as OpenEXR's LatLong layout.
-EnvironmentMap.load(path): any image OpenImageIO reads (acdf.FileError if it cannot).)");
+EnvironmentMap.load(path): OpenEXR, or any image OpenImageIO reads where acdf is built with it
+(acdf.FileError if it cannot).)");
   c.def(py::init(&mapFromArray), "rgb"_a);
   c.def_static(
       "load",

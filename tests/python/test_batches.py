@@ -192,6 +192,7 @@ NOT_BATCHED = {
     "Cascade.deserialize": "bytes; test_api",
     "EnvironmentLight.load": "a file",
     "EnvironmentLight.pixel_probabilities": "an output; test_returned_arrays",
+    "EnvironmentLight.cascade_arrays": "an output; test_returned_arrays",
     "EnvironmentMap.load": "a file",
     "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
     "MerlBrdf.load": "a file",
@@ -247,6 +248,24 @@ def test_arrays_in_any_layout(rng):
         assert conditioned.slice_of(given(np.array([2.6]))[::-1]) == 5, layout
 
 
+def probabilities_of_cascade(levels, height, width):
+    """Each pixel's probability from EnvironmentLight.cascade_arrays: the product of its row's and
+    column's interval masses, spread evenly over the interval's pixels."""
+    rows, columns = levels
+    assert list(rows["start"]) == [0, len(rows["vertex"])] and len(columns["start"]) == len(rows["vertex"])
+    p = np.zeros((height, width))
+    for j in range(len(rows["vertex"]) - 1):
+        a, b = rows["vertex"][j : j + 2]
+        row_mass = float(rows["value"][j + 1]) - float(rows["value"][j])
+        first, end = columns["start"][j : j + 2]
+        vertex, value = columns["vertex"][first:end], columns["value"][first:end].astype(F64)
+        assert vertex[0] == 0 and vertex[-1] == width and value[0] == 0 and value[-1] == 1
+        for k in range(len(vertex) - 1):
+            c, d = vertex[k : k + 2]
+            p[a:b, c:d] = row_mass * (value[k + 1] - value[k]) / ((b - a) * (d - c))
+    return p
+
+
 def test_returned_arrays(rng):
     """Outputs hold what they say: a map's pixels, its power per pixel, exact cell probabilities
     and the kept breakpoints."""
@@ -265,6 +284,12 @@ def test_returned_arrays(rng):
     np.testing.assert_allclose(cascade.cell_probabilities(), values / values.sum(dtype=F64), rtol=1e-5)
     rows = cascade.breakpoints(0)[0]
     np.testing.assert_array_equal(rows, np.arange(13))
+    for strategy in ("uniform", "adaptive", "compensated"):
+        light = acdf.EnvironmentLight(world, strategy=strategy)
+        incomplete = strategy == "compensated"
+        np.testing.assert_allclose(probabilities_of_cascade(light.cascade_arrays(incomplete), 8, 16),
+                                   light.pixel_probabilities(incomplete), rtol=1e-5, atol=1e-7)
+    assert acdf.EnvironmentLight(world, strategy="alias").cascade_arrays() is None
     vertices, cdf = acdf.AdaptiveCdf1D(values[0]).breakpoints
     assert vertices[0] == 0 and vertices[-1] == 10 and np.all(np.diff(vertices) > 0) and np.all(np.diff(cdf) > 0)
 

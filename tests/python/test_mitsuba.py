@@ -359,6 +359,61 @@ def test_sample_ray_carries_the_lights_power(variant, block_map):
     assert np.all(np.abs(z) < bound), f"z = {z}, bound {bound:.2f}"
 
 
+NATIVE_STRATEGIES = ["uniform", "adaptive", "compensated"]
+
+
+@pytest.mark.parametrize("strategy", NATIVE_STRATEGIES)
+def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
+    """In llvm_ad_rgb acdf_envmap samples acdf's own table with drjit operations. 10^6 samples of the
+    shared sunset map (or the block map): pdf_direction of each sample is its returned pdf, bit for
+    bit; the pdf is acdf's at that direction (float32 against double, 1e-5); the sample lies in the
+    pixel acdf's C++ sampler picks for the same variates (all but rounding cases at pixel edges); and
+    the pixels' counts fit acdf's exact pixel probabilities (chi-square, cells pooled to an expected
+    count >= 5, alpha 0.01 Sidak-corrected over the strategies)."""
+    if "llvm_ad_rgb" not in mi.variants():
+        pytest.skip("mitsuba has no llvm_ad_rgb variant")
+    mi.set_variant("llvm_ad_rgb")
+    acdf.mitsuba.register()
+    from test_chi_square import pooled_chi_square
+
+    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
+                          "envmaps", "sunset_1024x512.exr")
+    path = shared if os.path.exists(shared) else block_map[0]
+    emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
+    assert "Native" in type(emitter).__name__
+    n = 1_000_000
+    u = np.random.default_rng(1).random((n, 2)).astype(np.float32)
+    it = dr.zeros(mi.Interaction3f)
+    ds, weight = emitter.sample_direction(it, mi.Point2f(u[:, 0], u[:, 1]))
+    pdf = np.asarray(ds.pdf)
+    assert np.all(pdf > 0) and np.all(np.isfinite(pdf))
+    np.testing.assert_array_equal(np.asarray(emitter.pdf_direction(it, ds)), pdf)
+
+    light = emitter.light
+    dirs = rows_of(ds.d) @ np.array(rotation().matrix)[:3, :3]  # world to map: the rotation's inverse
+    np.testing.assert_allclose(light.pdf(dirs, allow_incomplete_pdf=emitter.incomplete), pdf, rtol=1e-5)
+    width, height = light.map.width, light.map.height
+
+    def pixels(d):
+        theta = np.arctan2(np.hypot(d[:, 0], d[:, 2]), d[:, 1])
+        phi = np.mod(np.arctan2(d[:, 0], -d[:, 2]), 2 * np.pi)
+        row = np.minimum((theta / np.pi * height).astype(np.int64), height - 1)
+        return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
+
+    acdf_dirs, acdf_radiance, acdf_pdf = light.sample(u, allow_incomplete_pdf=emitter.incomplete)
+    ours = pixels(dirs)
+    assert np.count_nonzero(ours != pixels(acdf_dirs)) <= n * 1e-5
+    np.testing.assert_allclose(rows_of(weight).mean(0), (acdf_radiance / acdf_pdf[:, None]).mean(0), rtol=1e-5)
+
+    probabilities = light.pixel_probabilities(allow_incomplete_pdf=emitter.incomplete).reshape(-1)
+    observed = np.bincount(ours, minlength=probabilities.size).astype(np.float64)
+    statistic, dof = pooled_chi_square(observed, probabilities * n)
+    alpha = acdf.sidak_alpha(0.01, len(NATIVE_STRATEGIES))
+    from scipy.stats import chi2
+
+    assert chi2.sf(statistic, dof) > alpha, f"chi-square {statistic:.1f} with {dof} degrees of freedom"
+
+
 class CountedCalls:
     """An acdf object whose calls are counted by name, with the number of rows each was given."""
 
@@ -408,33 +463,47 @@ def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
     assert "AcdfMeasured[sampling=adaptive" in str(scene.shapes()[0].bsdf())
 
 
-def test_llvm_renders_make_one_acdf_call_per_wavefront(tmp_path, block_map):
-    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes) calls acdf a few times per
+@pytest.mark.parametrize("strategy", ["adaptive", "local"])
+def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map, strategy):
+    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes): acdf_envmap with a table drjit
+    samples (adaptive) makes no acdf call at all, and loading it leaves drjit's symbolic modes on;
+    acdf_measured, and acdf_envmap with a strategy it leaves to acdf (local), call acdf a few times per
     bounce, each call with every lane still active (thousands of rows), never once per lane."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
+    for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
+        dr.set_flag(flag, True)
     acdf.mitsuba.register()
     path, _ = block_map
+    sensor = {"type": "perspective", "fov": 40,
+              "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
+              "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
+              "sampler": {"type": "independent", "sample_count": 4}}
+    light = {"type": "acdf_envmap", "filename": path, "strategy": strategy}
+    if strategy == "adaptive":
+        scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
+                              "ball": {"type": "sphere", "bsdf": {"type": "roughconductor"}}, "light": light})
+        assert dr.flag(dr.JitFlag.SymbolicLoops) and dr.flag(dr.JitFlag.SymbolicCalls)
+        emitter = scene.emitters()[0]
+        emitter.light = CountedCalls(emitter.light)
+        image = np.asarray(mi.render(scene))
+        assert emitter.light.calls == [] and np.all(np.isfinite(image)) and image.mean() > 0
+        return
     program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
     material = str(tmp_path / "aluminium.bsdf")
     subprocess.run([program, "rgl-gen", "--preset", "rough-aluminium", "-o", material], check=True, capture_output=True)
-    scene = mi.load_dict({
-        "type": "scene",
-        "integrator": {"type": "path", "max_depth": 3},
-        "sensor": {"type": "perspective", "fov": 40,
-                   "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
-                   "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
-                   "sampler": {"type": "independent", "sample_count": 4}},
-        "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
-        "light": {"type": "acdf_envmap", "filename": path},
-    })
+    scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
+                          "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
+                          "light": light})
+    assert not dr.flag(dr.JitFlag.SymbolicLoops)  # Python plugins that read their arrays need evaluated mode
     emitter = scene.emitters()[0]
     bsdf = scene.shapes()[0].bsdf()
     emitter.light, bsdf.sampler = CountedCalls(emitter.light), CountedCalls(bsdf.sampler)
     mi.render(scene)
     calls = emitter.light.calls + bsdf.sampler.calls
     lanes = 32 * 32 * 4
+    assert emitter.light.calls and bsdf.sampler.calls
     assert 0 < len(calls) <= 40, calls
     assert max(rows for _, rows in calls) > lanes // 4, calls
 

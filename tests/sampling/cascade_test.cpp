@@ -492,6 +492,35 @@ TEST(Cascade, BreakpointsBoundTheBoxesOfConstantDensity) {
   EXPECT_THROW(c.breakpoints(2), std::invalid_argument);
 }
 
+TEST(Cascade, BreakpointValuesGiveEveryBoxItsMass) {
+  // A box's probability is the product of its intervals' value steps: what a caller that samples
+  // the table in its own arithmetic (the Mitsuba plugin) relies on.
+  const auto v = makeFixture(Fixture::Smooth, k2D);
+  CascadeOptions options;
+  options.simplify.epsilon = 0.01;
+  const Cascade c(v, unitAxes(k2D), options);
+  const auto rows = c.breakpoints(0), columns = c.breakpoints(1);
+  const auto rowValues = c.breakpointValues(0), columnValues = c.breakpointValues(1);
+  ASSERT_EQ(rowValues.size(), rows.size());
+  ASSERT_EQ(columnValues.size(), columns.size());
+  const uint32_t cols = k2D[1];
+  const auto q = c.cellProbabilities(0);
+  for (std::size_t k = 0; k + 1 < rows[0].size(); ++k) {
+    ASSERT_EQ(columnValues[k].size(), columns[k].size());
+    EXPECT_EQ(columnValues[k].front(), 0.0f);
+    EXPECT_EQ(columnValues[k].back(), 1.0f);
+    const double rowMass = static_cast<double>(rowValues[0][k + 1]) - rowValues[0][k];
+    for (std::size_t m = 0; m + 1 < columns[k].size(); ++m) {
+      double box = 0;
+      for (uint32_t i = rows[0][k]; i < rows[0][k + 1]; ++i)
+        for (uint32_t j = columns[k][m]; j < columns[k][m + 1]; ++j) box += q[i * cols + j];
+      const double mass = rowMass * (static_cast<double>(columnValues[k][m + 1]) - columnValues[k][m]);
+      ASSERT_NEAR(mass, box, 1e-6 * box + 1e-12) << "box " << k << "," << m;
+    }
+  }
+  EXPECT_THROW(c.breakpointValues(2), std::invalid_argument);
+}
+
 TEST(CascadeOptions, EnumSpellingsRoundTrip) {
   for (DimensionMethod m : {DimensionMethod::Uniform, DimensionMethod::Adaptive})
     EXPECT_EQ(parseDimensionMethod(toString(m)), m);

@@ -158,6 +158,10 @@ class EnvironmentTable {
   // pdf > 0 wherever the map has light.
   bool complete() const { return strategy_ != EnvironmentTableStrategy::Compensated || compensationFellBack_; }
 
+  // The cascade of a Uniform, Adaptive or Compensated table, for a caller that samples it in its
+  // own arithmetic (its grid cells are the pixels: axis 0 the rows, axis 1 the columns); null for
+  // the other strategies and a map that emits nothing.
+  const Cascade* cascade() const;
   // Bytes of the table (0 without one).
   std::size_t bytes() const;
   // Probability the table gives each pixel, row-major (empty without a table). Exact.

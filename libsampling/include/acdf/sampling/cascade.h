@@ -154,6 +154,10 @@ class Cascade {
   // level's CDFs in order. What a figure of the adaptive intervals draws. Throws
   // std::invalid_argument for a conditioning or missing axis.
   std::vector<std::vector<uint32_t>> breakpoints(std::size_t axis) const;
+  // The CDF's value at each of breakpoints(axis)' vertices, per CDF in the same order (0 first, 1
+  // last): with breakpoints(), the whole table, for a caller that samples it in its own arithmetic
+  // (the Mitsuba plugin's drjit arrays). Throws as breakpoints() does.
+  std::vector<std::vector<float>> breakpointValues(std::size_t axis) const;
 
   // Probability the distribution of `slice` gives each cell of the sampled grid, row-major.
   // Exact (the pdf is constant on grid cells); used for quality metrics and chi-square tests.
