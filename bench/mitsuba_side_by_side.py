@@ -1,8 +1,9 @@
 """Mitsuba 3's envmap and measured against acdf_envmap and acdf_measured in the same Mitsuba scenes
-and the same `path` integrator (llvm_ad_rgb): image means, relMSE at equal spp, table bytes, time.
+and the same `path` integrator (llvm_ad_rgb): image means, relMSE at equal spp, time per spp,
+efficiency at equal time, table bytes.
 
     PYTHONPATH=build/python .venv/bin/python bench/mitsuba_side_by_side.py \\
-        --maps MAP.exr... --rgl FILE.bsdf... [--spp 16] [--seeds 16] [--reference-spp 1024] [--res 64]
+        --maps MAP.exr... --rgl FILE.bsdf... [--spp 16] [--seeds 16] [--reference-spp 1024] [--res 256]
 
 Environment lights: a diffuse floor and a rough gold sphere (Mitsuba's roughconductor, GGX
 alpha 0.1), depth 3, the map not seen directly. Each emitter is judged against its own reference
@@ -16,9 +17,12 @@ Per row: relMSE = mean over pixels and channels of (I - R)^2 / (R^2 + 1e-2) of o
 its mean over seeds with the standard error, and its median (the glossy sphere's fireflies make it
 heavy-tailed); the largest |z| of the image means against Mitsuba's plugin, over the frame and
 4 x 4 blocks per channel, with the Sidak bound at alpha 0.01 (means and variances from the seeds'
-images); table bytes; wall time per spp of mi.render after a warm-up render, and how much of it
-was spent inside acdf's batched calls (the rest of the difference to Mitsuba's plugin is the
-Python glue: numpy and drjit round trips).
+images); table bytes; wall time per spp of the median mi.render after a warm-up render (kernels
+compiled and cached), and how much of it was spent inside acdf's batched calls; efficiency at equal time against
+the Mitsuba plugin of the block, (relMSE x time per spp) of Mitsuba's over the row's: above 1, the
+row reaches a given error sooner. Each row renders in the mode a user of it gets: drjit's symbolic
+loops and calls on, unless the row's plugin makes batched acdf calls, which need evaluated mode
+(acdf.mitsuba.evaluated_mode(); docs/python.md).
 """
 import argparse
 import time
@@ -86,6 +90,18 @@ def floor():
             "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(20)}
 
 
+def symbolic_mode(on):
+    import drjit as dr
+
+    for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
+        dr.set_flag(flag, on)
+
+
+def batched(plugin):
+    """Whether a plugin makes batched acdf calls (and so renders in evaluated mode)."""
+    return "Batched" in type(plugin).__name__ or "AcdfMeasured" in type(plugin).__name__
+
+
 def render(scene, spp, seed):
     return np.asarray(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)
 
@@ -115,22 +131,26 @@ def measure(scene, reference, args, timed=None):
     render(scene, args.spp, 999)  # warm-up: kernels compiled and cached
     if timed is not None:
         timed.seconds = 0.0
-    images, seconds = [], 0.0
+    images, seconds = [], []
     for seed in range(args.seeds):
         start = time.perf_counter()
         images.append(render(scene, args.spp, seed))
-        seconds += time.perf_counter() - start
+        seconds.append(time.perf_counter() - start)
     errors = np.array([rel_mse(image, reference) for image in images])
-    per_spp = 1000.0 / (args.seeds * args.spp)
-    inside = f"{timed.seconds * per_spp:.2f}" if timed is not None else "-"
-    return np.stack(images), errors, f"{seconds * per_spp:.2f}", inside
+    # The median render: a spike of load on a shared machine moves one render, not the figure.
+    ms_per_spp = 1000.0 * float(np.median(seconds)) / args.spp
+    inside = f"{timed.seconds * 1000.0 / (args.seeds * args.spp):.2f}" if timed is not None else "-"
+    return np.stack(images), errors, f"{ms_per_spp:.2f}", inside
 
 
-def report(source, name, errors, z, table, ms, inside):
+def report(source, name, errors, z, table, ms, inside, baseline):
+    """One row; baseline: (mean relMSE, ms per spp) of the block's Mitsuba plugin (None for that row)."""
     mean, se = errors.mean(), errors.std(ddof=1) / np.sqrt(len(errors))
     z = "-" if z is None else f"{z[0]:.2f} {z[2]} (bound {z[1]:.2f})"
+    efficiency = "1" if baseline is None else f"{baseline[0] * baseline[1] / (mean * float(ms)):.2f}"
     print(f"{source} | {name} | {mean:.5f} ± {se:.5f} | {np.median(errors):.5f} | {z} "
-          f"| {table} | {ms} | {inside}", flush=True)
+          f"| {table} | {ms} | {inside} | {efficiency}", flush=True)
+    return mean, float(ms)
 
 
 def hierarchical_bytes(path):
@@ -145,54 +165,62 @@ def hierarchical_bytes(path):
 def compare_envmaps(args, acdf):
     print(f"\n## envmap vs acdf_envmap: {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
           f"references at {args.reference_spp} spp")
-    print("map | emitter | relMSE mean ± se | median | max |z| of means vs envmap | table bytes | ms/spp | in acdf")
+    print("map | emitter | relMSE mean ± se | median | max |z| of means vs envmap | table bytes | ms/spp | in acdf "
+          "| efficiency vs envmap")
     for path in args.maps:
         source = path.split("/")[-1]
+        symbolic_mode(True)
         theirs = mi.load_dict(envmap_scene({"type": "envmap", "filename": path}, args.res))
         reference = render(theirs, args.reference_spp, 1000)
         baseline, errors, ms, _ = measure(theirs, reference, args)
-        report(source, "envmap", errors, None, hierarchical_bytes(path), ms, "-")
+        envmap_row = report(source, "envmap", errors, None, hierarchical_bytes(path), ms, "-", None)
         for strategy in args.strategies:
             scene = mi.load_dict(envmap_scene({"type": "acdf_envmap", "filename": path, "strategy": strategy}, args.res))
             emitter = scene.emitters()[0]
+            symbolic_mode(not batched(emitter))
             emitter.light = timed = TimedCalls(emitter.light, {"sample", "pdf", "eval"})
             reference = render(scene, args.reference_spp, 1000)
             images, errors, ms, inside = measure(scene, reference, args, timed)
-            report(source, f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside)
+            report(source, f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside,
+                   envmap_row)
 
 
 def compare_materials(args, acdf):
     print(f"\n## measured vs acdf_measured under {args.bsdf_map.split('/')[-1]}: {args.res}x{args.res}, "
           f"{args.spp} spp x {args.seeds} seeds, all against measured at {args.reference_spp} spp")
-    print("file | bsdf | relMSE mean ± se | median | max |z| of means vs measured | table bytes | ms/spp | in acdf")
+    print("file | bsdf | relMSE mean ± se | median | max |z| of means vs measured | table bytes | ms/spp | in acdf "
+          "| efficiency vs measured")
     for path in args.rgl:
         source = path.split("/")[-1]
+        symbolic_mode(True)
         theirs = mi.load_dict(material_scene({"type": "measured", "filename": path}, args.bsdf_map, args.res))
         reference = render(theirs, args.reference_spp, 1000)
         baseline, errors, ms, _ = measure(theirs, reference, args)
         warps = acdf.RglBrdfSampler(acdf.RglBrdf.load(path)).bytes
-        report(source, "measured", errors, None, f"{warps} (its warps)", ms, "-")
+        measured_row = report(source, "measured", errors, None, f"{warps} (its warps)", ms, "-", None)
         for sampling in args.samplings:
             bsdf = {"type": "acdf_measured", "filename": path, "sampling": sampling}
             scene = mi.load_dict(material_scene(bsdf, args.bsdf_map, args.res))
             plugin = next(s.bsdf() for s in scene.shapes() if "Acdf" in str(s.bsdf()))
+            symbolic_mode(not batched(plugin))
             plugin.sampler = timed = TimedCalls(plugin.sampler, {"sample", "pdf", "eval"})
             images, errors, ms, inside = measure(scene, reference, args, timed)
             table = f"{plugin.sampler.bytes} (1/{warps / plugin.sampler.bytes:.1f})"
-            report(source, f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside)
+            report(source, f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside,
+                   measured_row)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--maps", nargs="*", default=[])
-    parser.add_argument("--strategies", nargs="+", default=["adaptive", "local", "compensated"])
+    parser.add_argument("--strategies", nargs="+", default=["adaptive", "compensated"])
     parser.add_argument("--rgl", nargs="*", default=[])
     parser.add_argument("--samplings", nargs="+", default=["adaptive", "uniform", "rgl"])
     parser.add_argument("--bsdf-map", help="the envmap the measured materials are lit by")
     parser.add_argument("--spp", type=int, default=16)
     parser.add_argument("--seeds", type=int, default=16)
     parser.add_argument("--reference-spp", type=int, default=1024)
-    parser.add_argument("--res", type=int, default=64)
+    parser.add_argument("--res", type=int, default=256)
     args = parser.parse_args()
     if args.rgl and not args.bsdf_map:
         parser.error("--rgl needs --bsdf-map")
