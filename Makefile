@@ -14,6 +14,10 @@
 #   make stress     numerical stress program (1e8 samples per distribution; STRESS_ARGS)
 #   make test-tsan  ThreadSanitizer build (build-tsan/) + the multithreaded tests
 #   make install    the libraries, headers and CMake package (find_package(acdf)) into PREFIX
+#   make bench-peers  acdf against Cycles 5 and Mitsuba 3 at equal time on the example scenes (bench/peers/,
+#                   PEERS_ARGS; docs/performance.md's last section), after make bench-peers-check, the test of
+#                   the scene conversion's conventions; both install .venv-peers first (scripts/install-peers:
+#                   PyPI's bpy, about 1 GB). Neither is part of make test or CI
 # Each of these first runs `make deps` (scripts/install-deps, a no-op when all is installed).
 
 JOBS ?= 2
@@ -66,7 +70,8 @@ SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
 .PHONY: all deps configure build test install configure-asan build-asan test-asan demo demo-materials bench clean \
-        configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan
+        configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan \
+        bench-peers bench-peers-check
 
 all: build
 
@@ -143,6 +148,21 @@ bench: deps
 	$(BENCH_ERROR_COMMAND)
 	/usr/bin/python3 bench/error_report.py docs $(BENCH_ERROR_DIR)/results.json docs/performance.md docs/bench-error \
 	  --command "$(BENCH_ERROR_COMMAND)"
+
+# make bench-peers: the options of bench/peers/bench_peers.py (its --help), e.g. PEERS_ARGS="scenes/furnace.json
+# --seeds 8"; with no scene named, every scene of scenes/ and bench/peers/scenes/ (those a peer cannot express
+# are listed with the reason). About 10 minutes on 2 cores with the defaults below.
+PEERS_ARGS ?= --seeds 4 --spp 16,64 --resolution 256x192 --threads 2
+PEERS_OUT ?= $(RESULTS_DIR)/peers
+PEERS_ENV := ACDF_PROGRAM=$(abspath $(BUILD_DIR))/bin/acdf
+
+bench-peers-check: deps
+	$(MAKE) build
+	scripts/install-peers
+	$(PEERS_ENV) .venv-peers/bin/python -m pytest -q -p no:cacheprovider bench/peers
+
+bench-peers: bench-peers-check
+	$(PEERS_ENV) .venv-peers/bin/python bench/peers/bench_peers.py $(PEERS_ARGS) --out $(PEERS_OUT)
 
 # Each target runs FUZZ_SECONDS on a working corpus in $(FUZZ_DIR)/corpus/<target>, seeded from
 # fuzz/corpus/<target> (read only); a crash is saved under $(FUZZ_DIR)/artifacts/<target>/ and
