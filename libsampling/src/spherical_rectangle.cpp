@@ -1,0 +1,76 @@
+#include "acdf/sampling/spherical_rectangle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace acdf {
+
+namespace {
+// The angle between the planes of two great circles given their unit normals n and m, at the
+// vertex the two sides share: the inner angle of the spherical polygon there.
+double innerAngle(const Vec3d& n, const Vec3d& m) { return std::acos(std::clamp(-dot(n, m), -1.0, 1.0)); }
+}  // namespace
+
+SphericalRectangle::SphericalRectangle(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU,
+                                       const Vec3d& edgeV)
+    : origin_(origin) {
+  const double lengthU = length(edgeU), lengthV = length(edgeV);
+  if (!(lengthU > 0) || !(lengthV > 0) || !std::isfinite(lengthU * lengthV))
+    throw std::invalid_argument("spherical rectangle: its edges must be finite and non-zero");
+  if (std::abs(dot(edgeU, edgeV)) > 1e-6 * lengthU * lengthV)
+    throw std::invalid_argument("spherical rectangle: its edges must be perpendicular");
+  x_ = edgeU * (1.0 / lengthU);
+  y_ = edgeV * (1.0 / lengthV);
+  z_ = cross(x_, y_);
+  const Vec3d d = corner - origin;
+  z0_ = dot(d, z_);
+  if (z0_ > 0) {
+    z0_ = -z0_;
+    z_ = -z_;
+  }
+  x0_ = dot(d, x_);
+  y0_ = dot(d, y_);
+  x1_ = x0_ + lengthU;
+  y1_ = y0_ + lengthV;
+  if (!(z0_ < 0)) return;  // the origin lies in the rectangle's plane: it sees nothing
+
+  // The corners in the local frame and the unit normals of the four great circles through the
+  // rectangle's sides, in order around it.
+  const Vec3d v00{x0_, y0_, z0_}, v01{x0_, y1_, z0_}, v10{x1_, y0_, z0_}, v11{x1_, y1_, z0_};
+  const Vec3d n0 = normalize(cross(v00, v10)), n1 = normalize(cross(v10, v11));
+  const Vec3d n2 = normalize(cross(v11, v01)), n3 = normalize(cross(v01, v00));
+  const double g0 = innerAngle(n0, n1), g1 = innerAngle(n1, n2), g2 = innerAngle(n2, n3), g3 = innerAngle(n3, n0);
+  b0_ = n0.z;
+  b1_ = n2.z;
+  k_ = 2.0 * std::numbers::pi - g2 - g3;
+  solidAngle_ = std::max(0.0, g0 + g1 - k_);
+}
+
+DirectionSample SphericalRectangle::sample(double u0, double u1) const {
+  if (empty()) return {};
+  // The slice x = xu whose part of the spherical rectangle, from x0 on, has area u0 · Ω.
+  const double au = u0 * solidAngle_ + k_;
+  const double fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
+  const double cu = std::clamp(std::copysign(1.0, fu) / std::sqrt(fu * fu + b0_ * b0_), -1.0, 1.0);
+  double xu = -(cu * z0_) / std::sqrt(std::max(0.0, 1.0 - cu * cu));
+  xu = xu >= x0_ ? std::min(xu, x1_) : x0_;  // NaN (sin au = 0 with a zero numerator) too
+  // On that slice, the height uniform in sin(elevation): uniform in solid angle along it.
+  const double dist = std::hypot(xu, z0_);
+  const double h0 = y0_ / std::hypot(dist, y0_), h1 = y1_ / std::hypot(dist, y1_);
+  const double hv = h0 + u1 * (h1 - h0), hv2 = hv * hv;
+  const double yv = hv2 < 1.0 - 1e-12 ? std::clamp(hv * dist / std::sqrt(1.0 - hv2), y0_, y1_) : y1_;
+  return {normalize(x_ * xu + y_ * yv + z_ * z0_), 1.0 / solidAngle_};
+}
+
+double SphericalRectangle::pdf(const Vec3d& w) const {
+  if (empty()) return 0.0;
+  const double towards = dot(w, z_);
+  if (!(towards < 0)) return 0.0;  // parallel to the plane or away from it
+  const double t = z0_ / towards;
+  const double x = t * dot(w, x_), y = t * dot(w, y_);
+  return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_ ? 1.0 / solidAngle_ : 0.0;
+}
+
+}  // namespace acdf
