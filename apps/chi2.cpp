@@ -55,8 +55,9 @@ SphereChiSquareReport testEnvmap(const Chi2Args& args) {
   LightChiSquareOptions test{.samples = args.samples, .seed = args.seed, .alpha = kAlpha};
   const bool local = !tableStrategyOf(options.strategy);
   if (local != !args.normal.empty())
-    throw UsageError(local ? "chi2 --envmap --sampler local: give the surface normal with --normal X,Y,Z"
-                           : "chi2 --envmap: --normal applies to --sampler local only");
+    throw UsageError(local ? "chi2 --envmap --sampler " + args.sampler +
+                                 ": give the surface normal with --normal X,Y,Z"
+                           : "chi2 --envmap: --normal applies to the local strategies only");
   if (local) {
     const Vec3d n{args.normal.size() == 3 ? args.normal[0] : 0, args.normal.size() == 3 ? args.normal[1] : 0,
                   args.normal.size() == 3 ? args.normal[2] : 0};
@@ -130,9 +131,10 @@ Command addChi2(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "chi2", "Chi-square goodness-of-fit test of a sampler against its own pdf (exit 0 pass, 1 fail).");
   app->footer(fmt::format(
-      "--envmap FILE --sampler uniform-sphere|uniform|alias|adaptive|compensated|hierarchical|local: the\n"
-      "environment light of FILE (a lat-long map OpenImageIO reads) sampled with that strategy (compensated: its\n"
-      "own table, the one MIS uses; local: for the surface normal --normal X,Y,Z, in the map's frame, +Y up). "
+      "--envmap FILE --sampler {}: the\n"
+      "environment light of FILE (a lat-long map: OpenEXR, or any image OpenImageIO reads) sampled with that\n"
+      "strategy (compensated: its own table, the one MIS uses; local and local-compensated: for the surface\n"
+      "normal --normal X,Y,Z, in the map's frame, +Y up). "
       "Directions are histogrammed on (theta, phi) bins aligned to blocks of pixels\n"
       "(at most 10000 bins); expected counts integrate the light's pdf\n"
       "over each bin exactly. Pools of expected count >= 5, level alpha = {:g}. Every sample is also checked (unit\n"
@@ -147,7 +149,7 @@ Command addChi2(CLI::App& parent) {
       "to the incident direction) and the cosine part in closed form.\n"
       "\n"
       "Exit status: 0 the test passes, 1 it fails (or an internal error), 2 bad input file or command line.",
-      kAlpha));
+      environmentSamplingNames("|"), kAlpha));
   CLI::Option* envmap = app->add_option("--envmap", args->envmap, "Environment map to test");
   CLI::Option* brdf =
       app->add_option("--brdf", args->brdf, "Measured BRDF to test (MERL .binary or RGL .bsdf)")->excludes(envmap);

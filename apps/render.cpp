@@ -133,7 +133,7 @@ Command addRender(CLI::App& parent) {
   app->footer(
       "SCENE: a JSON scene file (docs/scene-format.md). The strategy options replace the scene's choices:\n"
       "  --bsdf-sampling  cosine | uniform | adaptive | rgl    (every measured material)\n"
-      "  --env-sampling   uniform-sphere | uniform | alias | adaptive | compensated | hierarchical | local\n"
+      "  --env-sampling   " + environmentSamplingNames(" | ") + "\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
       "  --direct         mis | product  (product: resampled f·L·cos, --candidates M of them)\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
@@ -160,8 +160,7 @@ Command addRender(CLI::App& parent) {
       ->transform(nonNegativeInteger());
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
-  app->add_option("--env-sampling", args->envSampling,
-                  "uniform-sphere | uniform | alias | adaptive | compensated | ...");
+  app->add_option("--env-sampling", args->envSampling, environmentSamplingNames(" | "));
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")
       ->delimiter(',');
   app->add_option("--threads", args->threads, "Worker threads (0 = all cores)");

@@ -31,6 +31,30 @@ EnvironmentSampling parseEnvironmentSampling(std::string_view name) {
   return valueNamed(kEnvironmentSamplingNames, name, "environment sampling strategy");
 }
 
+std::string_view describe(EnvironmentSampling strategy) {
+  switch (strategy) {
+    case EnvironmentSampling::UniformSphere: return "directions uniform on the sphere, whatever the map (no table)";
+    case EnvironmentSampling::Uniform: return "pixels by full-resolution CDFs (pbrt's and Mitsuba's table)";
+    case EnvironmentSampling::Alias: return "pixels by alias tables over the rows, then the row's columns";
+    case EnvironmentSampling::Adaptive: return "pixels by the paper's simplified CDFs";
+    case EnvironmentSampling::Compensated:
+      return "the adaptive table of the map minus its mean: the dim directions left to BSDF sampling (MIS only)";
+    case EnvironmentSampling::Hierarchical: return "sample warping down a mip-map of the table (Mitsuba 3's)";
+    case EnvironmentSampling::Local: return "the map times the shading normal's clamped cosine, per normal cell";
+    case EnvironmentSampling::LocalCompensated: return "local, each normal cell's table compensated (MIS only)";
+  }
+  return "?";
+}
+
+std::string environmentSamplingNames(std::string_view separator) {
+  std::string names;
+  for (EnvironmentSampling s : kEnvironmentSamplings) {
+    if (!names.empty()) names += separator;
+    names += toString(s);
+  }
+  return names;
+}
+
 namespace {
 struct TableOfSampling {
   EnvironmentTableStrategy table;

@@ -7,9 +7,8 @@
     emitter = mi.load_dict({"type": "acdf_envmap", "filename": "sky.exr", "strategy": "adaptive"})
 
 `acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
-(a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (the names
-of `acdf.EnvironmentLight`: uniform, adaptive, compensated, local, local-compensated, alias,
-hierarchical, uniform-sphere) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
+(a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (a name of
+`acdf.environment_samplings()`; adaptive by default) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
 `normal_columns`, `block_size`). `compensated` (and `local-compensated`, per normal cell) is
 Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
@@ -40,8 +39,7 @@ import numpy as np
 
 import acdf
 
-_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "local", "compensated", "local-compensated",
-               "hierarchical")
+_STRATEGIES = tuple(s["name"] for s in acdf.environment_samplings())
 
 
 def _mi():

@@ -88,9 +88,9 @@ EnvironmentLight(map, strategy="adaptive", scale=1.0, rotation=0.0, epsilon=None
                  normal_rows=32, normal_columns=64, block_size=16)
 EnvironmentLight.load(path, ...the same keywords)
 
-map: an acdf.EnvironmentMap. strategy: "uniform-sphere", "uniform" (pbrt's and Mitsuba's table),
-"alias", "adaptive" (the paper's), "local" (conditioned on the surface normal), "compensated" (pbrt-v4's MIS compensation: incomplete, see
-allow_incomplete_pdf), "hierarchical" (Mitsuba 3's Hierarchical2D). scale multiplies the radiance;
+map: an acdf.EnvironmentMap. strategy: a name of acdf.environment_samplings(), which says what each
+samples ("compensated" and "local-compensated" are incomplete, see allow_incomplete_pdf; "local" and
+"local-compensated" are conditioned on the surface normal). scale multiplies the radiance;
 rotation turns the map about +Y (degrees, counter-clockwise seen from above), as in scene files.
 
 Directions are world-frame float64 (n, 3) arrays (+Y up); pdfs are per steradian (float64),
@@ -102,6 +102,15 @@ from a grid of normal_rows x normal_columns normal cells over blocks of block_si
 et al. 2005; a normal cell's table is built when a normal in it is first used).)";
 
 void bindLight(py::module_& m) {
+  m.def(
+      "environment_samplings",
+      [] {
+        py::list strategies;
+        for (EnvironmentSampling s : kEnvironmentSamplings)
+          strategies.append(py::dict("name"_a = std::string(toString(s)), "description"_a = std::string(describe(s))));
+        return strategies;
+      },
+      "Every strategy of EnvironmentLight: a list of dicts with its name and a one-line description.");
   py::class_<EnvironmentLight> c(m, "EnvironmentLight", kLightDoc);
   const LocalEnvironmentOptions d;
   c.def(py::init([](std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale, double rotation,

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "acdf/envmap/environment_table.h"
 #include "acdf/sampling/simplify.h"
 #include "app_test_util.h"
 
@@ -142,6 +143,15 @@ TEST_F(Cli, HelpAndVersion) {
   r = run({"--version"});
   EXPECT_EQ(r.exitCode, 0) << describe(r);
   EXPECT_EQ(r.out.rfind("acdf ", 0), 0u) << r.out;
+
+  // The strategies' help comes from their declared list: every one is named.
+  for (const char* command : {"render", "chi2"}) {
+    r = run({command, "--help"});
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    for (EnvironmentSampling s : kEnvironmentSamplings)
+      EXPECT_NE(r.out.find(std::string(toString(s))), std::string::npos) << toString(s) << " not in help:\n" << r.out;
+  }
+  EXPECT_NE(run({"render", "--help"}).out.find("local-compensated"), std::string::npos);
 }
 
 // ---- reports -----------------------------------------------------------------------------------

@@ -260,7 +260,7 @@ TEST_F(EnvmapCli, Chi2LocalNeedsANormal) {
   expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "local"}),
                        "acdf: chi2 --envmap --sampler local:", "--normal X,Y,Z");
   expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "adaptive", "--normal", "0,1,0"}),
-                       "acdf: chi2 --envmap:", "--sampler local only");
+                       "acdf: chi2 --envmap:", "the local strategies only");
   expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "local", "--normal", "0,0,0"}),
                        "acdf: chi2 --envmap:", "not all 0");
   expectOneLineFailure(run({"chi2", "--envmap", map, "--sampler", "local", "--normal", "1,2"}),

@@ -77,6 +77,18 @@ def test_environment_light_strategies_integrate_to_one():
     assert black.emits_nothing and np.all(pdf == 0)
 
 
+def test_every_environment_sampling_is_listed_described_and_accepted():
+    strategies = acdf.environment_samplings()
+    names = [s["name"] for s in strategies]
+    assert "adaptive" in names and "local-compensated" in names and len(set(names)) == len(names)
+    world = acdf.EnvironmentMap(np.ones((8, 16, 3), np.float32))
+    for s in strategies:
+        assert len(s["description"]) > 20, s
+        assert acdf.EnvironmentLight(world, strategy=s["name"]).strategy == s["name"]
+    with pytest.raises(ValueError, match="local-compensated"):
+        acdf.EnvironmentLight(world, strategy="no-such-strategy")
+
+
 def test_help_states_the_conventions():
     assert "per steradian" in acdf.__doc__ and "lat-long" in acdf.__doc__
     for name in ["Cascade", "EnvironmentLight", "BrdfSampler", "TabulatedBrdfSampler", "SimplifyOptions"]:

@@ -204,6 +204,7 @@ NOT_BATCHED = {
     "compare_cell_probabilities": "whole arrays; test_arrays_in_any_layout",
     "chi_square_test": "whole arrays; test_arrays_in_any_layout",
     "sidak_alpha": "no array",
+    "environment_samplings": "no array",
     "table_options": "no array",
 }
 # BrdfSampler's methods are one binding each, shared by its subclasses, which cases() call.

@@ -55,6 +55,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -90,6 +91,11 @@ inline constexpr EnvironmentSampling kEnvironmentSamplings[] = {
 // "local-compensated"; parse throws std::invalid_argument naming them.
 std::string_view toString(EnvironmentSampling strategy);
 EnvironmentSampling parseEnvironmentSampling(std::string_view name);
+// What the strategy samples, in one line: the command line's help and Python's
+// acdf.environment_samplings() list every strategy from here.
+std::string_view describe(EnvironmentSampling strategy);
+// Every strategy's name in kEnvironmentSamplings' order, joined by `separator`.
+std::string environmentSamplingNames(std::string_view separator);
 
 // The tables of one map this class builds: every light strategy but Local.
 enum class EnvironmentTableStrategy { UniformSphere, Uniform, Alias, Adaptive, Compensated, Hierarchical };
