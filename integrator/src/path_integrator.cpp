@@ -24,8 +24,8 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   const bool product = scene_.settings.direct == DirectLighting::Product;
   const bool sampleLight = !product && mis != MisMode::BsdfOnly;
   const bool bsdfSeesLight = !product && mis != MisMode::LightOnly;
-  // The normal is the shading normal of the vertex being lit; after a BSDF sample it stays that of
-  // the vertex the sample left, for the pdf of the light the sample may reach.
+  // The normal and position are those of the vertex being lit; after a BSDF sample they stay those
+  // of the vertex the sample left, for the pdf of the light the sample may reach.
   LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings)};
 
   Rgb result, throughput{1, 1, 1};
@@ -51,7 +51,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     const Frame frame(hit->normal, hit->tangentHint);
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
-    lightContext = env.atNormal(lightContext, hit->normal);
+    lightContext = env.atPosition(env.atNormal(lightContext, hit->normal), hit->position);
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);

@@ -374,11 +374,11 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   EnvironmentSpec spec;
   const std::string type = node["type"].string();
   if (type == "map") {
-    node.object(
-        {"type", "file", "scale", "rotation", "sampling", "epsilon", "normal_rows", "normal_columns", "block_size"});
+    node.object({"type", "file", "scale", "rotation", "sampling", "epsilon", "normal_rows", "normal_columns",
+                 "block_size", "portals"});
     spec.file = node["file"].existingFile(baseDir);
   } else if (type == "constant") {
-    node.object({"type", "radiance", "sampling"});
+    node.object({"type", "radiance", "sampling", "portals"});
     spec.constant = node["radiance"].color(1e30);
   } else {
     node["type"].fail("unknown environment type \"" + type + "\" (map or constant)");
@@ -397,6 +397,14 @@ EnvironmentSpec readEnvironment(const Node& node, const fs::path& baseDir) {
   if (node.has("normal_rows")) o.local.normalRows = node["normal_rows"].count(1);
   if (node.has("normal_columns")) o.local.normalColumns = node["normal_columns"].count(1);
   if (node.has("block_size")) o.local.blockSize = node["block_size"].count(1);
+  if (node.has("portals")) {
+    for (const Node& p : node["portals"].elements()) {
+      p.object({"corner", "edge_u", "edge_v"});
+      const Portal portal{p["corner"].vec3(), p["edge_u"].vec3(), p["edge_v"].vec3()};
+      if (const std::optional<std::string> problem = portalProblem(portal)) p.fail(*problem);
+      o.portals.push_back(portal);
+    }
+  }
   node.validated(o);
   return spec;
 }

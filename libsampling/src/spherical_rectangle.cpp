@@ -15,7 +15,7 @@ double innerAngle(const Vec3d& n, const Vec3d& m) { return std::acos(std::clamp(
 
 SphericalRectangle::SphericalRectangle(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU,
                                        const Vec3d& edgeV)
-    : origin_(origin) {
+    : origin_(origin), corner_(corner), edgeU_(edgeU), edgeV_(edgeV) {
   const double lengthU = length(edgeU), lengthV = length(edgeV);
   if (!(lengthU > 0) || !(lengthV > 0) || !std::isfinite(lengthU * lengthV))
     throw std::invalid_argument("spherical rectangle: its edges must be finite and non-zero");
@@ -64,13 +64,16 @@ DirectionSample SphericalRectangle::sample(double u0, double u1) const {
   return {normalize(x_ * xu + y_ * yv + z_ * z0_), 1.0 / solidAngle_};
 }
 
-double SphericalRectangle::pdf(const Vec3d& w) const {
-  if (empty()) return 0.0;
-  const double towards = dot(w, z_);
-  if (!(towards < 0)) return 0.0;  // parallel to the plane or away from it
-  const double t = z0_ / towards;
-  const double x = t * dot(w, x_), y = t * dot(w, y_);
-  return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_ ? 1.0 / solidAngle_ : 0.0;
+bool SphericalRectangle::passesThrough(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU,
+                                       const Vec3d& edgeV, const Vec3d& w) {
+  const Vec3d normal = cross(edgeU, edgeV);
+  const double towards = dot(w, normal), height = dot(corner - origin, normal);
+  // The plane ahead along w: the two dot products of the same sign, neither zero.
+  if (!(towards * height > 0)) return false;
+  const Vec3d hit = origin + w * (height / towards) - corner;
+  const double s = dot(hit, edgeU) / dot(edgeU, edgeU), t = dot(hit, edgeV) / dot(edgeV, edgeV);
+  constexpr double kSpare = 1e-9;
+  return s >= -kSpare && s <= 1.0 + kSpare && t >= -kSpare && t <= 1.0 + kSpare;
 }
 
 }  // namespace acdf

@@ -286,6 +286,18 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   scene["environment"]["block_size"] = 5000;
   failure(scene, "$.environment.block_size: must be in [1, 4096], got 5000");
   scene = tinyScene();
+  const nlohmann::json window = {{"corner", {0, 0, 2}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}};
+  scene["environment"]["portals"] = {window, {{"corner", {0, 0, 2}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 1, 0}}}};
+  failure(scene, "$.environment.portals[1]: edge_u and edge_v must be perpendicular");
+  scene["environment"]["portals"] = {{{"corner", {0, 0, 2}}, {"edge_u", {0, 0, 0}}, {"edge_v", {1, 0, 0}}}};
+  failure(scene, "$.environment.portals[0]: its edges must not be zero");
+  scene["environment"]["portals"] = {{{"corner", {0, 0, 2}}, {"edge_u", {0, 1, 0}}}};
+  failure(scene, "$.environment.portals[0]: missing key \"edge_v\"");
+  scene["environment"]["portals"] = {{{"corner", {0, 0, 2}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}, {"x", 1}}};
+  failure(scene, "$.environment.portals[0].x: unknown key (expected one of: corner, edge_u, edge_v)");
+  scene["environment"]["portals"] = window;
+  failure(scene, "$.environment.portals: expected an array, got an object");
+  scene = tinyScene();
   scene["render"] = {{"direct", "product"}, {"bsdf_fraction", 1.5}};
   failure(scene, "$.render.bsdf_fraction: must be in [0, 1], got 1.5");
   scene["render"] = {{"candidates", 2000}};

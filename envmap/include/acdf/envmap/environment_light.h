@@ -23,6 +23,8 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "acdf/envmap/environment_map.h"
 #include "acdf/envmap/environment_table.h"
@@ -32,12 +34,23 @@
 
 namespace acdf {
 
+// A rectangle the map is seen through from inside a closed space (a window, a door): corner +
+// s·edgeU + t·edgeV for s, t in [0, 1], world frame, edges perpendicular. Light from the map passes
+// it towards the side edgeU × edgeV points to (into the room). Declaring it adds a technique to
+// the light's sampling, no geometry: the walls around it are the scene's.
+struct Portal {
+  Vec3d corner, edgeU, edgeV;
+};
+// Why a portal cannot be used (an edge zero or not finite, edges not perpendicular), or none.
+std::optional<std::string> portalProblem(const Portal& portal);
+
 struct EnvironmentLightOptions {
   EnvironmentSampling strategy = EnvironmentSampling::Adaptive;
   SimplifyOptions simplify{};       // Adaptive, Compensated and Local
   Rotation worldFromMap{};          // the map frame's directions in the world (default: the same)
   float scale = 1.0f;               // radiance multiplier; finite and > 0
   LocalEnvironmentOptions local{};  // Local: the normal grid and blocks
+  std::vector<Portal> portals{};    // see Portal and EnvironmentLight::sample
 };
 
 // The one check of these options, for the light and the scene loader. Throws OptionError
@@ -55,6 +68,12 @@ struct LightSampleContext {
   // EnvironmentLight::atNormal; without it each call finds the cell. A caller that sets `normal`
   // itself must leave this empty.
   std::optional<std::size_t> localCell = std::nullopt;
+  // The point lit (world frame): what the portals are seen from. Without it no portal is used.
+  std::optional<Vec3d> position = std::nullopt;
+  // Σ Ω_i of the portals seen from `position`, found once for the calls of one shading point by
+  // EnvironmentLight::atPosition; without it each call finds it. A caller that sets `position`
+  // itself must leave this empty.
+  std::optional<double> portalSolidAngle = std::nullopt;
 };
 
 struct LightSample {
@@ -90,12 +109,26 @@ class EnvironmentLight {
                    const EnvironmentTableSource& tables);
 
   // u0, u1 in [0, 1) (clamped into it, uniform-sphere sampling aside).
+  //
+  // Portals. From a position on the inner side of at least one portal, sample() draws from the
+  // one-sample mixture  p(ω) = c · p_portals(ω) + (1 − c) · p_table(ω), c = kPortalShare:
+  // p_portals picks a portal with probability proportional to the solid angle Ω_i it subtends,
+  // then a direction uniform in that solid angle (SphericalRectangle), so p_portals(ω) = (the
+  // number of facing portals ω passes through) / Σ Ω_i; p_table is the strategy's own density,
+  // which keeps finding what the portals' uniform density misses (the sun through a window). u0
+  // chooses the technique (and the portal) and is rescaled for it. pdf() and evalWithPdf() return
+  // the mixture, so MIS against BSDF sampling weighs it whole. Elsewhere (no position, behind
+  // every portal) the light samples as without portals.
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
+  static constexpr double kPortalShare = 0.5;
   // Density per steradian of sample(context, ·) at the world direction w (non-zero).
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
   // `context` at the shading normal `normal` (world frame, non-zero), with its local table cell
   // (Local only) found once for every call there.
   LightSampleContext atNormal(LightSampleContext context, const Vec3d& normal) const;
+  // `context` at the point `position` (world frame), with the solid angle its portals subtend
+  // found once for every call there.
+  LightSampleContext atPosition(LightSampleContext context, const Vec3d& position) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
   // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
@@ -125,6 +158,16 @@ class EnvironmentLight {
   bool usesLocal(const LightSampleContext& context) const;
   // The local table's normal cell of a context with a normal (Local only).
   std::size_t localCell(const LightSampleContext& context) const;
+  // The strategy's density at pixel p (the table's, or the local one's).
+  double strategyPdf(const LightSampleContext& context, PixelIndex p) const;
+  // Σ Ω_i over the portals whose inner side `position` is on (0 for none).
+  double portalSolidAngle(const Vec3d& position) const;
+  // The same for a context (0 without a position), as atPosition found it or else now.
+  double portalSolidAngle(const LightSampleContext& context) const;
+  // p_portals(w) from `position`, given their Σ Ω_i > 0 (see sample()).
+  double portalPdf(const Vec3d& position, double solidAngle, const Vec3d& w) const;
+  // The mixture's density at the world direction w of pixel p, for a context with a position.
+  double mixturePdf(const LightSampleContext& context, const Vec3d& w, PixelIndex p) const;
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;

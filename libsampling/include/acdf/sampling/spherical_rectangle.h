@@ -37,12 +37,20 @@ class SphericalRectangle {
   // A unit direction from the origin through the rectangle, uniform in solid angle, for u0, u1
   // in [0, 1] (either end included); pdf 1 / Ω. empty(): pdf 0, no direction.
   DirectionSample sample(double u0, double u1) const;
-  // 1 / Ω for a direction whose ray from the origin meets the rectangle (its edges included), 0
+  // 1 / Ω for a direction whose ray from the origin meets the rectangle (passesThrough), 0
   // otherwise; w need not be unit length.
-  double pdf(const Vec3d& w) const;
+  double pdf(const Vec3d& w) const {
+    return !empty() && passesThrough(origin_, corner_, edgeU_, edgeV_, w) ? 1.0 / solidAngle_ : 0.0;
+  }
+  // Whether the ray from `origin` along w meets the rectangle, its edges included with 1e-9 of an
+  // edge's length to spare (a sample on an edge stays inside after its normalisation's rounding).
+  // No solid angle is computed: what a caller that knows Ω already needs for a pdf.
+  static bool passesThrough(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU, const Vec3d& edgeV,
+                            const Vec3d& w);
 
  private:
-  Vec3d origin_, x_, y_, z_;  // the frame: z the plane's normal towards the origin's side
+  Vec3d origin_, corner_, edgeU_, edgeV_;
+  Vec3d x_, y_, z_;  // the frame: z the plane's normal towards the origin's side
   double x0_ = 0, x1_ = 0, y0_ = 0, y1_ = 0, z0_ = 0;
   double b0_ = 0, b1_ = 0, k_ = 0;
   double solidAngle_ = 0;
