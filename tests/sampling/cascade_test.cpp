@@ -461,13 +461,17 @@ TEST(CascadeOptions, ExactMassConditionalKeepsBlockMasses) {
   EXPECT_GT(worstB, 1e-3) << "AverageOfNormalized should differ on rows of different totals";
 }
 
+// The smooth 2D fixture with both levels adaptive and simplified (ε = 0.01).
+Cascade simplifiedSmoothCascade() {
+  CascadeOptions options;
+  options.simplify.epsilon = 0.01;
+  return Cascade(makeFixture(Fixture::Smooth, k2D), unitAxes(k2D), options);
+}
+
 TEST(Cascade, BreakpointsBoundTheBoxesOfConstantDensity) {
   // Both levels adaptive: CDF k of level 1 is the conditional below interval k of level 0, so
   // every box (level-0 interval × one of its conditional's intervals) has one cell probability.
-  const auto v = makeFixture(Fixture::Smooth, k2D);
-  CascadeOptions options;
-  options.simplify.epsilon = 0.01;
-  const Cascade c(v, unitAxes(k2D), options);
+  const Cascade c = simplifiedSmoothCascade();
   const auto rowsKept = c.breakpoints(0), columnsKept = c.breakpoints(1);
   ASSERT_EQ(rowsKept.size(), 1u);
   ASSERT_EQ(columnsKept.size(), rowsKept[0].size() - 1);
@@ -495,10 +499,7 @@ TEST(Cascade, BreakpointsBoundTheBoxesOfConstantDensity) {
 TEST(Cascade, BreakpointValuesGiveEveryBoxItsMass) {
   // A box's probability is the product of its intervals' value steps: what a caller that samples
   // the table in its own arithmetic (the Mitsuba plugin) relies on.
-  const auto v = makeFixture(Fixture::Smooth, k2D);
-  CascadeOptions options;
-  options.simplify.epsilon = 0.01;
-  const Cascade c(v, unitAxes(k2D), options);
+  const Cascade c = simplifiedSmoothCascade();
   const auto rows = c.breakpoints(0), columns = c.breakpoints(1);
   const auto rowValues = c.breakpointValues(0), columnValues = c.breakpointValues(1);
   ASSERT_EQ(rowValues.size(), rows.size());
