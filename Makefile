@@ -18,6 +18,8 @@
 #                   PEERS_ARGS; docs/performance.md's last section), after make bench-peers-check, the test of
 #                   the scene conversion's conventions; both install .venv-peers first (scripts/install-peers:
 #                   PyPI's bpy, about 1 GB). Neither is part of make test or CI
+#   make test-wheel-portable  the repaired (manylinux) wheel in a fresh Debian 12 root with only
+#                   Python and pip: import, sample, the Mitsuba example (root and debootstrap)
 # Each of these first runs `make deps` (scripts/install-deps, a no-op when all is installed).
 
 JOBS ?= 2
@@ -70,7 +72,7 @@ SANITIZER_ENV := ASAN_OPTIONS=halt_on_error=1:print_stacktrace=1:detect_leaks=1 
                  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
 .PHONY: all deps configure build test install configure-asan build-asan test-asan demo demo-materials bench clean \
-        configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan \
+        configure-fuzz build-fuzz fuzz stress configure-tsan build-tsan test-tsan test-wheel-portable \
         bench-peers bench-peers-check
 
 all: build
@@ -90,6 +92,13 @@ test: deps
 
 install: build
 	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
+# The wheel ctest python.wheel builds and repairs, in a Debian 12 root debootstrapped once into
+# $(BUILD_DIR)/fresh-debian-root (kept, with pip's downloads, for the next run).
+test-wheel-portable: deps
+	$(MAKE) build
+	ctest --test-dir $(BUILD_DIR) -R '^python\.wheel$$' --output-on-failure
+	tests/python/fresh_debian_root.sh . $(BUILD_DIR)/fresh-debian-root $(BUILD_DIR)-wheel/dist
 
 # Sanitizer and fuzz builds: optimised (apps/ and tests/ at -O1, cmake/Sanitizers.cmake), with
 # line tables only (-g1: file and line in every stack trace, at a fraction of full debug

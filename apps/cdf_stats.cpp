@@ -318,9 +318,10 @@ Command addCdfStats(CLI::App& parent) {
       "size, build time, sampling and pdf cost, and the adaptive one's accuracy.");
   app->footer(
       "INPUT is a .npy array (float32 '<f4' or float64 '<f8', 1 to 4 dimensions, C order; values must be\n"
-      "finite and >= 0) or any image OpenImageIO reads, used as a height x width grid of luminance\n"
-      "0.2126 R + 0.7152 G + 0.0722 B (one-channel images: that channel; subimage 0, MIP level 0;\n"
-      "negative luminances are clamped to 0 and counted, NaN/Inf is an error).\n"
+      "finite and >= 0) or an image (OpenEXR; other formats where built with OpenImageIO), used as a\n"
+      "height x width grid of luminance 0.2126 R + 0.7152 G + 0.0722 B (one-channel images: that\n"
+      "channel; subimage 0, MIP level 0; negative luminances are clamped to 0 and counted, NaN/Inf is\n"
+      "an error).\n"
       "Every axis spans [0,1) with one grid cell per array entry / pixel (no spherical mapping).\n"
       "\n"
       "Distributions: uniform = cascade of full-resolution 1D CDFs; alias = one alias table over all\n"

@@ -243,8 +243,9 @@ Command addEnvmapStats(CLI::App& parent) {
       "size, "
       "build time, accuracy and the variance of an irradiance estimator with each.");
   app->footer(fmt::format(
-      "FILE: an equirectangular environment map OpenImageIO reads (subimage 0, MIP level 0; +Y up, see\n"
-      "README). Negative channels are clamped to 0 and counted; NaN/Inf is an error unless --sanitize.\n"
+      "FILE: an equirectangular environment map, OpenEXR or (built with OpenImageIO) any image it reads\n"
+      "(subimage 0, MIP level 0; +Y up, see README). Negative channels are clamped to 0 and counted;\n"
+      "NaN/Inf is an error unless --sanitize.\n"
       "The tables sample pixels with probability proportional to luminance x solid angle.\n"
       "chi2_divergence / max_weight_ratio / unreachable_mass: the adaptive table's pixel probabilities against\n"
       "the exact ones (unreachable_mass: the exact probability of pixels the table gives pdf 0; always 0).\n"
@@ -268,7 +269,7 @@ Command addEnvmapStats(CLI::App& parent) {
       "Exit status: 0 success, 2 bad input file (also a black map) or command line, 1 internal error.",
       kEstimator.normals, kEstimator.samplesPerNormal, kEstimator.seed, kEstimator.stratifiedTrials(),
       kEstimator.strata, kEstimator.strata));
-  app->add_option("FILE", args->input, "Environment map (any image OpenImageIO reads)")->required();
+  app->add_option("FILE", args->input, "Environment map (OpenEXR, or any image OpenImageIO reads)")->required();
   app->add_option("--epsilon", args->epsilon, "Largest CDF error the adaptive simplifier leaves (>= 0)")
       ->capture_default_str();
   app->add_flag("--sanitize", args->sanitize, "Replace NaN/Inf channel values with 0 (and count them)");

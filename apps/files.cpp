@@ -39,8 +39,13 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
 std::string bundledFile(const std::string& name, const std::string& sourceTreePath) {
   std::error_code ec;
   const fs::path program = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path installed = program.parent_path().parent_path() / "share" / "acdf" / name;
+  if (ec) return sourceTreePath;
+  // <prefix>/bin/acdf, or <prefix>/lib/python3.X/site-packages/acdf.scripts/acdf where auditwheel
+  // moves the program of a repaired wheel (<prefix>/bin/acdf is then a script that runs it).
+  const fs::path prefixes[] = {program.parent_path().parent_path(),
+                               program.parent_path().parent_path().parent_path().parent_path().parent_path()};
+  for (const fs::path& prefix : prefixes) {
+    const fs::path installed = prefix / "share" / "acdf" / name;
     if (fs::is_regular_file(installed, ec)) return installed.string();
   }
   return sourceTreePath;

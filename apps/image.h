@@ -1,5 +1,5 @@
 #pragma once
-// Images for the subcommands, read through the one OpenImageIO reader of the tree
+// Images for the subcommands, read through the one image reader of the tree
 // (acdf/envmap/image_file.h): as a 2D grid of luminance (cdf-stats) or as an environment map.
 // Reader errors are FileError("<path>: <problem>").
 
@@ -18,7 +18,7 @@ struct LuminanceImage {
   std::vector<float> values;              // height x width, row-major (row 0 = top scanline)
   std::size_t negativeClamped = 0;        // luminances < 0 that were set to 0
   std::size_t negativeChannelPixels = 0;  // pixels with a used channel < 0 (kept in the luminance)
-  std::string format;                     // OpenImageIO format name, e.g. "openexr"
+  std::string format;                     // "openexr", or OpenImageIO's format name
 };
 
 // Subimage 0, MIP level 0. Luminance = 0.2126 R + 0.7152 G + 0.0722 B from the first three

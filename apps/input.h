@@ -20,7 +20,7 @@ struct InputGrid {
 };
 
 // A file starting with the .npy magic string (or named *.npy) is read as .npy, anything else
-// with OpenImageIO. Throws FileError. Values of a .npy file are not checked here.
+// as an image (acdf/envmap/image_file.h). Throws FileError. Values of a .npy file are not checked here.
 InputGrid readInputGrid(const std::string& path);
 
 // One GridAxis(size, 0, 1) per dimension. Throws FileError (naming the axis) when the engine

@@ -6,8 +6,10 @@
 #   fmt::fmt                      {fmt}
 #   CLI11::CLI11                  CLI11 (header-only)
 #   nlohmann_json::nlohmann_json  JSON for Modern C++ (header-only)
-#   OpenImageIO::OpenImageIO      OpenImageIO (image reading/writing), OpenImageIO::OpenImageIO_Util
-#   OpenEXR::OpenEXR, Imath::Imath
+#   OpenEXR::OpenEXR, Imath::Imath  OpenEXR (reading and writing .exr files)
+#   ZLIB::ZLIB                    zlib (writing .png previews)
+#   OpenImageIO::OpenImageIO      OpenImageIO (reading other image formats), OpenImageIO::OpenImageIO_Util;
+#                                 with ACDF_WITH_OPENIMAGEIO or BUILD_TESTING
 #   Eigen3::Eigen                 Eigen 3.4 (header-only): rotations and transforms
 #   GTest::gtest, GTest::gtest_main, GTest::gmock   only when BUILD_TESTING is ON
 #   benchmark::benchmark, benchmark::benchmark_main
@@ -20,7 +22,15 @@ find_package(Eigen3 3.4 CONFIG REQUIRED)
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(Imath CONFIG REQUIRED)
 find_package(OpenEXR CONFIG REQUIRED)
-find_package(OpenImageIO CONFIG REQUIRED)
+find_package(ZLIB REQUIRED)
+# ACDF_WITH_OPENIMAGEIO: OpenImageIO reads the image formats other than OpenEXR (HDR, PNG, TIFF...).
+# Off, acdf reads OpenEXR files only and needs none of the about 250 shared libraries OpenImageIO links: the
+# portable wheel's build (pyproject.toml).
+option(ACDF_WITH_OPENIMAGEIO "Read image formats other than OpenEXR through OpenImageIO" ON)
+# The tests write their images of every format with it, whatever acdf reads.
+if(ACDF_WITH_OPENIMAGEIO OR BUILD_TESTING)
+  find_package(OpenImageIO CONFIG REQUIRED)
+endif()
 find_package(benchmark CONFIG REQUIRED)
 if(BUILD_TESTING)
   find_package(GTest REQUIRED)

@@ -1,7 +1,8 @@
 // Fuzzes the image reader (acdf/envmap/image_file.h) and what is built on it: the bytes go to a
-// scratch file whose extension the first byte picks (OpenImageIO reads from a path; its format
-// plugins are chosen by extension first, then by content), then readImage(), and for a small
-// image EnvironmentMap::fromImage() and an EnvironmentLight of each strategy.
+// scratch file whose extension the first byte picks, then readImage(), and for a small image
+// EnvironmentMap::fromImage() and an EnvironmentLight of each strategy. Bytes that start with
+// OpenEXR's magic number go to OpenEXR's own reader whatever the extension (the .exr seeds), the
+// others to OpenImageIO, which picks its format plugin by extension first, then by content.
 // Invariants: readImage() returns an image of consistent size with finite pixels (converted from
 // chromaticities that define an RGB space, when the file declares them), or throws
 // FileError with a one-line message naming the file; the light's samples are unit

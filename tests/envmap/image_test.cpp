@@ -1,10 +1,12 @@
-// Reading environment maps: every layout and pixel type OpenEXR offers, dirty pixels (negative,
-// NaN, Inf), black and tiny maps, broken files; writing with temporary file + rename.
+// Reading environment maps: every layout and pixel type OpenEXR offers, the channels read, dirty
+// pixels (negative, NaN, Inf), black and tiny maps, broken files; writing EXR and PNG with
+// temporary file + rename.
 
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -367,6 +369,58 @@ TEST_F(ReadImage, WriteExrRoundTripsAndLeavesNoTemporary) {
   Image image = back;
   EXPECT_THROW(writeExr(path("no/such/dir/out.exr"), image), FileError);
   EXPECT_FALSE(fs::exists(path("no")));
+}
+
+TEST_F(ReadImage, OpenExrChannelsAreRgbOrY) {
+  // R, G, B in any order among others; Y with alpha; a single channel of any name.
+  const struct {
+    std::vector<std::string> names;
+    std::vector<float> values;  // of the named channels, in that order
+    std::vector<float> read;    // one pixel as read
+  } cases[] = {{{"A", "B", "Z", "G", "R"}, {0.5f, 3, 9, 2, 1}, {1, 2, 3}},
+               {{"A", "Y"}, {0.5f, 7}, {7}},
+               {{"depth"}, {4}, {4}}};
+  for (const auto& c : cases) {
+    OIIO::ImageSpec spec(1, 1, static_cast<int>(c.names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = c.names;
+    const std::string file = path("channels.exr");
+    auto out = OIIO::ImageOutput::create(file);
+    ASSERT_TRUE(out && out->open(file, spec) && out->write_image(OIIO::TypeDesc::FLOAT, c.values.data()) &&
+                out->close());
+    EXPECT_EQ(readImage(file).pixels, c.read) << c.names.front();
+  }
+  OIIO::ImageSpec spec(2, 2, 2, OIIO::TypeDesc::HALF);
+  spec.channelnames = {"Z", "A"};
+  writeConstantImage(path("depth_alpha.exr"), spec, 1.0f);
+  expectReadError(path("depth_alpha.exr"), "no R, G, B or Y channel to read (channels: A, Z)");
+}
+
+TEST_F(ReadImage, UnsignedIntegerChannelsAreNormalised) {
+  OIIO::ImageSpec spec(2, 1, 3, OIIO::TypeDesc::UINT32);
+  const std::string file = path("uint.exr");
+  writeConstantImage(file, spec, 0.25f);
+  for (float v : readImage(file).pixels) EXPECT_NEAR(v, 0.25f, 1e-7f);
+}
+
+TEST_F(ReadImage, SrgbPngIsReadBackAsWritten) {
+  for (const uint32_t channels : {1u, 3u}) {
+    Image image;
+    image.width = 3;
+    image.height = 2;
+    image.channels = channels;
+    for (uint32_t i = 0; i < image.width * image.height * channels; ++i) image.pixels.push_back(0.2f * float(i));
+    const std::string file = path("preview.png");
+    writeSrgbPng(file, image);
+    const Image back = readImage(file);
+    ASSERT_EQ(back.width, image.width);
+    ASSERT_EQ(back.height, image.height);
+    ASSERT_EQ(back.channels, channels);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+      const float v = std::min(image.pixels[i], 1.0f);
+      const float encoded = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+      EXPECT_NEAR(back.pixels[i], std::lround(encoded * 255.0f) / 255.0f, 1e-6f) << channels << " channels, " << i;
+    }
+  }
 }
 
 TEST(SharedMaps, LoadWithTheirDirtOnBoard) {

@@ -1,5 +1,8 @@
 """Every bad input raises the documented exception, with a message naming the problem."""
 import os
+import re
+import struct
+import zlib
 
 import numpy as np
 import pytest
@@ -24,6 +27,36 @@ def test_missing_and_malformed_files(tmp_path):
     not_rgl.write_bytes(b"tensor_file\x00" + b"\x01" * 7)
     with pytest.raises(acdf.FileError, match="plain.bsdf"):
         acdf.RglBrdf.load(str(not_rgl))
+
+
+def write_png(path, rgb):
+    """An 8-bit RGB PNG of rgb (height, width, 3 uint8), unfiltered rows deflated by zlib."""
+    height, width, _ = rgb.shape
+    rows = b"".join(b"\x00" + rgb[y].tobytes() for y in range(height))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows))
+                     + chunk(b"IEND", b""))
+
+
+def test_formats_other_than_openexr_need_openimageio(tmp_path):
+    """A build with OpenImageIO reads a PNG as stored; one without (the wheel's) refuses it naming the file.
+    ACDF_OPENEXR_ONLY (set by ctest from the build's ACDF_WITH_OPENIMAGEIO) says which this is."""
+    openexr_only = os.environ.get("ACDF_OPENEXR_ONLY")
+    if openexr_only is None:
+        pytest.skip("ACDF_OPENEXR_ONLY is not set (run the tests through ctest)")
+    rgb = np.arange(4 * 2 * 3, dtype=np.uint8).reshape(2, 4, 3) * 10
+    png = tmp_path / "map.png"
+    write_png(png, rgb)
+    if openexr_only == "1":
+        refusal = re.escape(f"{png}: not an OpenEXR file, and this build reads OpenEXR only")
+        with pytest.raises(acdf.FileError, match="^" + refusal):
+            acdf.EnvironmentMap.load(str(png))
+    else:
+        np.testing.assert_allclose(acdf.EnvironmentMap.load(str(png)).rgb, rgb / 255.0, rtol=1e-6)
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -1.0])
