@@ -11,6 +11,8 @@ The conventions (each checked by bench/peers/test_conventions.py on a tiny scene
   Cycles' Glossy BSDF with the GGX distribution (roughness sqrt(alpha)) and Mitsuba's `roughconductor`
   (GGX, alpha, `material` none).
 - Shapes are two-sided in all three; the pixel filter is a one-pixel box.
+- `environment.portals`: Cycles' portals (rectangular area lights marked as portals, lighting into the room);
+  Mitsuba 3 has none, so its rows render the scene without them. Portals change the noise, not the image.
 - Cycles: adaptive sampling, denoising, clamping, the light threshold and "Filter Glossy" off (each makes it
   estimate something else); the map looked up at the nearest pixel, as acdf does (Mitsuba's `envmap` is
   bilinear, with no option); spheres are one-point point clouds, which Cycles intersects as true spheres.
@@ -310,6 +312,19 @@ def load_mitsuba_scene(scene_dict):
 
 # ---- Cycles 5 (bpy) ----
 
+def cycles_portal_light(portal):
+    """(matrix, size_x, size_y) of the Cycles portal for an acdf portal, in Blender's frame: a
+    rectangular area light, which Cycles' portals are, lights along its local -Z, so that axis is
+    the portal's inner side edge_u x edge_v; its local X runs along edge_v and Y along edge_u (X x Y
+    = -Z), centred on the rectangle."""
+    u, v = portal["edge_u"], portal["edge_v"]
+    inward = _normalized(_cross(u, v))
+    centre = _add(portal["corner"], _scaled(_add(u, v), 0.5))
+    columns = [blender_from_acdf(_normalized(v)), blender_from_acdf(_normalized(u)),
+               blender_from_acdf(_scaled(inward, -1))]
+    return _columns_matrix(columns, blender_from_acdf(centre)), math.hypot(*v), math.hypot(*u)
+
+
 def cycles_camera_matrix(camera):
     """Blender's camera matrix (it looks along its -Z, +Y up) for acdf's camera, in Blender's frame."""
     right, up, forward = (blender_from_acdf(v) for v in camera_basis(camera))
@@ -347,6 +362,14 @@ def build_blender_scene(scene, threads, guiding):
     blender.camera = camera_object
 
     blender.world = _cycles_world(bpy, scene.data["environment"])
+    for index, portal in enumerate(scene.data["environment"].get("portals", [])):
+        matrix, size_x, size_y = cycles_portal_light(portal)
+        light = bpy.data.lights.new(f"portal-{index}", "AREA")
+        light.shape, light.size, light.size_y = "RECTANGLE", size_x, size_y
+        light.cycles.is_portal = True
+        obj = bpy.data.objects.new(f"portal-{index}", light)
+        obj.matrix_world = Matrix(matrix)
+        blender.collection.objects.link(obj)
     materials = {name: _cycles_material(bpy, name, scene, material)
                  for name, material in scene.used_materials().items()}
     for index, shape in enumerate(scene.data["shapes"]):

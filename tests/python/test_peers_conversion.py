@@ -120,3 +120,13 @@ def test_mitsuba_loads_the_dict():
     assert len(scene.shapes()) == 3
     bounds = scene.bbox()
     assert bounds.min.y == pytest.approx(0, abs=1e-6) and bounds.max.x == pytest.approx(20)
+
+
+def test_a_portal_becomes_a_cycles_area_light_lighting_into_the_room():
+    portal = sc.read_scene(scene_file("room-portal")).data["environment"]["portals"][0]
+    matrix, size_x, size_y = sc.cycles_portal_light(portal)
+    frame = linear(matrix)
+    assert np.allclose(frame.T @ frame, np.eye(3)) and np.isclose(np.linalg.det(frame), 1)
+    # The window is in the wall z = 2 and lights towards -z (acdf), +y in Blender: the light's -Z.
+    assert np.allclose(frame[:, 2], [0, -1, 0]) and (size_x, size_y) == pytest.approx((1.4, 1.1))
+    assert np.allclose(np.array(matrix)[:3, 3], sc.blender_from_acdf((0.0, 1.45, 2.0)))
