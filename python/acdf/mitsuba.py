@@ -31,8 +31,10 @@ the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 In the JIT variants `acdf_envmap` with a table that is a cascade over the pixels (uniform, adaptive,
 compensated) or none (uniform-sphere) samples and evaluates it with drjit operations over the table's
 arrays, which Mitsuba traces into its kernels (NativeEnvmap). The other strategies and
-`acdf_measured` make one batched acdf call per wavefront, which reads the arrays into numpy: loading
-one turns drjit's symbolic loops and calls off (`evaluated_mode()`).
+`acdf_measured` make one batched acdf call per wavefront, which reads the arrays into numpy: they
+need drjit's evaluated mode, which `register()` turns on in the thread that calls it (drjit's flags
+are per thread, and Mitsuba may build plugins on others). `register(batched_plugins=False)` leaves
+drjit's symbolic modes as they are, for renders 4-6x faster, and refuses the batched plugins.
 """
 
 import numpy as np
@@ -170,12 +172,7 @@ def _make_envmap_classes():
 
     class BatchedEnvmap(AcdfEnvmap):
         """Every strategy, in every variant: one batched acdf call per wavefront (in JIT variants under
-        evaluated mode, which it turns on)."""
-
-        def __init__(self, props):
-            AcdfEnvmap.__init__(self, props)
-            if dr.is_jit_v(mi.Float):
-                evaluated_mode()
+        evaluated mode: register())."""
 
         def _to_map(self, world_dirs):
             """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
@@ -492,8 +489,6 @@ def _make_measured_class():
     class AcdfMeasured(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            if dr.is_jit_v(mi.Float):
-                evaluated_mode()  # its calls read their arrays into numpy
             name = "acdf_measured"
             _refuse_unknown(name, props, ["filename", "sampling", *_MEASURED_TABLE_OPTIONS])
             if "filename" not in props:
@@ -570,17 +565,36 @@ def _make_measured_class():
     return AcdfMeasured
 
 
-def register():
+def register(batched_plugins=True):
     """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
-    mi.set_variant)."""
+    mi.set_variant, in the thread that renders).
+
+    In JIT variants, batched_plugins=True turns on the evaluated mode the batched plugins need
+    (acdf_measured, acdf_envmap with local, local-compensated, alias or hierarchical). False leaves
+    drjit's symbolic modes as they are, so that Mitsuba records acdf_envmap's drjit sampling into
+    its kernels with the rest of the path (4-6x faster renders); the batched plugins are then
+    refused, naming this option."""
     mi = _mi()
     base, batched, native = _make_envmap_classes()
     _envmap_classes.append(base)
     jit = not mi.variant().startswith("scalar")
+    if jit and batched_plugins:
+        evaluated_mode()
     measured = _make_measured_class()
-    mi.register_emitter("acdf_envmap",
-                        lambda props: (native if jit and _strategy_of(props) in _NATIVE_STRATEGIES else batched)(props))
-    mi.register_bsdf("acdf_measured", lambda props: measured(props))
+
+    def allowed(plugin, cls, what):
+        def make(props):
+            if jit and not batched_plugins:
+                _refuse(plugin, f"{what(props)} makes batched acdf calls, which need drjit's evaluated mode: call "
+                        "acdf.mitsuba.register() without batched_plugins=False")
+            return cls(props)
+
+        return make
+
+    batched_envmap = allowed("acdf_envmap", batched, lambda props: f"strategy {_strategy_of(props)!r}")
+    mi.register_emitter("acdf_envmap", lambda props: native(props) if jit and _strategy_of(props) in _NATIVE_STRATEGIES
+                        else batched_envmap(props))
+    mi.register_bsdf("acdf_measured", allowed("acdf_measured", measured, lambda props: "the plugin"))
 
 
 def _with_bounds(scene):

@@ -465,16 +465,17 @@ def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
 
 @pytest.mark.parametrize("strategy", ["adaptive", "local"])
 def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map, strategy):
-    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes): acdf_envmap with a table drjit
-    samples (adaptive) makes no acdf call at all, and loading it leaves drjit's symbolic modes on;
-    acdf_measured, and acdf_envmap with a strategy it leaves to acdf (local), call acdf a few times per
-    bounce, each call with every lane still active (thousands of rows), never once per lane."""
+    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes): registered with
+    batched_plugins=False, acdf_envmap with a table drjit samples (adaptive) renders with drjit's
+    symbolic modes on and makes no acdf call at all, and the batched plugins are refused; by default,
+    acdf_measured, and acdf_envmap with a strategy it leaves to acdf (local), call acdf a few times
+    per bounce, each call with every lane still active (thousands of rows), never once per lane."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
     for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
         dr.set_flag(flag, True)
-    acdf.mitsuba.register()
+    acdf.mitsuba.register(batched_plugins=strategy != "adaptive")
     path, _ = block_map
     sensor = {"type": "perspective", "fov": 40,
               "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
@@ -489,6 +490,12 @@ def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map,
         emitter.light = CountedCalls(emitter.light)
         image = np.asarray(mi.render(scene))
         assert emitter.light.calls == [] and np.all(np.isfinite(image)) and image.mean() > 0
+        # A batched plugin would need evaluated mode: refused, naming the option.
+        for plugin in ({"type": "acdf_envmap", "filename": path, "strategy": "local"},
+                       {"type": "acdf_measured", "filename": path}):
+            with pytest.raises(Exception, match="batched_plugins=False"):
+                mi.load_dict(plugin)
+        acdf.mitsuba.register()  # back to the default for the tests that follow
         return
     program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
     material = str(tmp_path / "aluminium.bsdf")
@@ -496,7 +503,7 @@ def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map,
     scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
                           "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
                           "light": light})
-    assert not dr.flag(dr.JitFlag.SymbolicLoops)  # Python plugins that read their arrays need evaluated mode
+    assert not dr.flag(dr.JitFlag.SymbolicLoops)  # register() turned on the evaluated mode they need
     emitter = scene.emitters()[0]
     bsdf = scene.shapes()[0].bsdf()
     emitter.light, bsdf.sampler = CountedCalls(emitter.light), CountedCalls(bsdf.sampler)
