@@ -31,7 +31,7 @@ struct RenderArgs {
   std::optional<uint32_t> spp;
   std::optional<double> seconds;
   std::optional<uint64_t> seed;
-  std::string mis, sampler, bsdfSampling, envSampling, direct;
+  std::string mis, sampler, bsdfSampling, envSampling, direct, guiding;
   std::optional<uint32_t> candidates;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
@@ -51,6 +51,7 @@ int runRender(const RenderArgs& args) {
     }
     overrides.candidates = args.candidates;
   }
+  if (!args.guiding.empty()) overrides.guiding = parseOption("render", "--guiding", args.guiding, parseGuidingMode);
   if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
@@ -102,6 +103,16 @@ int runRender(const RenderArgs& args) {
       j["candidates"] = scene.settings.product.candidates;
       j["bsdf_fraction"] = scene.settings.product.bsdfFraction;
     }
+    j["guiding"] = toString(scene.settings.guiding);
+    if (scene.settings.guiding != GuidingMode::Off) {
+      const GuidingStats& g = stats.guiding;
+      j["guided"] = g.guided;
+      j["guiding_training_passes"] = g.trainingPasses;
+      j["guiding_gain"] = g.measuredGain ? nlohmann::json(*g.measuredGain) : nlohmann::json();
+      j["guiding_spatial_leaves"] = g.spatialLeaves;
+      j["guiding_field_bytes"] = g.fieldBytes;
+      j["guiding_field_seconds"] = g.fieldSeconds;
+    }
     j["sampler"] = toString(scene.settings.sampler);
     j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
@@ -114,6 +125,16 @@ int runRender(const RenderArgs& args) {
     out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
                        film.height(), stats.spp, stats.seconds, setupMs);
     out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
+    if (scene.settings.guiding != GuidingMode::Off) {
+      const GuidingStats& g = stats.guiding;
+      out += fmt::format("guiding   {} ({}){}: {} training passes, last fields {} leaves, {:.0f} kB, built in {:.2f}"
+                         " s\n",
+                         g.guided ? "on" : "off", toString(scene.settings.guiding),
+                         g.measuredGain ? fmt::format(", measured gain {:.2f} (needs {:.2f})", *g.measuredGain,
+                                                      kAutoGuidingGain)
+                                        : "",
+                         g.trainingPasses, g.spatialLeaves, g.fieldBytes / 1e3, g.fieldSeconds);
+    }
     out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(),
                        tables.tablesFromCache().size());
     for (const std::string& t : tables.tablesBuilt()) out += fmt::format("          built       {}\n", t);
@@ -137,13 +158,17 @@ Command addRender(CLI::App& parent) {
       "  --mis            power | balance | bsdf-only | light-only\n"
       "  --direct         mis | product  (product: resampled f·L·cos, --candidates M of them)\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
+      "  --guiding        off | light | paths | auto  (learned in doubling passes: the light each place\n"
+      "                   sees; paths: also the radiance paths carry; auto: light where it pays)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
-      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, sampler, env_sampling;\n"
-      "candidates and bsdf_fraction under product direct lighting).\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, guiding, sampler,\n"
+      "env_sampling; candidates and bsdf_fraction under product direct lighting; guided,\n"
+      "guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
+      "guiding_field_seconds unless guiding is off).\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / data file / output path or command line, 1 internal error.");
   app->add_option("SCENE", args->scene, "Scene file (JSON)")->required();
@@ -159,6 +184,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--candidates", args->candidates, "Product sampling's candidates per vertex (replaces the scene's)")
       ->transform(nonNegativeInteger());
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
+  app->add_option("--guiding", args->guiding, "off | light | paths | auto (guiding learned as it renders)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
   app->add_option("--env-sampling", args->envSampling, environmentSamplingNames(" | "));
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")

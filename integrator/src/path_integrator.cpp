@@ -1,12 +1,90 @@
 #include "acdf/integrator/path_integrator.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
+#include <new>
+#include <cstdlib>
 
 #include "acdf/integrator/product_direct_light.h"
-#include "acdf/sampling/frame.h"
 
 namespace acdf {
+
+namespace {
+
+// The vertices of one path that record what they learn (PathGuiding::records): each keeps the
+// throughput from itself on and the radiance that has reached it so far.
+class PathRecorder {
+ public:
+  PathRecorder(std::vector<GuidingRecord>* sink, std::vector<GuidingRecord>* lightSink)
+      : sink_(sink), lightSink_(lightSink) {}
+  PathRecorder(const PathRecorder&) = delete;
+  PathRecorder& operator=(const PathRecorder&) = delete;
+  ~PathRecorder() {
+    for (uint32_t i = 0; i < open_; ++i) {
+      Open& v = slots_[i].open;
+      const double energy = v.incident.luminance() / v.pdf;
+      if (std::isfinite(energy) && energy >= 0) {
+        v.record.energy = static_cast<float>(energy);
+        sink_->push_back(v.record);
+      }
+    }
+  }
+
+  bool active() const { return sink_ != nullptr; }
+  bool recordsLight() const { return lightSink_ != nullptr; }
+  // Environment light `radiance` (0 where blocked) arriving at `position` along `direction`, drawn
+  // with density `pdf`.
+  void light(const Vec3d& position, const Vec3d& normal, const Vec3d& direction, const Rgb& radiance, double pdf) {
+    if (!lightSink_ || !(pdf > 0)) return;
+    const double energy = radiance.luminance() / pdf;
+    if (std::isfinite(energy) && energy >= 0) lightSink_->push_back(guidingRecord(position, normal, direction, energy));
+  }
+  // Light reaching the newest vertex's point, as it enters the image there (before the throughput).
+  void add(const Rgb& light) {
+    for (uint32_t i = 0; i < open_; ++i) slots_[i].open.incident += slots_[i].open.throughput * light;
+  }
+  void scale(const Rgb& weight) {
+    for (uint32_t i = 0; i < open_; ++i) slots_[i].open.throughput *= weight;
+  }
+  // A vertex at `position` with surface normal `normal` continuing along `direction` with density
+  // `pdf` (after its weight).
+  void open(const Vec3d& position, const Vec3d& normal, const Vec3d& direction, double pdf) {
+    if (!active() || open_ == kCapacity) return;
+    new (&slots_[open_++].open) Open{guidingRecord(position, normal, direction, 0.0), pdf, Rgb{1, 1, 1}, Rgb{}};
+  }
+
+ private:
+  // Deeper vertices go unrecorded; the light they pass on still reaches the ones recorded.
+  static constexpr uint32_t kCapacity = 32;
+  struct Open {
+    GuidingRecord record;  // its energy filled in at the end
+    double pdf;
+    Rgb throughput, incident;
+  };
+  std::vector<GuidingRecord>* sink_;
+  std::vector<GuidingRecord>* lightSink_;
+  // Uninitialised until opened: a path that records nothing pays nothing for them.
+  union Slot {
+    Slot() {}
+    Open open;
+  };
+  std::array<Slot, kCapacity> slots_;
+  uint32_t open_ = 0;
+};
+
+}  // namespace
+
+PathIntegrator::PathIntegrator(const Scene& scene) : scene_(scene) {
+  guided_.reserve(scene.bsdfSamplers.size());
+  for (const auto& sampler : scene.bsdfSamplers) guided_.push_back(sampler && guidedMaterial(*sampler));
+}
+
+bool PathIntegrator::guidedMaterial(const BrdfSampler& sampler) {
+  const Vec3d normal{0, 0, 1};
+  return sampler.pdf(normal, normal) <= kGuidedPeakDensity;
+}
 
 double PathIntegrator::misWeight(double chosen, double other) const {
   switch (scene_.settings.mis) {
@@ -18,7 +96,64 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
-Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays) const {
+double PathIntegrator::continuationPdf(const BrdfVertex& material, const DirectionalDistribution* guide,
+                                       const Vec3d& wi, const Vec3d& w) const {
+  if (!guide) return material.pdf(wi);
+  return kGuidedBsdfShare * material.pdf(wi) + (1.0 - kGuidedBsdfShare) * guide->pdf(w);
+}
+
+PathIntegrator::Continuation PathIntegrator::continuation(const BrdfVertex& material, const Frame& frame,
+                                                          const DirectionalDistribution* guide, float u0,
+                                                          float u1) const {
+  if (!guide) {
+    const BrdfSample s = material.sample(u0, u1);
+    if (!(s.pdf > 0) || s.weight.isBlack()) return {};
+    return {normalize(frame.toWorld(s.wi)), s.weight, s.pdf};
+  }
+  constexpr double a = kGuidedBsdfShare;
+  if (u0 < a) {
+    const BrdfSample s = material.sample(static_cast<float>(std::min(u0 / a, double{kOneMinusEpsilon})), u1);
+    if (!(s.pdf > 0) || s.weight.isBlack()) return {};
+    const Vec3d direction = normalize(frame.toWorld(s.wi));
+    const double q = a * s.pdf + (1.0 - a) * guide->pdf(direction);
+    // s.weight · s.pdf is f · cosθ.
+    return {direction, s.weight * static_cast<float>(s.pdf / q), q};
+  }
+  const DirectionalDistribution::DirectionAndPdf g =
+      guide->sample(static_cast<float>(std::min((u0 - a) / (1.0 - a), double{kOneMinusEpsilon})), u1);
+  const Vec3d wi = frame.toLocal(g.direction);
+  if (!(g.pdf > 0) || !(wi.z > 0)) return {};
+  const Rgb f = material.eval(wi);
+  if (f.isBlack()) return {};
+  const double q = a * material.pdf(wi) + (1.0 - a) * g.pdf;
+  return {g.direction, f * static_cast<float>(wi.z / q), q};
+}
+
+LightSample PathIntegrator::lightSample(const LightSampleContext& context, const DirectionalDistribution* field,
+                                        float u0, float u1) const {
+  const EnvironmentLight& env = *scene_.environment;
+  if (!field) return env.sample(context, u0, u1);
+  constexpr double b = kLightFieldShare;
+  if (u0 < b) {
+    const DirectionalDistribution::DirectionAndPdf g =
+        field->sample(static_cast<float>(std::min(u0 / b, double{kOneMinusEpsilon})), u1);
+    const RadianceAndPdf light = env.evalWithPdf(context, g.direction);
+    return {g.direction, light.radiance, b * g.pdf + (1.0 - b) * light.pdf};
+  }
+  LightSample light =
+      env.sample(context, static_cast<float>(std::min((u0 - b) / (1.0 - b), double{kOneMinusEpsilon})), u1);
+  light.pdf = b * field->pdf(light.direction) + (1.0 - b) * light.pdf;
+  return light;
+}
+
+RadianceAndPdf PathIntegrator::lightAlong(const LightSampleContext& context, const DirectionalDistribution* field,
+                                          const Vec3d& w) const {
+  RadianceAndPdf light = scene_.environment->evalWithPdf(context, w);
+  if (field) light.pdf = kLightFieldShare * field->pdf(w) + (1.0 - kLightFieldShare) * light.pdf;
+  return light;
+}
+
+Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays, const PathGuiding& guiding) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
@@ -27,22 +162,38 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   // The normal and position are those of the vertex being lit; after a BSDF sample they stay those
   // of the vertex the sample left, for the pdf of the light the sample may reach.
   LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings)};
+  PathRecorder recorder(guiding.records, guiding.lightRecords);
 
   Rgb result, throughput{1, 1, 1};
+  // Light reaching the current vertex, into the image and the recorded vertices.
+  auto add = [&](const Rgb& light) {
+    result += throughput * light;
+    recorder.add(light);
+  };
   Ray ray = cameraRay;
-  double bsdfPdf = 0;  // density of the BSDF sample that produced `ray`; 0 for the camera ray
+  double bsdfPdf = 0;  // density of the sample that produced `ray`; 0 for the camera ray
+  // The learned light at the vertex `ray` left, and that vertex.
+  const DirectionalDistribution* lightField = nullptr;
+  Vec3d lastPosition, lastNormal;
   for (uint32_t depth = 0;; ++depth) {
     ++rays;
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (!hit) {
+      Rgb seen;
+      float weight = 1;  // the image's share of it
       if (depth == 0) {
-        result += throughput * env.eval(ray.direction);
+        seen = env.eval(ray.direction);
       } else if (bsdfSeesLight && sampleLight) {
-        const RadianceAndPdf light = env.evalWithPdf(lightContext, ray.direction);
-        result += throughput * light.radiance * misWeight(bsdfPdf, light.pdf);
-      } else if (bsdfSeesLight) {
-        result += throughput * env.eval(ray.direction);
+        const RadianceAndPdf light = lightAlong(lightContext, lightField, ray.direction);
+        seen = light.radiance;
+        weight = static_cast<float>(misWeight(bsdfPdf, light.pdf));
+      } else if (bsdfSeesLight || recorder.recordsLight()) {
+        seen = env.eval(ray.direction);
+        weight = bsdfSeesLight ? 1.0f : 0.0f;
       }
+      result += throughput * seen * weight;
+      recorder.add(seen * weight);
+      if (depth > 0) recorder.light(lastPosition, lastNormal, ray.direction, seen, bsdfPdf);
       break;
     }
     if (depth >= scene_.settings.maxDepth) break;
@@ -52,6 +203,9 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
     lightContext = env.atPosition(env.atNormal(lightContext, hit->normal), hit->position);
+    const DirectionalDistribution* guide =
+        guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr;
+    lightField = guiding.lightField ? guiding.lightField->at(hit->position, hit->normal) : nullptr;
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);
@@ -60,39 +214,48 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
         ++rays;
         if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light->direction), light->direction},
                                        std::numeric_limits<double>::infinity()))
-          result += throughput * light->estimate;
+          add(light->estimate);
       }
     } else if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
-      const LightSample light = env.sample(lightContext, u0, u1);
+      const LightSample light = lightSample(lightContext, lightField, u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
+      bool visible = false;
       if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
         // The shadow ray first: a measured BRDF's eval costs about as much as the ray, and a
         // fifth of the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0).
         ++rays;
-        if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
-                                       std::numeric_limits<double>::infinity())) {
+        visible = !scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
+                                             std::numeric_limits<double>::infinity());
+        if (visible) {
           const Rgb f = material.eval(wi);
           if (!f.isBlack()) {
-            const double weight = bsdfSeesLight ? misWeight(light.pdf, material.pdf(wi)) : 1.0;
-            result += throughput * f * light.radiance * (wi.z * weight / light.pdf);
+            const double weight =
+                bsdfSeesLight ? misWeight(light.pdf, continuationPdf(material, guide, wi, light.direction)) : 1.0;
+            add(f * light.radiance * static_cast<float>(wi.z * weight / light.pdf));
           }
         }
       }
+      recorder.light(hit->position, hit->normal, light.direction, visible ? light.radiance : Rgb{}, light.pdf);
     }
 
     const auto [u0, u1] = sampler.get2D();
-    const BrdfSample s = material.sample(u0, u1);
-    if (!(s.pdf > 0) || s.weight.isBlack()) break;
-    throughput *= s.weight;
-    bsdfPdf = s.pdf;
-    const Vec3d direction = normalize(frame.toWorld(s.wi));
-    ray = {Geometry::offsetOrigin(*hit, direction), direction};
+    const Continuation next = continuation(material, frame, guide, u0, u1);
+    if (!(next.pdf > 0) || next.weight.isBlack()) break;
+    throughput *= next.weight;
+    recorder.scale(next.weight);
+    recorder.open(hit->position, hit->normal, next.direction, next.pdf);
+    bsdfPdf = next.pdf;
+    lastPosition = hit->position;
+    lastNormal = hit->normal;
+    ray = {Geometry::offsetOrigin(*hit, next.direction), next.direction};
 
     if (depth + 1 >= scene_.settings.rouletteDepth) {
       const double survive = std::min<double>(0.95, throughput.maxComponent());
       if (sampler.get1D() >= survive) break;
-      throughput *= static_cast<float>(1.0 / survive);
+      const auto rescale = static_cast<float>(1.0 / survive);
+      throughput *= rescale;
+      recorder.scale(Rgb{rescale, rescale, rescale});
     }
   }
   return result;

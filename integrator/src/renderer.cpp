@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -56,6 +57,49 @@ std::vector<Tile> makeTiles(const Film& film, uint32_t size) {
 
 Film makeFilm(const Scene& scene) { return Film(scene.camera->crop().width(), scene.camera->crop().height()); }
 
+namespace {
+
+// What one pass renders and how.
+struct PassPlan {
+  uint32_t first = 0, last = 0;            // its samples of every pixel
+  const GuidingField* lightField = nullptr;  // light sampled with (none: the light's own tables)
+  const GuidingField* pathField = nullptr;   // paths continued with (none: the BSDF alone)
+  bool compare = false;      // guide only the pixels with x + y even, and measure both halves
+  bool recordLight = false;  // keep what its paths learn about the light
+  bool recordPaths = false;  // and about the radiance they carry
+  uint64_t recordStride = 1;  // of its pixel samples, keep every this many's records
+};
+
+// A half of the pixels of a comparing pass: sums of the pixels' luminance mean and variance.
+struct HalfStats {
+  double variance = 0, mean = 0;
+  uint64_t pixels = 0, rays = 0, samples = 0;
+
+  void add(const HalfStats& o) {
+    variance += o.variance;
+    mean += o.mean;
+    pixels += o.pixels;
+    rays += o.rays;
+    samples += o.samples;
+  }
+  // Relative variance per sample times rays per sample.
+  double cost() const {
+    const double m = mean / pixels;
+    return (variance / pixels) / (m * m) * (static_cast<double>(rays) / samples);
+  }
+};
+
+struct PassResult {
+  std::vector<GuidingRecord> lightRecords, pathRecords;
+  uint64_t recordedSamples = 0;
+  HalfStats halves[2];  // guided, unguided (a comparing pass)
+};
+
+// Records a pass may keep, about 100 MB: beyond it a pass keeps every k-th pixel sample's.
+constexpr uint64_t kMaxRecordsPerPass = uint64_t{1} << 22;
+
+}  // namespace
+
 RenderStats render(const Scene& scene, Film& film, const RenderOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -71,21 +115,45 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
   std::atomic<std::size_t> tilesDone{0};
   std::mutex progressMutex;
 
-  // Samples [first, last) of every pixel, tile by tile.
-  auto renderPass = [&](uint32_t first, uint32_t last, double doneBefore, double passShare) {
+  auto renderPass = [&](const PassPlan& plan, double doneBefore, double passShare) {
     tilesDone = 0;
+    std::vector<PassResult> tileResults(tiles.size());
+    const uint32_t passSamples = plan.last - plan.first;
     forEachTile(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
+      PassResult& out = tileResults[t];
       const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
       uint64_t tileRays = 0;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
-          for (uint32_t s = first; s < last; ++s) {
+          const bool guided = !plan.compare || (fx + fy) % 2 == 0;
+          const uint64_t raysBefore = tileRays;
+          double sum = 0, sumSquares = 0;
+          for (uint32_t s = plan.first; s < plan.last; ++s) {
             sampler->startPixelSample(fx, fy, s);
             const auto [jx, jy] = sampler->getPixel2D();
             const Ray ray = camera.generateRay(fx + jx, fy + jy);
-            film.add(x, y, integrator.radiance(ray, *sampler, tileRays));
+            const uint64_t sampleNumber = (uint64_t{fy} * camera.width() + fx) * passSamples + (s - plan.first);
+            const bool record = sampleNumber % plan.recordStride == 0;
+            out.recordedSamples += record && plan.recordLight;
+            const Rgb L = integrator.radiance(
+                ray, *sampler, tileRays,
+                {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
+                 guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr});
+            film.add(x, y, L);
+            const double luminance = L.luminance();
+            sum += luminance;
+            sumSquares += luminance * luminance;
+          }
+          if (plan.compare && passSamples > 1) {
+            const double mean = sum / passSamples;
+            HalfStats& half = out.halves[guided ? 0 : 1];
+            half.variance += std::max(0.0, (sumSquares - passSamples * mean * mean) / (passSamples - 1));
+            half.mean += mean;
+            ++half.pixels;
+            half.rays += tileRays - raysBefore;
+            half.samples += passSamples;
           }
         }
       rays += tileRays;
@@ -96,22 +164,116 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
         options.progress(doneBefore + passShare * static_cast<double>(done) / tiles.size());
       }
     });
+    PassResult joined;
+    std::size_t lightRecords = 0, pathRecords = 0;
+    for (const PassResult& r : tileResults) {
+      lightRecords += r.lightRecords.size();
+      pathRecords += r.pathRecords.size();
+    }
+    joined.lightRecords.reserve(lightRecords);
+    joined.pathRecords.reserve(pathRecords);
+    for (PassResult& r : tileResults) {
+      joined.lightRecords.insert(joined.lightRecords.end(), r.lightRecords.begin(), r.lightRecords.end());
+      joined.pathRecords.insert(joined.pathRecords.end(), r.pathRecords.begin(), r.pathRecords.end());
+      r.lightRecords = {};
+      r.pathRecords = {};
+      joined.recordedSamples += r.recordedSamples;
+      for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
+    }
+    return joined;
   };
 
   RenderStats stats;
+  GuidingStats& guidingStats = stats.guiding;
+  const GuidingMode mode = scene.settings.guiding;
+  const bool learnPaths = mode == GuidingMode::Paths;
+  // The fields the next passes use, built from the last recording pass's records.
+  std::unique_ptr<GuidingField> lightField, pathField;
+  const uint64_t pixels = uint64_t{film.width()} * film.height();
+  double recordsPerSample = std::min(4u, scene.settings.maxDepth);
+  auto learn = [&](PassResult& pass) {
+    if (pass.recordedSamples > 0)
+      recordsPerSample = std::max(1.0, static_cast<double>(pass.lightRecords.size()) / pass.recordedSamples);
+    const auto buildStart = Clock::now();
+    lightField = std::make_unique<GuidingField>(std::move(pass.lightRecords));
+    if (learnPaths) pathField = std::make_unique<GuidingField>(std::move(pass.pathRecords));
+    guidingStats.fieldSeconds += std::chrono::duration<double>(Clock::now() - buildStart).count();
+    guidingStats.spatialLeaves = lightField->spatialLeaves() + (pathField ? pathField->spatialLeaves() : 0);
+    guidingStats.fieldBytes = lightField->bytes() + (pathField ? pathField->bytes() : 0);
+    ++guidingStats.trainingPasses;
+  };
+  // A pass guided by the current fields (or not) that keeps about kMaxRecordsPerPass records at most.
+  auto recordingPlan = [&](uint32_t first, uint32_t samples, bool guided, bool compare) {
+    const double expected = static_cast<double>(pixels) * samples * recordsPerSample * (learnPaths ? 2 : 1);
+    return PassPlan{first,
+                    first + samples,
+                    guided ? lightField.get() : nullptr,
+                    guided ? pathField.get() : nullptr,
+                    compare,
+                    true,
+                    learnPaths,
+                    std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(expected / kMaxRecordsPerPass)))};
+  };
+  // Under auto, whether the second pass's guided half paid.
+  auto decide = [&](const PassResult& second) {
+    if (mode != GuidingMode::Auto) return true;
+    guidingStats.measuredGain = second.halves[1].cost() / second.halves[0].cost();
+    return *guidingStats.measuredGain >= kAutoGuidingGain;
+  };
+  auto finalPlan = [&](uint32_t first, uint32_t last) {
+    return guidingStats.guided ? PassPlan{first, last, lightField.get(), pathField.get()} : PassPlan{first, last};
+  };
+
   if (options.seconds) {
     const double budget = *options.seconds;
-    do {
-      const double fraction = std::min(1.0, elapsed() / budget);
-      renderPass(stats.spp, stats.spp + 1, fraction, 0.0);
+    auto fraction = [&] { return std::min(1.0, elapsed() / budget); };
+    if (mode != GuidingMode::Off) {
+      // The first two passes, then doubling ones while the next should end within half the budget.
+      PassResult first = renderPass(recordingPlan(0, 1, false, false), fraction(), 0.0);
+      learn(first);
+      const double secondStart = elapsed();
+      PassResult second = renderPass(recordingPlan(1, 2, true, mode == GuidingMode::Auto), fraction(), 0.0);
+      stats.spp = 3;
+      guidingStats.guided = decide(second);
+      double lastPass = elapsed() - secondStart;
+      if (guidingStats.guided) {
+        learn(second);
+        for (uint32_t size = 4; elapsed() + 2.0 * lastPass <= budget / 2; size *= 2) {
+          const double passStart = elapsed();
+          PassResult pass = renderPass(recordingPlan(stats.spp, size, true, false), fraction(), 0.0);
+          stats.spp += size;
+          learn(pass);
+          lastPass = elapsed() - passStart;
+        }
+      }
+    }
+    while (stats.spp == 0 || elapsed() < budget) {
+      renderPass(finalPlan(stats.spp, stats.spp + 1), fraction(), 0.0);
       ++stats.spp;
-      if (options.progress) options.progress(std::min(1.0, elapsed() / budget));
-    } while (elapsed() < budget);
+      if (options.progress) options.progress(fraction());
+    }
   } else {
-    stats.spp = scene.settings.spp;
-    renderPass(0, stats.spp, 0.0, 1.0);
+    const uint32_t total = scene.settings.spp;
+    auto share = [&](uint32_t samples) { return static_cast<double>(samples) / total; };
+    uint32_t done = 0;
+    if (mode != GuidingMode::Off && total >= 3) {
+      PassResult first = renderPass(recordingPlan(0, 1, false, false), 0.0, share(1));
+      learn(first);
+      PassResult second = renderPass(recordingPlan(1, 2, true, mode == GuidingMode::Auto), share(1), share(2));
+      done = 3;
+      guidingStats.guided = decide(second);
+      if (guidingStats.guided) {
+        learn(second);
+        for (uint32_t size = 4; done + 2 * size <= total; done += size, size *= 2) {
+          PassResult pass = renderPass(recordingPlan(done, size, true, false), share(done), share(size));
+          learn(pass);
+        }
+      }
+    }
+    renderPass(finalPlan(done, total), share(done), share(total - done));
+    stats.spp = total;
   }
-  stats.paths = uint64_t{film.width()} * film.height() * stats.spp;
+  stats.paths = pixels * stats.spp;
   stats.rays = rays;
   stats.seconds = elapsed();
   return stats;

@@ -449,7 +449,14 @@ constexpr EnumName<MisMode> kMisModeNames[] = {
 };
 constexpr EnumName<DirectLighting> kDirectLightingNames[] = {{DirectLighting::Mis, "mis"},
                                                              {DirectLighting::Product, "product"}};
+constexpr EnumName<GuidingMode> kGuidingModeNames[] = {
+    {GuidingMode::Off, "off"}, {GuidingMode::Light, "light"}, {GuidingMode::Paths, "paths"},
+    {GuidingMode::Auto, "auto"}};
 }  // namespace
+
+std::string_view toString(GuidingMode mode) { return nameOf(kGuidingModeNames, mode); }
+
+GuidingMode parseGuidingMode(std::string_view name) { return valueNamed(kGuidingModeNames, name, "guiding mode"); }
 
 std::string_view toString(MisMode mode) { return nameOf(kMisModeNames, mode); }
 
@@ -491,7 +498,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (root.has("render")) {
     const Node r = root["render"];
     r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler", "direct", "candidates",
-              "bsdf_fraction"});
+              "bsdf_fraction", "guiding"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
@@ -501,11 +508,16 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
     if (r.has("direct")) settings.direct = r["direct"].parsed(parseDirectLighting);
     if (r.has("candidates")) settings.product.candidates = r["candidates"].count(1);
     if (r.has("bsdf_fraction")) settings.product.bsdfFraction = r["bsdf_fraction"].number();
+    if (r.has("guiding")) settings.guiding = r["guiding"].parsed(parseGuidingMode);
     r.validated(settings.product);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
   if (overrides.direct) settings.direct = *overrides.direct;
   if (overrides.candidates) settings.product.candidates = *overrides.candidates;
+  if (overrides.guiding) settings.guiding = *overrides.guiding;
+  if (settings.guiding == GuidingMode::Light && settings.direct == DirectLighting::Product)
+    throw FileError(name, "$.render.guiding: 'light' guides light samples, which product direct lighting does not "
+                          "draw (guiding 'paths', or direct 'mis')");
   if (overrides.sampler) settings.sampler = *overrides.sampler;
   if (overrides.spp) settings.spp = *overrides.spp;
   if (overrides.seed) settings.seed = *overrides.seed;

@@ -239,5 +239,25 @@ TEST(Consistency, PortalsAgreeUnderMisAndAlone) {
   }
 }
 
+// Guiding learns where light comes from and adds none: the room renders the same guided by what
+// it learned of the light, and of the paths' radiance too, under MIS (the compensated table,
+// incomplete) and with light sampling alone (the learned light mixed with the complete table).
+TEST(Consistency, GuidedRendersAgreeWithUnguided) {
+  for (MisMode mis : {MisMode::Power, MisMode::LightOnly}) {
+    SceneOverrides overrides;
+    overrides.sampler = SamplerKind::Independent;
+    overrides.mis = mis;
+    const auto plain = rendertest::imageMean(rendertest::renderScene(room(false), overrides).film);
+    for (GuidingMode guiding : {GuidingMode::Light, GuidingMode::Paths}) {
+      overrides.guiding = guiding;
+      const rendertest::Rendered guided = rendertest::renderScene(room(false), overrides);
+      EXPECT_TRUE(guided.stats.guiding.guided);
+      EXPECT_GE(guided.stats.guiding.trainingPasses, 5u);
+      expectAgree(plain, rendertest::imageMean(guided.film),
+                  std::string("guided (") + std::string(toString(guiding)) + ") vs not, " + std::string(toString(mis)));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace acdf

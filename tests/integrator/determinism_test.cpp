@@ -56,6 +56,26 @@ TEST(Determinism, ProductDirectLightingIsTheSameForAnyThreadCount) {
   }
 }
 
+// Guided renders learn from records kept per tile and joined in tile order, and auto decides from
+// sums made the same way: the same image for any thread count.
+TEST(Determinism, GuidedRendersAreTheSameForAnyThreadCount) {
+  for (const GuidingMode guiding : {GuidingMode::Paths, GuidingMode::Auto}) {
+    SceneOverrides overrides;
+    overrides.guiding = guiding;
+    overrides.spp = 8;
+    const Image one = renderWithThreads(1, smallScene(1), overrides);
+    EXPECT_EQ(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << toString(guiding);
+    EXPECT_EQ(one.pixels, renderWithThreads(4, smallScene(1), overrides).pixels) << toString(guiding);
+  }
+  SceneOverrides guided;
+  guided.guiding = GuidingMode::Light;
+  guided.spp = 8;
+  SceneOverrides plain;
+  plain.spp = 8;
+  EXPECT_NE(renderWithThreads(2, smallScene(1), guided).pixels, renderWithThreads(2, smallScene(1), plain).pixels)
+      << "guiding must change the image";
+}
+
 TEST(Determinism, CropWindowsReproduceTheirPartOfTheFrame) {
   const Image full = renderWithThreads(2, smallScene(1));
   // Two pieces a render farm could render separately: the left 15 columns and the rest.

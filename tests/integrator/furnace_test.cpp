@@ -165,8 +165,14 @@ TEST_P(SobolDiffuseFurnace, RendersAlbedoTimesRadiance) {
 
 const std::vector<std::string> kMisModes = {"power", "balance", "bsdf-only", "light-only"};
 
+// Guided by what the render learned, of the light alone and of the paths too, under power MIS
+// and with light sampling alone.
+const std::vector<std::pair<std::string, std::string>> kGuidedCombinations = {
+    {"light", "power"}, {"light", "light-only"}, {"paths", "power"}, {"paths", "light-only"}};
+
 uint32_t judgedImages() {
-  return static_cast<uint32_t>(everyCombination().size() + everyProductCombination().size() + kMisModes.size());
+  return static_cast<uint32_t>(everyCombination().size() + everyProductCombination().size() + kMisModes.size() +
+                               kGuidedCombinations.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryMisMode, SobolDiffuseFurnace, ::testing::ValuesIn(kMisModes), [](const auto& info) {
@@ -251,6 +257,25 @@ TEST(MeasuredFurnace, MatchesBruteForceDirectionalAlbedo) {
       EXPECT_NEAR(value, exact, 3 * error + 0.005 * exact) << "pixel " << px << "," << py;
   }
 }
+
+class GuidedDiffuseFurnace : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(GuidedDiffuseFurnace, RendersAlbedoTimesRadiance) {
+  SceneOverrides overrides = sobolOverrides(SamplerKind::Independent, GetParam().second);
+  overrides.guiding = parseGuidingMode(GetParam().first);
+  const rendertest::Rendered rendered =
+      renderScene(furnaceScene(kDiffuse, kRadiance, 24, sppToSeeABias(GetParam().second)), overrides);
+  EXPECT_TRUE(rendered.stats.guiding.guided);
+  expectUniformImage(rendered.film, kAlbedo * kRadiance);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryGuidingMode, GuidedDiffuseFurnace, ::testing::ValuesIn(kGuidedCombinations),
+                         [](const auto& info) {
+                           std::string name = info.param.first + "_" + info.param.second;
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace acdf

@@ -219,6 +219,30 @@ TEST_F(RenderCli, ProductDirectLightingOnTheCommandLine) {
                        "acdf: render: --candidates", "must be an integer in [1, 1024]");
 }
 
+// --guiding replaces the scene's choice; --json reports what the render learned and decided.
+TEST_F(RenderCli, GuidingOnTheCommandLine) {
+  nlohmann::json scene = tinyScene();
+  scene["render"]["spp"] = 8;
+  const auto guided =
+      runAcdf({"render", writeScene(scene), "-o", path("guided.exr"), "--guiding", "light", "--json"}, dir_);
+  ASSERT_EQ(guided.exitCode, 0) << apptest::describe(guided);
+  const auto j = nlohmann::json::parse(guided.out);
+  EXPECT_EQ(j["guiding"], "light");
+  EXPECT_EQ(j["guided"], true);
+  EXPECT_EQ(j["guiding_training_passes"], 2);  // of 1 and 2 samples; the other 5 use the second's field
+  EXPECT_TRUE(j["guiding_gain"].is_null());
+  const auto automatic =
+      runAcdf({"render", writeScene(scene), "-o", path("auto.exr"), "--guiding", "auto", "--json"}, dir_);
+  ASSERT_EQ(automatic.exitCode, 0) << apptest::describe(automatic);
+  EXPECT_TRUE(nlohmann::json::parse(automatic.out)["guiding_gain"].is_number());
+  const auto plain = runAcdf({"render", writeScene(scene), "-o", path("plain.exr"), "--json"}, dir_);
+  ASSERT_EQ(plain.exitCode, 0) << apptest::describe(plain);
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["guiding"], "off");
+  EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("guided"));
+  expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--guiding", "always"}, dir_),
+                       "acdf: render: --guiding", "off, light, paths or auto");
+}
+
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
   nlohmann::json scene = tinyScene();
   scene["shapes"][0]["radious"] = 2;
@@ -304,6 +328,12 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   failure(scene, "$.render.candidates: must be an integer in [1, 1024]");
   scene["render"] = {{"direct", "resampled"}};
   failure(scene, "$.render.direct: unknown direct lighting 'resampled' (mis or product)");
+  scene["render"] = {{"guiding", "light"}, {"direct", "product"}};
+  failure(scene,
+          "$.render.guiding: 'light' guides light samples, which product direct lighting does not draw (guiding "
+          "'paths', or direct 'mis')");
+  scene["render"] = {{"guiding", "always"}};
+  failure(scene, "$.render.guiding: unknown guiding mode 'always' (off, light, paths or auto)");
   expectNoOutputs();
 }
 

@@ -3,8 +3,23 @@
 // sample. Sample s of full-frame pixel p takes its random values from the scene's Sampler
 // (sampler.h: independent or Sobol) started on (p, s) with the scene seed, one clone per tile, so the image is the same
 // for any thread count, tile order, and split into passes: --spp N and a time-limited render that
-// reached N samples produce the same pixels.
+// reached N samples produce the same pixels (without guiding, whose passes the budget decides).
+//
+// Guiding (RenderSettings::guiding, path_integrator.h). The samples go in passes: the first, of
+// one sample per pixel, unguided; every pass's paths record what they learn, and the next pass is
+// guided by the fields built from those records alone (guiding_field.h: the light's, and under
+// `paths` the paths' too). Passes double (1, 2, 4, …)
+// while the samples left after the next one are at least as many as it has; the last pass takes
+// the rest with the last field. Every sample counts in the image, each an unbiased estimate. Under
+// `auto` the second pass (2 samples per pixel) guides the light of the pixels with x + y even and not the
+// others, and compares the two halves: relative variance per sample (the mean of the pixels'
+// luminance variance over the squared mean luminance) times rays per sample. Guiding goes on only
+// if the unguided half's figure is kAutoGuidingGain times the guided one's or more; otherwise the
+// rest renders unguided and nothing more is learned. With a time budget the passes double while
+// the next would end within half of it, and one-sample passes with the last field fill the rest.
+// Deterministic for a sample count: records are kept per tile and joined in tile order.
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -24,11 +39,24 @@ struct RenderOptions {
   uint32_t tileSize = 16;
 };
 
+struct GuidingStats {
+  bool guided = false;          // whether the last samples were guided
+  uint32_t trainingPasses = 0;  // passes whose records built a field
+  // Under auto, the second pass's unguided over guided relative variance × rays per sample.
+  std::optional<double> measuredGain;
+  std::size_t spatialLeaves = 0, fieldBytes = 0;  // the last field's
+  double fieldSeconds = 0;                        // building fields
+};
+
+// The gain `auto` needs to guide: the field's lookups cost time the ray count does not show.
+inline constexpr double kAutoGuidingGain = 1.2;
+
 struct RenderStats {
   uint32_t spp = 0;    // samples per pixel rendered
   uint64_t paths = 0;  // camera paths traced
   uint64_t rays = 0;   // rays cast (closest hit and shadow)
   double seconds = 0;  // wall-clock render time
+  GuidingStats guiding;
 };
 
 // The film has the crop window's size.

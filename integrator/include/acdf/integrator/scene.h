@@ -57,6 +57,15 @@ enum class DirectLighting {
 std::string_view toString(DirectLighting direct);
 DirectLighting parseDirectLighting(std::string_view name);
 
+// Whether the render learns where the light comes from as it goes (guiding_field.h, renderer.h,
+// path_integrator.h): never; the environment light each place sees (light sampling guided);
+// that and the radiance paths carry (their continuations guided too); or the light where the
+// render's own second pass measures that it pays.
+enum class GuidingMode { Off, Light, Paths, Auto };
+// "off", "light", "paths", "auto"; parse throws std::invalid_argument.
+std::string_view toString(GuidingMode mode);
+GuidingMode parseGuidingMode(std::string_view name);
+
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
@@ -66,6 +75,7 @@ struct RenderSettings {
   SamplerKind sampler = SamplerKind::Sobol;
   DirectLighting direct = DirectLighting::Mis;
   ProductSamplingOptions product{};  // under DirectLighting::Product
+  GuidingMode guiding = GuidingMode::Off;
 };
 
 // Whether the render's light samples may have an incomplete pdf: under product sampling when the
@@ -81,6 +91,7 @@ struct SceneOverrides {
   std::optional<SamplerKind> sampler = std::nullopt;
   std::optional<DirectLighting> direct = std::nullopt;
   std::optional<uint32_t> candidates = std::nullopt;  // product sampling's M
+  std::optional<GuidingMode> guiding = std::nullopt;
   std::optional<BrdfSampling> bsdfSampling = std::nullopt;  // every measured material
   std::optional<EnvironmentSampling> envSampling = std::nullopt;
   std::optional<uint32_t> spp = std::nullopt;
