@@ -1,6 +1,7 @@
 #include "acdf/envmap/environment_light.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -15,6 +16,15 @@ namespace {
 // Whether `position` is on the side light passes a portal towards.
 bool facing(const Portal& portal, const Vec3d& position) {
   return dot(position - portal.corner, cross(portal.edgeU, portal.edgeV)) > 0;
+}
+
+// Below this solid angle a portal is not sampled: SphericalRectangle's construction, a sum of four
+// angles minus 2π, has no correct digit left in double (a 1 m² window 30 km away).
+constexpr double kMinPortalSolidAngle = 1e-9;
+
+std::uint64_t newLightId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
 }
 }  // namespace
 
@@ -45,7 +55,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, EnvironmentLightOptions options,
                                    LightPdfs pdfs, const EnvironmentTableSource& tables)
-    : map_(std::move(map)), options_(std::move(options)) {
+    : map_(std::move(map)), options_(std::move(options)), id_(newLightId()) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
   validate(options_);
   auto get = [&](EnvironmentTableStrategy strategy) {
@@ -87,27 +97,30 @@ const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& contex
 }
 
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
-  const double portals = portalSolidAngle(context);
-  if (portals > 0) {
+  std::optional<PortalsSeen> found;
+  const PortalsSeen* seen = portalsSeen(context, found);
+  if (seen) {
     if (emitsNothing()) return {};
     const double u = clampUnit(u0);
     if (u < kPortalShare) {
-      // The facing portal whose share of Σ Ω_i holds u, and u rescaled into that share (the last
-      // facing one takes what rounding leaves over).
-      double at = u / kPortalShare * portals;
-      std::optional<SphericalRectangle> chosen;
-      for (const Portal& portal : options_.portals) {
-        if (!facing(portal, *context.position)) continue;
-        SphericalRectangle seen(*context.position, portal.corner, portal.edgeU, portal.edgeV);
-        if (seen.empty()) continue;
-        const bool holds = at < seen.solidAngle();
-        if (!holds) at -= seen.solidAngle();
-        chosen = seen;
-        if (holds) break;
+      // The seen portal whose share of Σ Ω_i holds u, and u rescaled into that share (the last
+      // seen one takes what rounding leaves over, at its far end).
+      double at = u / kPortalShare * seen->total_;
+      std::size_t chosen = 0;
+      double chosenSolidAngle = 0;
+      for (std::size_t i = 0; i < options_.portals.size(); ++i) {
+        const double solidAngle = portalSolidAngle(*seen, i);
+        if (!(solidAngle > 0)) continue;
+        at -= chosenSolidAngle;  // past the one before
+        chosen = i;
+        chosenSolidAngle = solidAngle;
+        if (at < solidAngle) break;
       }
-      const Vec3d w = chosen->sample(std::clamp(at / chosen->solidAngle(), 0.0, 1.0), clampUnit(u1)).direction;
+      const Portal& portal = options_.portals[chosen];
+      const SphericalRectangle rectangle(*context.position, portal.corner, portal.edgeU, portal.edgeV);
+      const Vec3d w = rectangle.sample(std::clamp(at / chosenSolidAngle, 0.0, 1.0), clampUnit(u1)).direction;
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
-      return {w, scaled(map_->radiance(p)), mixturePdf(context, w, p)};
+      return {w, scaled(map_->radiance(p)), mixturePdf(context, seen, w, p)};
     }
     u0 = static_cast<float>(std::min((u - kPortalShare) / (1.0 - kPortalShare), double{kOneMinusEpsilon}));
   }
@@ -115,28 +128,40 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
       usesLocal(context) ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
   if (!(s.pdf > 0)) return {};
   const Vec3d w = options_.worldFromMap.apply(s.direction);
-  return {w, scaled(map_->radiance(s.pixel)), portals > 0 ? mixturePdf(context, w, s.pixel) : s.pdf};
+  return {w, scaled(map_->radiance(s.pixel)), seen ? mixturePdf(context, seen, w, s.pixel) : s.pdf};
 }
 
-double EnvironmentLight::portalSolidAngle(const Vec3d& position) const {
-  double total = 0;
-  for (const Portal& portal : options_.portals)
-    if (facing(portal, position))
-      total += SphericalRectangle(position, portal.corner, portal.edgeU, portal.edgeV).solidAngle();
-  return total;
+double EnvironmentLight::portalSolidAngle(const Vec3d& position, std::size_t i) const {
+  const Portal& portal = options_.portals[i];
+  if (!facing(portal, position)) return 0.0;
+  const double solidAngle = SphericalRectangle::solidAngleOf(position, portal.corner, portal.edgeU, portal.edgeV);
+  return solidAngle >= kMinPortalSolidAngle ? solidAngle : 0.0;
 }
 
-double EnvironmentLight::portalSolidAngle(const LightSampleContext& context) const {
-  if (!context.position || options_.portals.empty()) return 0.0;
-  return context.portalSolidAngle ? *context.portalSolidAngle : portalSolidAngle(*context.position);
+double EnvironmentLight::portalSolidAngle(const PortalsSeen& seen, std::size_t i) const {
+  return i < PortalsSeen::kCapacity ? seen.solidAngles_[i] : portalSolidAngle(seen.from_, i);
 }
 
-double EnvironmentLight::portalPdf(const Vec3d& position, double solidAngle, const Vec3d& w) const {
-  int through = 0;
-  for (const Portal& portal : options_.portals)
-    through += facing(portal, position) &&
-               SphericalRectangle::passesThrough(position, portal.corner, portal.edgeU, portal.edgeV, w);
-  return through / solidAngle;
+PortalsSeen EnvironmentLight::portalsSeenFrom(const Vec3d& position) const {
+  PortalsSeen seen;
+  seen.from_ = position;
+  seen.light_ = id_;
+  for (std::size_t i = 0; i < options_.portals.size(); ++i) {
+    const double solidAngle = portalSolidAngle(position, i);
+    if (i < PortalsSeen::kCapacity) seen.solidAngles_[i] = solidAngle;
+    seen.total_ += solidAngle;
+  }
+  return seen;
+}
+
+const PortalsSeen* EnvironmentLight::portalsSeen(const LightSampleContext& context,
+                                                 std::optional<PortalsSeen>& found) const {
+  if (options_.portals.empty() || !context.position) return nullptr;
+  const std::optional<PortalsSeen>& kept = context.portals;
+  const PortalsSeen& seen = kept && kept->light_ == id_ && kept->from_ == *context.position
+                                ? *kept
+                                : found.emplace(portalsSeenFrom(*context.position));
+  return seen.total_ > 0 ? &seen : nullptr;
 }
 
 double EnvironmentLight::strategyPdf(const LightSampleContext& context, PixelIndex p) const {
@@ -145,29 +170,40 @@ double EnvironmentLight::strategyPdf(const LightSampleContext& context, PixelInd
   return local ? *local : table(context).pdf(p);
 }
 
-double EnvironmentLight::mixturePdf(const LightSampleContext& context, const Vec3d& w, PixelIndex p) const {
+double EnvironmentLight::mixturePdf(const LightSampleContext& context, const PortalsSeen* seen, const Vec3d& w,
+                                    PixelIndex p) const {
   const double strategy = strategyPdf(context, p);
-  const double portals = portalSolidAngle(context);
-  if (!(portals > 0)) return strategy;
-  return kPortalShare * portalPdf(*context.position, portals, w) + (1.0 - kPortalShare) * strategy;
+  if (!seen) return strategy;
+  // p_portals(w): the seen portals w passes through, over Σ Ω_i.
+  int through = 0;
+  for (std::size_t i = 0; i < options_.portals.size(); ++i) {
+    const Portal& portal = options_.portals[i];
+    through += portalSolidAngle(*seen, i) > 0 &&
+               SphericalRectangle::passesThrough(seen->from_, portal.corner, portal.edgeU, portal.edgeV, w);
+  }
+  return kPortalShare * (through / seen->total_) + (1.0 - kPortalShare) * strategy;
 }
 
-LightSampleContext EnvironmentLight::atPosition(LightSampleContext context, const Vec3d& position) const {
-  context.position = position;
-  context.portalSolidAngle.reset();
-  if (!options_.portals.empty()) context.portalSolidAngle = portalSolidAngle(position);
-  return context;
+LightSampleContext EnvironmentLight::atPosition(const LightSampleContext& context, const Vec3d& position) const {
+  LightSampleContext at = context;
+  at.position = position;
+  at.portals.reset();
+  if (!options_.portals.empty()) at.portals = portalsSeenFrom(position);
+  return at;
 }
 
-LightSampleContext EnvironmentLight::atNormal(LightSampleContext context, const Vec3d& normal) const {
-  context.normal = normal;
-  context.localCell.reset();
-  if (local_) context.localCell = localCell(context);
-  return context;
+LightSampleContext EnvironmentLight::atNormal(const LightSampleContext& context, const Vec3d& normal) const {
+  LightSampleContext at = context;
+  at.normal = normal;
+  at.localCell.reset();
+  if (local_) at.localCell = localCell(at);
+  return at;
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
-  return mixturePdf(context, w, map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w)));
+  std::optional<PortalsSeen> found;
+  return mixturePdf(context, portalsSeen(context, found), w,
+                    map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w)));
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
@@ -177,7 +213,8 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
 RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {
   const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
   const PixelIndex p = map_->mapping().pixelOf(mapDirection);
-  return {scaled(map_->radiance(p)), mixturePdf(context, w, p)};
+  std::optional<PortalsSeen> found;
+  return {scaled(map_->radiance(p)), mixturePdf(context, portalsSeen(context, found), w, p)};
 }
 
 std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, PixelIndex p) const {

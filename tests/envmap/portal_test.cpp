@@ -1,7 +1,8 @@
 // Portals (EnvironmentLight::sample): every sample's pdf is the mixture's density at its direction,
 // the mixture's expectations are the integrals they estimate (z-tests on 10⁶ samples), a point
-// behind every portal or a call without a position samples as a light without portals, and bad
-// portals are refused.
+// behind every portal or a call without a position samples as a light without portals, the
+// portals found for a point serve no other point or light, more portals than a context keeps
+// sample as their union, and bad portals are refused.
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include "acdf/sampling/rng.h"
 #include "acdf/sampling/sample.h"
 #include "acdf/sampling/spherical_rectangle.h"
+#include "acdf/test_support/chi_square_registry.h"
 #include "envmap_test_util.h"
 
 namespace {
@@ -78,7 +80,9 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
           bool through = false;
           for (const Portal& p : {kWindow, kSideWindow})
             through = through || SphericalRectangle(position, p.corner, p.edgeU, p.edgeV).pdf(s.direction) > 0;
-          if (u0 < EnvironmentLight::kPortalShare) ASSERT_TRUE(through) << u0 << ", " << u1;
+          if (u0 < EnvironmentLight::kPortalShare) {
+            ASSERT_TRUE(through) << u0 << ", " << u1;
+          }
         }
       }
   }
@@ -135,6 +139,91 @@ TEST(Portals, BehindEveryPortalOrWithoutAPositionTheLightIsUnchanged) {
       ASSERT_EQ(a.pdf, b.pdf);
       ASSERT_EQ(plain.pdf(context, a.direction), portals.pdf(context, a.direction));
     }
+  }
+}
+
+TEST(Portals, AContextMovedOrGivenToAnotherLightFindsItsPortalsAgain) {
+  const EnvironmentLight both = lightWith(EnvironmentSampling::Adaptive, {kWindow, kSideWindow});
+  const EnvironmentLight windowOnly = lightWith(EnvironmentSampling::Adaptive, {kWindow});
+  const Vec3d from = kInside[0], to = kInside[1];
+  // What a stale context would keep differs from what holds: the portals' solid angles from the
+  // two points, and the two lights' from one point.
+  auto solidAngle = [](const Vec3d& o, const Portal& p) {
+    return SphericalRectangle(o, p.corner, p.edgeU, p.edgeV).solidAngle();
+  };
+  ASSERT_GT(std::abs(solidAngle(from, kWindow) - solidAngle(to, kWindow)), 0.01 * solidAngle(to, kWindow));
+  ASSERT_GT(solidAngle(from, kSideWindow), 0.01 * solidAngle(from, kWindow));
+
+  const LightSampleContext found = both.atPosition({}, from);
+  LightSampleContext moved = found;
+  moved.position = to;
+  const LightSampleContext movedFresh{.position = to}, otherLightsFresh{.position = from};
+  Pcg32 rng(29);
+  for (int k = 0; k < 2000; ++k) {
+    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const LightSample a = both.sample(moved, u0, u1), b = both.sample(movedFresh, u0, u1);
+    ASSERT_EQ(a.direction, b.direction);
+    ASSERT_EQ(a.pdf, b.pdf);
+    ASSERT_EQ(both.pdf(moved, b.direction), b.pdf);
+    const LightSample c = windowOnly.sample(found, u0, u1), d = windowOnly.sample(otherLightsFresh, u0, u1);
+    ASSERT_EQ(c.direction, d.direction);
+    ASSERT_EQ(c.pdf, d.pdf);
+    ASSERT_EQ(windowOnly.pdf(found, d.direction), d.pdf);
+  }
+}
+
+// The window cut into 3 × 4 portals: more than a context keeps (PortalsSeen::kCapacity), so the
+// calls find the last ones' solid angles themselves.
+std::vector<Portal> windowInPieces() {
+  std::vector<Portal> pieces;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j)
+      pieces.push_back({kWindow.corner + kWindow.edgeU * (i / 3.0) + kWindow.edgeV * (j / 4.0),
+                        kWindow.edgeU * (1.0 / 3.0), kWindow.edgeV * (1.0 / 4.0)});
+  return pieces;
+}
+
+// 10⁵ portal samples (u0 below kPortalShare) from each point binned by the piece they pass
+// through, whose probability is its share of the pieces' Σ Ω_i; the density everywhere that of
+// the whole window.
+ACDF_CHI_SQUARE_TEST(Portals, MorePortalsThanAContextKeepsSampleAsTheirUnion, 3) {
+  const std::vector<Portal> pieces = windowInPieces();
+  static_assert(PortalsSeen::kCapacity < 12);
+  const EnvironmentLight cut = lightWith(EnvironmentSampling::Adaptive, pieces);
+  const EnvironmentLight whole = lightWith(EnvironmentSampling::Adaptive, {kWindow});
+  for (const Vec3d& position : kInside) {
+    SCOPED_TRACE(position.x);
+    const LightSampleContext context = cut.atPosition({}, position), plain{.position = position};
+    std::vector<double> expected, observed(pieces.size(), 0.0);
+    std::vector<SphericalRectangle> seen;
+    double total = 0;
+    for (const Portal& p : pieces) {
+      seen.emplace_back(position, p.corner, p.edgeU, p.edgeV);
+      total += seen.back().solidAngle();
+    }
+    const int n = 100'000;
+    for (const SphericalRectangle& r : seen) expected.push_back(n * r.solidAngle() / total);
+    Pcg32 rng(31);
+    for (int k = 0; k < n; ++k) {
+      const float u0 = static_cast<float>(rng.nextFloat() * EnvironmentLight::kPortalShare), u1 = rng.nextFloat();
+      const LightSample s = cut.sample(context, u0, u1);
+      ASSERT_EQ(cut.pdf(context, s.direction), s.pdf);
+      const LightSample fresh = cut.sample(plain, u0, u1);
+      ASSERT_EQ(fresh.direction, s.direction);
+      ASSERT_EQ(fresh.pdf, s.pdf);
+      std::size_t piece = 0;
+      while (piece < seen.size() && !(seen[piece].pdf(s.direction) > 0)) ++piece;
+      ASSERT_LT(piece, seen.size());
+      observed[piece] += 1;
+      // A direction through the window, away from the pieces' shared edges: the whole's density.
+      const Vec3d w = SphericalRectangle(position, kWindow.corner, kWindow.edgeU, kWindow.edgeV)
+                          .sample(rng.nextFloat(), rng.nextFloat())
+                          .direction;
+      ASSERT_NEAR(cut.pdf(context, w), whole.pdf(plain, w), 1e-12 * whole.pdf(plain, w));
+    }
+    const ChiSquareResult result = chiSquareTest(observed, expected);
+    EXPECT_GE(result.pvalue, test_support::chiSquareTestLevel())
+        << "chi2 " << result.statistic << " dof " << result.dof;
   }
 }
 

@@ -51,6 +51,23 @@ TEST(SphericalRectangle, SolidAngleMatchesTheClosedFormAndAddsUp) {
   }
 }
 
+TEST(SphericalRectangle, SolidAngleOfAloneAgreesAndKeepsItsPrecisionFarAway) {
+  for (const Rectangle& r : {kWindow, kTilted})
+    for (const Vec3d& o : kOrigins) {
+      const double omega = SphericalRectangle(o, r.corner, r.edgeU, r.edgeV).solidAngle();
+      EXPECT_NEAR(SphericalRectangle::solidAngleOf(o, r.corner, r.edgeU, r.edgeV), omega, 1e-13 * omega);
+    }
+  EXPECT_EQ(SphericalRectangle::solidAngleOf({5, 1, 2}, kWindow.corner, kWindow.edgeU, kWindow.edgeV), 0.0)
+      << "an origin in the plane";
+  // A 2 × 2 square centred d below, against the closed form 4 arcsin(1 / (1 + d²)): at d = 1 and
+  // where the four-angle construction has lost half its digits (d = 10⁴: Ω ≈ 4·10⁻⁸).
+  for (const double d : {1.0, 30.0, 1e4}) {
+    const double exact = 4.0 * std::asin(1.0 / (1.0 + d * d));
+    EXPECT_NEAR(SphericalRectangle::solidAngleOf({0, 0, d}, {-1, -1, 0}, {2, 0, 0}, {0, 2, 0}), exact, 1e-14 * exact)
+        << d;
+  }
+}
+
 TEST(SphericalRectangle, SolidAngleEqualsTheIntegralOverTheArea) {
   // ∫ cos θ / r² dA by the midpoint rule on 1000 × 1000 cells.
   for (const Rectangle& r : {kWindow, kTilted}) {

@@ -19,7 +19,9 @@
 // giving the normal or not, as they must on allowIncompletePdf. LocalCompensated's per-normal
 // tables are incomplete (compensated): calls that need a complete pdf get the Adaptive table too.
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -57,6 +59,25 @@ struct EnvironmentLightOptions {
 // ("scale", or the simplify or local options' own).
 void validate(const EnvironmentLightOptions& options);
 
+// The portals of one light as seen from one point, found once for the calls there by
+// EnvironmentLight::atPosition: each portal's solid angle Ω_i (0 for one whose inner side the
+// point is not on) and their sum. Only the light fills one, and a call uses it only from that
+// light and at the position it was found for: a context moved to another position or given to
+// another light has its portals found again by each call, never a stale solid angle.
+class PortalsSeen {
+ public:
+  // The portals whose Ω_i are kept, inline: scenes declare a few windows and doors. For a light
+  // with more, the sum still covers all, and the calls find the other Ω_i where they need them.
+  static constexpr std::size_t kCapacity = 8;
+
+ private:
+  friend class EnvironmentLight;
+  Vec3d from_;                                   // the point they are seen from
+  std::uint64_t light_ = 0;                      // the light's identity (EnvironmentLight::id_)
+  double total_ = 0;                             // Σ Ω_i
+  std::array<double, kCapacity> solidAngles_{};  // Ω_i of the first kCapacity portals
+};
+
 // What a light sample or pdf depends on besides its variates or direction.
 struct LightSampleContext {
   // True when another technique samples every direction the light lights (BSDF sampling, the
@@ -70,10 +91,9 @@ struct LightSampleContext {
   std::optional<std::size_t> localCell = std::nullopt;
   // The point lit (world frame): what the portals are seen from. Without it no portal is used.
   std::optional<Vec3d> position = std::nullopt;
-  // Σ Ω_i of the portals seen from `position`, found once for the calls of one shading point by
-  // EnvironmentLight::atPosition; without it each call finds it. A caller that sets `position`
-  // itself must leave this empty.
-  std::optional<double> portalSolidAngle = std::nullopt;
+  // The portals seen from `position`, found once for the calls of one shading point by
+  // EnvironmentLight::atPosition; without it (or with one found elsewhere) each call finds them.
+  std::optional<PortalsSeen> portals = std::nullopt;
 };
 
 struct LightSample {
@@ -114,21 +134,23 @@ class EnvironmentLight {
   // one-sample mixture  p(ω) = c · p_portals(ω) + (1 − c) · p_table(ω), c = kPortalShare:
   // p_portals picks a portal with probability proportional to the solid angle Ω_i it subtends,
   // then a direction uniform in that solid angle (SphericalRectangle), so p_portals(ω) = (the
-  // number of facing portals ω passes through) / Σ Ω_i; p_table is the strategy's own density,
-  // which keeps finding what the portals' uniform density misses (the sun through a window). u0
-  // chooses the technique (and the portal) and is rescaled for it. pdf() and evalWithPdf() return
-  // the mixture, so MIS against BSDF sampling weighs it whole. Elsewhere (no position, behind
-  // every portal) the light samples as without portals.
+  // number of facing portals ω passes through) / Σ Ω_i (a portal subtending less than 1e-9 sr is
+  // left out); p_table is the strategy's own density, which keeps finding what the portals'
+  // uniform density misses (the sun through a window). u0 chooses the technique (and the
+  // portal) and is rescaled for it. pdf() and evalWithPdf() return the mixture, so MIS against
+  // BSDF sampling weighs it whole. Elsewhere (no position, behind every portal) the light
+  // samples as without portals. atPosition() finds the portals' solid angles once for the calls
+  // of a shading point.
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
   static constexpr double kPortalShare = 0.5;
   // Density per steradian of sample(context, ·) at the world direction w (non-zero).
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
   // `context` at the shading normal `normal` (world frame, non-zero), with its local table cell
   // (Local only) found once for every call there.
-  LightSampleContext atNormal(LightSampleContext context, const Vec3d& normal) const;
-  // `context` at the point `position` (world frame), with the solid angle its portals subtend
+  LightSampleContext atNormal(const LightSampleContext& context, const Vec3d& normal) const;
+  // `context` at the point `position` (world frame), with the solid angles its portals subtend
   // found once for every call there.
-  LightSampleContext atPosition(LightSampleContext context, const Vec3d& position) const;
+  LightSampleContext atPosition(const LightSampleContext& context, const Vec3d& position) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
   // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
@@ -160,14 +182,19 @@ class EnvironmentLight {
   std::size_t localCell(const LightSampleContext& context) const;
   // The strategy's density at pixel p (the table's, or the local one's).
   double strategyPdf(const LightSampleContext& context, PixelIndex p) const;
-  // Σ Ω_i over the portals whose inner side `position` is on (0 for none).
-  double portalSolidAngle(const Vec3d& position) const;
-  // The same for a context (0 without a position), as atPosition found it or else now.
-  double portalSolidAngle(const LightSampleContext& context) const;
-  // p_portals(w) from `position`, given their Σ Ω_i > 0 (see sample()).
-  double portalPdf(const Vec3d& position, double solidAngle, const Vec3d& w) const;
-  // The mixture's density at the world direction w of pixel p, for a context with a position.
-  double mixturePdf(const LightSampleContext& context, const Vec3d& w, PixelIndex p) const;
+  // Ω_i of portal i from `position`: 0 unless the position is on its inner side and Ω_i is large
+  // enough for SphericalRectangle's sampling in double (kMinPortalSolidAngle).
+  double portalSolidAngle(const Vec3d& position, std::size_t i) const;
+  // The same as `seen` keeps it, or found now for a portal beyond its capacity.
+  double portalSolidAngle(const PortalsSeen& seen, std::size_t i) const;
+  // Every portal's Ω_i from `position`.
+  PortalsSeen portalsSeenFrom(const Vec3d& position) const;
+  // The portals seen from the context's position: atPosition's when they are this light's at that
+  // position, else found now into `found`; null without a position or a portal seen from it.
+  const PortalsSeen* portalsSeen(const LightSampleContext& context, std::optional<PortalsSeen>& found) const;
+  // The mixture's density at the world direction w of pixel p, the portals `seen` from the
+  // context's position (null: the strategy's alone; see sample()).
+  double mixturePdf(const LightSampleContext& context, const PortalsSeen* seen, const Vec3d& w, PixelIndex p) const;
 
   std::shared_ptr<const EnvironmentMap> map_;
   EnvironmentLightOptions options_;
@@ -175,6 +202,9 @@ class EnvironmentLight {
   // that allow an incomplete one. Either may be null when no call will need it.
   std::shared_ptr<const EnvironmentTable> complete_, incomplete_;
   std::shared_ptr<const LocalEnvironmentTable> local_;
+  // Distinct for every light constructed (a copy shares its portals and so its identity): what
+  // PortalsSeen::light_ holds.
+  std::uint64_t id_;
 };
 
 }  // namespace acdf

@@ -47,6 +47,14 @@ class SphericalRectangle {
   // No solid angle is computed: what a caller that knows Ω already needs for a pdf.
   static bool passesThrough(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU, const Vec3d& edgeV,
                             const Vec3d& w);
+  // Ω alone, without the sampling construction: the rectangle as two triangles, each
+  // tan(Ω/2) = |a · (b × c)| / (|a||b||c| + (a · b)|c| + (a · c)|b| + (b · c)|a|) for its corners
+  // a, b, c seen from the origin (Van Oosterom & Strackee 1983), the two halves added as the
+  // arguments of a complex product: one atan2. Same edge requirements, unchecked; 0 for an origin
+  // in the rectangle's plane. A third of solidAngle()'s time and more precise: its sum of four
+  // angles minus 2π cancels as Ω shrinks (relative errors against long double, over Ω from 1e-7 to
+  // 2π: here 1e-15 typical, 5e-12 at worst; there 1e-14 typical above 0.1 sr, 1e-3 below 1e-6).
+  static double solidAngleOf(const Vec3d& origin, const Vec3d& corner, const Vec3d& edgeU, const Vec3d& edgeV);
 
  private:
   Vec3d origin_, corner_, edgeU_, edgeV_;
