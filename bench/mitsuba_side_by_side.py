@@ -3,7 +3,8 @@ and the same `path` integrator (llvm_ad_rgb): image means, relMSE at equal spp, 
 efficiency at equal time, table bytes.
 
     PYTHONPATH=build/python .venv/bin/python bench/mitsuba_side_by_side.py \\
-        --maps MAP.exr... --rgl FILE.bsdf... [--spp 16] [--seeds 16] [--reference-spp 1024] [--res 256]
+        --maps MAP.exr... --rgl FILE.bsdf... [--spp 16] [--seeds 16] [--reference-spp 1024] [--res 256] \\
+        [--timing-renders 7]
 
 Environment lights: a diffuse floor and a rough gold sphere (Mitsuba's roughconductor, GGX
 alpha 0.1), depth 3, the map not seen directly. Each emitter is judged against its own reference
@@ -17,14 +18,17 @@ Per row: relMSE = mean over pixels and channels of (I - R)^2 / (R^2 + 1e-2) of o
 its mean over seeds with the standard error, and its median (the glossy sphere's fireflies make it
 heavy-tailed); the largest |z| of the image means against Mitsuba's plugin, over the frame and
 4 x 4 blocks per channel, with the Sidak bound at alpha 0.01 (means and variances from the seeds'
-images); table bytes; wall time per spp of the median mi.render after a warm-up render (kernels
-compiled and cached), and how much of it was spent inside acdf's batched calls; efficiency at equal time against
-the Mitsuba plugin of the block, (relMSE x time per spp) of Mitsuba's over the row's: above 1, the
-row reaches a given error sooner. Each row renders in the mode a user of it gets: drjit's symbolic
-loops and calls on, unless the row's plugin makes batched acdf calls, which need evaluated mode
-(acdf.mitsuba.evaluated_mode(); docs/python.md).
+images); table bytes (acdf's C++ table's, and of the drjit arrays a plugin samples in drjit);
+wall time per spp of the median mi.render after a warm-up render (kernels compiled and cached;
+with --timing-renders N, for the measured materials' rows in symbolic mode the fastest of N
+renders interleaved with the file's other such rows), and how much of it was spent inside acdf's batched calls; efficiency at
+equal time against the Mitsuba plugin of the block, (relMSE x time per spp) of Mitsuba's over the
+row's: above 1, the row reaches a given error sooner. Each row renders in the mode a user of it
+gets: drjit's symbolic loops and calls on, unless the row's plugin makes batched acdf calls, which
+need evaluated mode (acdf.mitsuba.evaluated_mode(); docs/python.md).
 """
 import argparse
+import gc
 import time
 
 import mitsuba as mi
@@ -99,7 +103,21 @@ def symbolic_mode(on):
 
 def batched(plugin):
     """Whether a plugin makes batched acdf calls (and so renders in evaluated mode)."""
-    return "Batched" in type(plugin).__name__ or "AcdfMeasured" in type(plugin).__name__
+    return "Batched" in type(plugin).__name__
+
+
+def interleaved_ms_per_spp(scenes, args):
+    """ms per spp of each scene, rendered in drjit's symbolic mode after measure()'s warm-up: the
+    fastest of --timing-renders renders at --spp, the scenes taking turns so that load from other
+    work on a shared machine falls on all of them alike."""
+    symbolic_mode(True)
+    best = [float("inf")] * len(scenes)
+    for turn in range(args.timing_renders):
+        for i, scene in enumerate(scenes):
+            start = time.perf_counter()
+            render(scene, args.spp, 2000 + turn)
+            best[i] = min(best[i], time.perf_counter() - start)
+    return [f"{1000.0 * seconds / args.spp:.2f}" for seconds in best]
 
 
 def render(scene, spp, seed):
@@ -197,17 +215,35 @@ def compare_materials(args, acdf):
         reference = render(theirs, args.reference_spp, 1000)
         baseline, errors, ms, _ = measure(theirs, reference, args)
         warps = acdf.RglBrdfSampler(acdf.RglBrdf.load(path)).bytes
-        measured_row = report(source, "measured", errors, None, f"{warps} (its warps)", ms, "-", None)
+        rows = [("measured", errors, None, f"{warps} (its warps)", ms, "-")]
+        scenes = [(theirs, 0)]  # the symbolic rows' scenes and rows, timed interleaved
         for sampling in args.samplings:
             bsdf = {"type": "acdf_measured", "filename": path, "sampling": sampling}
             scene = mi.load_dict(material_scene(bsdf, args.bsdf_map, args.res))
             plugin = next(s.bsdf() for s in scene.shapes() if "Acdf" in str(s.bsdf()))
             symbolic_mode(not batched(plugin))
-            plugin.sampler = timed = TimedCalls(plugin.sampler, {"sample", "pdf", "eval"})
+            timed = None
+            if batched(plugin):
+                plugin.sampler = timed = TimedCalls(plugin.sampler, {"sample", "pdf", "eval"})
             images, errors, ms, inside = measure(scene, reference, args, timed)
-            table = f"{plugin.sampler.bytes} (1/{warps / plugin.sampler.bytes:.1f})"
-            report(source, f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside,
-                   measured_row)
+            table = f"{plugin.bytes} (1/{warps / plugin.bytes:.1f})" if plugin.bytes else "0"
+            if getattr(plugin, "table", None) is not None:  # the drjit copy a native plugin samples
+                table += f"; in drjit {plugin.table.bytes} (1/{warps / plugin.table.bytes:.1f})"
+            rows.append((f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside))
+            if batched(plugin):
+                # A symbolic render records every live BSDF of its class, and a batched one cannot be
+                # recorded: it keeps its median time and goes before the next row renders.
+                del scene, plugin
+                gc.collect()
+            else:
+                scenes.append((scene, len(rows) - 1))
+        if args.timing_renders:
+            for (_, row), ms in zip(scenes, interleaved_ms_per_spp([scene for scene, _ in scenes], args)):
+                rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
+        measured_row = None
+        for name, errors, z, table, ms, inside in rows:
+            row = report(source, name, errors, z, table, ms, inside, measured_row)
+            measured_row = measured_row or row
 
 
 def main():
@@ -221,6 +257,10 @@ def main():
     parser.add_argument("--seeds", type=int, default=16)
     parser.add_argument("--reference-spp", type=int, default=1024)
     parser.add_argument("--res", type=int, default=256)
+    parser.add_argument("--timing-renders", type=int, default=0,
+                        help="measured materials: time each row in symbolic mode as the fastest of this many "
+                        "renders at --spp, interleaved with its file's other such rows (0, and batched rows: the "
+                        "median of the seeds' renders)")
     args = parser.parse_args()
     if args.rgl and not args.bsdf_map:
         parser.error("--rgl needs --bsdf-map")

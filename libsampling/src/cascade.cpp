@@ -588,6 +588,11 @@ std::size_t Cascade::distinctSlices() const {
   return sliceRoot_.empty() ? slices() : sliceRoot_.back() + std::size_t{1};
 }
 
+std::size_t Cascade::distributionOf(std::size_t slice) const {
+  requireSlice(slice);
+  return rootOf(slice);
+}
+
 std::vector<std::size_t> Cascade::cdfsPerLevel() const {
   // A level's CDFs are the intervals of the level above: each CDF has its interior points + 1.
   std::vector<std::size_t> cdfs{distinctSlices()};

@@ -30,8 +30,11 @@ the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
 In the JIT variants `acdf_envmap` with a table that is a cascade over the pixels (uniform, adaptive,
 compensated) or none (uniform-sphere) samples and evaluates it with drjit operations over the table's
-arrays, which Mitsuba traces into its kernels (NativeEnvmap). The other strategies and
-`acdf_measured` make one batched acdf call per wavefront, which reads the arrays into numpy: they
+arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured` with adaptive,
+uniform or cosine sampling (NativeMeasured), whose BRDF values are, for an RGL file, those of
+Mitsuba's `measured` plugin loaded from the same file, for a MERL file its table's in drjit. The
+other strategies and rgl sampling make one batched acdf call per wavefront, which reads the arrays
+into numpy: they
 need drjit's evaluated mode, which `register()` turns on in the thread that calls it (drjit's flags
 are per thread, and Mitsuba may build plugins on others). `register(batched_plugins=False)` leaves
 drjit's symbolic modes as they are, for renders 4-6x faster, and refuses the batched plugins.
@@ -367,49 +370,93 @@ def _pixel_of(mi, d, width, height):
 
 
 class _DrjitCdfs:
-    """One axis of a cascade (EnvironmentLight.cascade_arrays): its 1D CDFs laid end to end."""
+    """One sampled axis of a cascade (Cascade.arrays, EnvironmentLight.cascade_arrays) in a JIT
+    variant's arrays, held as acdf's Cascade holds it: each 1D CDF runs from value 0 at vertex 0 to
+    value 1 at vertex `cells`, so only its interior breakpoints are kept, their vertices packed
+    into the narrowest unsigned integers that hold them. CDF k's interval j has CDF first[k] + k + j
+    of the next axis below it."""
 
     def __init__(self, mi, arrays, cells):
+        start = np.asarray(arrays["start"], dtype=np.int64)
+        inner = np.ones(len(arrays["vertex"]), dtype=bool)
+        inner[start[:-1]] = inner[start[1:] - 1] = False
         self.mi = mi
-        self.start = mi.UInt32(arrays["start"])
-        self.vertex = mi.UInt32(arrays["vertex"])
-        self.value = mi.Float(arrays["value"])
-        self.last = len(arrays["vertex"]) - 1
         self.cells = cells
+        self.first = mi.UInt32(start - 2 * np.arange(len(start)))  # interior breakpoints before CDF k
+        # (One unused entry where no CDF has interior breakpoints: drjit gathers from no array.)
+        value = np.asarray(arrays["value"], dtype=np.float32)[inner]
+        self.value = mi.Float(value if len(value) else np.zeros(1, np.float32))
+        self.bits = 8 if cells <= 1 << 8 else 16 if cells <= 1 << 16 else 32
+        per_word = 32 // self.bits
+        vertex = np.zeros(max(-(-len(value) // per_word), 1) * per_word, dtype=f"<u{self.bits // 8}")
+        vertex[:len(value)] = np.asarray(arrays["vertex"])[inner]
+        self.vertex = mi.UInt32(np.frombuffer(vertex.tobytes(), dtype="<u4"))
+        # Halvings that find a lane's interval in the longest CDF.
+        self.steps = int(np.ceil(np.log2(np.diff(start).max() - 1)))
 
-    def bounds(self, cdf, active):
-        """Breakpoints [first, end) of CDF `cdf`."""
+    @property
+    def bytes(self):
         import drjit as dr
 
-        return (dr.gather(self.mi.UInt32, self.start, cdf, active),
-                dr.gather(self.mi.UInt32, self.start, cdf + 1, active))
+        return 4 * (dr.width(self.first) + dr.width(self.value) + dr.width(self.vertex))
 
-    def _last_at_most(self, first, end, of, threshold):
-        """The last breakpoint k of [first, end) with of[k] <= threshold (of: the values or the
-        vertices, non-decreasing in each CDF): one binary search over every CDF of the axis, where
-        the breakpoints before `first` count as below and those from `end` on as above."""
+    def _value(self, k, active):
         import drjit as dr
 
-        kind = self.mi.Float if of is self.value else self.mi.UInt32
-        above = dr.binary_search(0, self.last, lambda k: (k < first) | ((k < end) & (dr.gather(kind, of, k) <= threshold)))
-        return above - 1
+        return dr.gather(self.mi.Float, self.value, k, active)
 
-    def interval_of_variate(self, first, end, u):
-        """Interval k of the CDF with value[k] <= u < value[k + 1] (u in [0, 1)): it has mass."""
-        return self._last_at_most(first, end, self.value, u)
-
-    def interval_of_cell(self, first, end, cell):
-        return self._last_at_most(first, end, self.vertex, cell)
-
-    def interval(self, k, active):
-        """(value at k, at k + 1, vertex at k, at k + 1) and the density on the axis' unit interval."""
+    def _vertex(self, k, active):
+        """The vertex of interior breakpoint k, unpacked."""
         import drjit as dr
 
         mi = self.mi
-        lo, hi = dr.gather(mi.Float, self.value, k, active), dr.gather(mi.Float, self.value, k + 1, active)
-        a, b = dr.gather(mi.UInt32, self.vertex, k, active), dr.gather(mi.UInt32, self.vertex, k + 1, active)
-        density = (hi - lo) * self.cells / mi.Float(dr.maximum(b - a, 1))
-        return lo, hi, a, b, density
+        shift = {8: 2, 16: 1, 32: 0}[self.bits]
+        word = dr.gather(mi.UInt32, self.vertex, k >> shift, active)
+        return (word >> ((k & ((1 << shift) - 1)) * self.bits)) & ((1 << self.bits) - 1) if shift else word
+
+    def _count_at_most(self, first, count, of, threshold, active):
+        """How many of the `count` interior breakpoints from `first` have of(k) <= threshold (of:
+        the values or the vertices, non-decreasing in a CDF): a binary search of the lane's own CDF."""
+        import drjit as dr
+
+        at, left = first, count
+        for _ in range(self.steps):
+            half = left >> 1
+            live = active & (left > 0)
+            below = live & (of(at + half, live) <= threshold)
+            at = dr.select(below, at + half + 1, at)
+            left = dr.select(below, left - half - 1, half)
+        return at - first
+
+    def _interval(self, cdf, of, threshold, active, kind):
+        """The interval j of CDF `cdf` that threshold falls in, the next axis' CDF below it, its CDF
+        values (lo, hi) in `kind` (mi.Float or mi.Float64) and vertices (a, b), and its density on
+        the axis' unit interval: its mass spread over its cells."""
+        import drjit as dr
+
+        mi = self.mi
+        first = dr.gather(mi.UInt32, self.first, cdf, active)
+        count = dr.gather(mi.UInt32, self.first, cdf + 1, active) - first
+        j = self._count_at_most(first, count, of, threshold, active)
+        starts, ends = active & (j > 0), active & (j < count)
+        lo = dr.select(starts, kind(self._value(first + j - 1, starts)), 0)
+        hi = dr.select(ends, kind(self._value(first + j, ends)), 1)
+        a = dr.select(starts, self._vertex(first + j - 1, starts), 0)
+        b = dr.select(ends, self._vertex(first + j, ends), self.cells)
+        return first + cdf + j, lo, hi, a, b, (hi - lo) * self.cells / kind(dr.maximum(b - a, 1))
+
+    def draw(self, cdf, u, active, kind):
+        """Variate u in [0, 1) through CDF `cdf`: the next axis' CDF below its interval (which has
+        mass), the grid coordinate u maps to (in `kind`), the interval's vertices (a, b) and its
+        density on the axis' unit interval."""
+        child, lo, hi, a, b, density = self._interval(cdf, self._value, u, active, kind)
+        return child, kind(a) + (kind(u) - lo) / (hi - lo) * kind(b - a), a, b, density
+
+    def lookup(self, cdf, cell, active, kind):
+        """The next axis' CDF below the interval of CDF `cdf` that holds `cell`, and the density
+        there on the axis' unit interval (in `kind`)."""
+        child, _, _, _, _, density = self._interval(cdf, self._vertex, cell, active, kind)
+        return child, density
 
 
 class _DrjitTable:
@@ -441,14 +488,9 @@ class _DrjitTable:
         mi = self.mi
         below_one = float(np.nextafter(np.float32(1), np.float32(0)))
         u0, u1 = dr.clip(u.x, 0, below_one), dr.clip(u.y, 0, below_one)
-        k = self.rows.interval_of_variate(0, self.rows.last + 1, u0)
-        lo, hi, a, b, row_density = self.rows.interval(k, active)
-        row_at = mi.Float(a) + (u0 - lo) / (hi - lo) * mi.Float(b - a)
+        below, row_at, a, b, row_density = self.rows.draw(0, u0, active, mi.Float)
         row = dr.clip(mi.UInt32(row_at), a, b - 1)
-        first, end = self.columns.bounds(k, active)
-        j = self.columns.interval_of_variate(first, end, u1)
-        lo, hi, a, b, column_density = self.columns.interval(j, active)
-        column_at = mi.Float(a) + (u1 - lo) / (hi - lo) * mi.Float(b - a)
+        _, column_at, a, b, column_density = self.columns.draw(below, u1, active, mi.Float)
         column = dr.clip(mi.UInt32(column_at), a, b - 1)
         down = dr.clip(row_at - mi.Float(row), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
         right = dr.clip(column_at - mi.Float(column), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
@@ -462,11 +504,234 @@ class _DrjitTable:
 
     def pdf(self, d, active):
         row, column = _pixel_of(self.mi, d, self.width, self.height)
-        k = self.rows.interval_of_cell(0, self.rows.last + 1, row)
-        row_density = self.rows.interval(k, active)[4]
-        first, end = self.columns.bounds(k, active)
-        j = self.columns.interval_of_cell(first, end, column)
-        return self._density(row, row_density, self.columns.interval(j, active)[4], active)
+        below, row_density = self.rows.lookup(0, row, active, self.mi.Float)
+        column_density = self.columns.lookup(below, column, active, self.mi.Float)[1]
+        return self._density(row, row_density, column_density, active)
+
+
+# acdf's margins and thresholds of the half-vector tables (brdf/tabulated_brdf_sampler.cpp,
+# half_vector.h): how far inside its s cell a sample stays (a fraction of the cell), and the |wo.wh|
+# below which a sample reports pdf() instead of the density along its path.
+_HALF_VECTOR_CELL_MARGIN = 1e-6
+_ROUND_TRIP_EXACT = 1e-3
+
+
+def _polar_angle(d):
+    import drjit as dr
+
+    return dr.atan2(dr.sqrt(d.x * d.x + d.y * d.y), d.z)
+
+
+def _azimuth(d):
+    """In [0, 2 pi)."""
+    import drjit as dr
+
+    phi = dr.atan2(d.y, d.x)
+    return dr.select(phi < 0, phi + 2 * np.pi, phi)
+
+
+def _cosine_hemisphere(mi, u0, u1):
+    """acdf's cosine-weighted direction (sampling/sphere.h), in float64."""
+    import drjit as dr
+
+    r2 = dr.minimum(u0, 1 - 2.0**-40)
+    r = dr.sqrt(r2)
+    sin_phi, cos_phi = dr.sincos(2 * np.pi * u1)
+    return mi.Vector3d(r * cos_phi, r * sin_phi, dr.sqrt(1 - r2))
+
+
+def _cosine_pdf(z):
+    import drjit as dr
+
+    return dr.select(z > 0, z * (1 / np.pi), 0)
+
+
+def _unit_variates(u):
+    """A Point2f's coordinates clamped into [0, 1) (clampUnit)."""
+    import drjit as dr
+
+    return dr.clip(u.x, 0, _below(1)), dr.clip(u.y, 0, _below(1))
+
+
+def _cosine_sample(mi, u0, u1):
+    """acdf's cosine-weighted sampler (CosineBrdfSampler): a direction and its pdf, in float64."""
+    wi = _cosine_hemisphere(mi, mi.Float64(u0), mi.Float64(u1))
+    return wi, _cosine_pdf(wi.z)
+
+
+def _below(x):
+    """The float32 just below x."""
+    return float(np.nextafter(np.float32(x), np.float32(-np.inf)))
+
+
+class _DrjitAxis:
+    """An axis of a half-vector table as acdf's GridAxis (sampling/grid_axis.h) maps it: float32
+    coordinates on `cells` cells of [lo, hi), their cells found in double."""
+
+    def __init__(self, domain, cells):
+        self.lo, self.hi = float(domain[0]), float(domain[1])
+        self.cells = cells
+        self.width = (self.hi - self.lo) / cells  # GridAxis::cellWidth, of the float32 bounds
+        # The extreme coordinates place() returns, a 2^-24 fraction of a cell inside the domain.
+        lo, hi, margin = np.float32(self.lo), np.float32(self.hi), self.width * 2.0**-24
+        self.inner_lo = float(max(np.nextafter(lo, hi), np.float32(self.lo + margin)))
+        self.inner_hi = float(min(np.nextafter(hi, lo), np.float32(self.hi - margin)))
+
+    def grid_coordinate(self, mi, x):
+        return (mi.Float64(x) - self.lo) * (1 / self.width)
+
+    def cell_of(self, mi, x):
+        """The cell of float32 coordinate x, clamped into the axis (GridAxis::cellOf)."""
+        import drjit as dr
+
+        return dr.minimum(mi.UInt32(dr.maximum(self.grid_coordinate(mi, x), 0)), self.cells - 1)
+
+    def cell(self, mi, angle):
+        """The cell of a float64 angle: rounded to float32 and kept inside [lo, hi) first (onAxis,
+        brdf/outgoing_cells.h)."""
+        import drjit as dr
+
+        return self.cell_of(mi, dr.clip(mi.Float(angle), self.lo, _below(self.hi)))
+
+    def place(self, mi, at, first, end):
+        """The float32 coordinate of grid coordinate `at` (float64) in cells [first, end), inside the
+        domain by a margin and moved by one float where rounding carried it across the range's
+        edge (GridAxis::place). lo >= 0."""
+        import drjit as dr
+
+        x = dr.clip(mi.Float(self.lo + at * self.width), self.inner_lo, self.inner_hi)
+        cell = self.cell_of(mi, x)
+        bits = dr.reinterpret_array(mi.UInt32, x)
+        bits = dr.select(cell < first, bits + 1, dr.select(cell >= end, bits - 1, bits))
+        return dr.reinterpret_array(mi.Float, bits)
+
+
+class _DrjitHalfVectorTable:
+    """An acdf.TabulatedBrdfSampler's table (brdf/tabulated_brdf_sampler.h) in a JIT variant's arrays,
+    sampled and evaluated as its C++ sampler does: omega_o's slice of the outgoing cells, a cascade
+    over the half vector's s = sqrt(theta_h / (pi/2)) and azimuth (phi_h, or relative to phi_o,
+    folded when mirrored), uniform in solid angle inside a cell, reflected, mixed with cosine-weighted
+    sampling. Directions and densities in float64 as in C++: a sample's half vector found again from
+    omega_i then lies in its cell (the margin is 1e-6 of a cell), so pdf() answers its density."""
+
+    def __init__(self, mi, sampler):
+        table, options = sampler.table, sampler.table_options
+        self.mi = mi
+        self.cosine_weight = float(options["cosine_weight"])
+        self.relative = options["layout"] == "isotropic"
+        self.mirrored = self.relative and options["mirror"] == "true"
+        k = table.conditioning_dims
+        domains, shape = table.domains, table.shape
+        self.outgoing = [_DrjitAxis(domains[d], shape[d]) for d in range(k)]
+        self.s_axis = _DrjitAxis(domains[k], shape[k])
+        self.azimuth = _DrjitAxis(domains[k + 1], shape[k + 1])
+        levels = table.arrays()
+        self.s = _DrjitCdfs(mi, levels[0], shape[k])
+        self.phi = _DrjitCdfs(mi, levels[1], shape[k + 1])
+        self.distributions = mi.UInt32(table.distributions)
+        # 1 - cos theta_h at the s cells' edges, without cancellation near the pole.
+        theta = (np.arange(shape[k] + 1) / shape[k]) ** 2 * (np.pi / 2)
+        self.caps = mi.Float64(2 * np.sin(0.5 * theta) ** 2)
+
+    @property
+    def bytes(self):
+        """Of its arrays."""
+        import drjit as dr
+
+        return self.s.bytes + self.phi.bytes + 4 * dr.width(self.distributions) + 8 * dr.width(self.caps)
+
+    def _distribution(self, wo, active):
+        """The first-level CDF of omega_o's slice (OutgoingCells)."""
+        import drjit as dr
+
+        mi = self.mi
+        slice_ = self.outgoing[0].cell(mi, _polar_angle(wo))
+        if len(self.outgoing) == 2:
+            slice_ = slice_ * self.outgoing[1].cells + self.outgoing[1].cell(mi, _azimuth(wo))
+        return dr.gather(mi.UInt32, self.distributions, slice_, active)
+
+    def _per_steradian(self, density, cell, active):
+        """The cascade's density (per unit s and azimuth) on s cell `cell` per steradian of omega_h,
+        clamped into float32's positive range as acdf's Cascade does."""
+        import drjit as dr
+
+        mi = self.mi
+        density = mi.Float64(mi.Float(dr.clip(density, float(np.finfo(np.float32).smallest_subnormal),
+                                              float(np.finfo(np.float32).max))))
+        caps = dr.gather(mi.Float64, self.caps, cell + 1, active) - dr.gather(mi.Float64, self.caps, cell, active)
+        return density * ((0.5 if self.mirrored else 1.0) * self.s_axis.width) / caps
+
+    def pdf(self, wo, wi, active):
+        """Density of omega_i (float64 unit vectors) given omega_o above the horizon, per steradian."""
+        import drjit as dr
+
+        mi = self.mi
+        w = self.cosine_weight
+        h = wi + wo
+        length = dr.norm(h)
+        h = h / length
+        h = dr.select(h.z < 0, -h, h)
+        cos_out = dr.abs(dr.dot(wo, h))
+        valid = active & (length > 0) & (cos_out > 0) & (h.z > 0)
+        cells = self.s_axis.cells
+        s_cell = mi.UInt32(dr.minimum(dr.sqrt(_polar_angle(h) / (np.pi / 2)) * cells, cells - 1))
+        phi = _azimuth(h)
+        if self.relative:
+            phi = phi - _azimuth(wo)
+            phi = dr.select(phi < 0, phi + 2 * np.pi, phi)
+            if self.mirrored:
+                phi = dr.select(phi > np.pi, 2 * np.pi - phi, phi)
+        below, s_density = self.s.lookup(self._distribution(wo, valid), s_cell, valid, mi.Float64)
+        phi_density = self.phi.lookup(below, self.azimuth.cell(mi, phi), valid, mi.Float64)[1]
+        density = s_density * phi_density / (self.azimuth.hi - self.azimuth.lo)
+        table = self._per_steradian(density, s_cell, valid) / (4 * cos_out)
+        has_mass = valid & (s_density > 0) & (phi_density > 0)
+        return w * _cosine_pdf(wi.z) + dr.select(has_mass, (1 - w) * table, 0)
+
+    def sample(self, wo, u, active):
+        """omega_i and its density for omega_o (float64, above the horizon) and variates u (Point2f)."""
+        import drjit as dr
+
+        mi = self.mi
+        w = self.cosine_weight
+        u0, u1 = _unit_variates(u)
+        if w == 1:
+            return _cosine_sample(mi, u0, u1)
+        cosine = u0 < w
+        drawn = active & ~cosine
+        # The rest of u0's range drives the table; a mirrored table's u1 halves choose the sign of
+        # the relative azimuth.
+        v0 = dr.clip(mi.Float((mi.Float64(u0) - w) / (1 - w)), 0, _below(1))
+        negative = (u1 >= 0.5) if self.mirrored else mi.Bool(False)
+        v1 = dr.select(negative, 2 * u1 - 1, 2 * u1) if self.mirrored else u1
+        below, s_at, a, b, s_density = self.s.draw(self._distribution(wo, drawn), v0, drawn, mi.Float64)
+        # acdf places s as a float32 coordinate, then takes its cell and the fraction inside it.
+        s_x = self.s_axis.place(mi, s_at, a, b)
+        cell = self.s_axis.cell_of(mi, s_x)
+        inside = dr.clip(self.s_axis.grid_coordinate(mi, s_x) - mi.Float64(cell),
+                         _HALF_VECTOR_CELL_MARGIN, 1 - _HALF_VECTOR_CELL_MARGIN)
+        _, phi_at, a, b, phi_density = self.phi.draw(below, v1, drawn, mi.Float64)
+        phi = mi.Float64(self.azimuth.place(mi, phi_at, a, b))
+        density = s_density * phi_density / (self.azimuth.hi - self.azimuth.lo)
+
+        low, high = dr.gather(mi.Float64, self.caps, cell, drawn), dr.gather(mi.Float64, self.caps, cell + 1, drawn)
+        cap = low + inside * (high - low)  # 1 - cos theta_h: uniform in solid angle inside the cell
+        sin_theta = dr.sqrt(cap * (2 - cap))
+        if self.relative:
+            phi = _azimuth(wo) + dr.select(negative, -phi, phi)
+        sin_phi, cos_phi = dr.sincos(phi)
+        wh = mi.Vector3d(sin_theta * cos_phi, sin_theta * sin_phi, 1 - cap)
+        cos_out = dr.dot(wo, wh)
+        wi = wh * (2 * cos_out) - wo
+        cos_out = dr.abs(cos_out)
+        along_path = w * _cosine_pdf(wi.z) + (1 - w) * self._per_steradian(density, cell, drawn) / (4 * cos_out)
+
+        if w > 0:
+            wi = dr.select(cosine, _cosine_hemisphere(mi, mi.Float64(u0) / w, mi.Float64(u1)), wi)
+        # Where omega_i does not determine omega_h well (and on the cosine side) acdf reports pdf().
+        again = active & (cosine | (cos_out < _ROUND_TRIP_EXACT))
+        found = self.pdf(wo, wi, again)
+        return wi, dr.select(again & (cosine | (found > 0)), found, along_path)
 
 
 _FAR = 1e15
@@ -482,11 +747,75 @@ def _usable(rows):
     return ok, np.where(ok[:, None], rows, [[0.0, 0.0, 1.0]])
 
 
-def _make_measured_class():
+def _sampling_of(props):
+    return str(props["sampling"]) if "sampling" in props else "adaptive"
+
+
+class _DrjitMerl:
+    """A MERL table (acdf.MerlBrdf, looked up as acdf and MERL's BRDFRead.cpp do: the cell of the
+    Rusinkiewicz angles, brdf/merl.h, coordinates.h) in a JIT variant's arrays, evaluated by drjit
+    operations in float64 as in C++. eval() is Mitsuba's: f times the cosine of the light direction."""
+
+    def __init__(self, mi, model):
+        self.mi = mi
+        self.values = mi.Float(model.values.reshape(-1))  # the rgb of cell 0, of cell 1, ...
+        self.scale = model.channel_scale
+        self.cells = model.cells  # theta_h, theta_d, phi_d
+
+    @staticmethod
+    def _index(g, cells):
+        """A grid coordinate's cell, clamped; 0 for NaN (clampIndex)."""
+        import drjit as dr
+
+        return dr.select(g > 0, dr.minimum(g, cells - 1), 0)
+
+    def cell(self, wo, wi):
+        """The flat index of the cell of (omega_o, omega_i), float64 unit vectors above the horizon."""
+        import drjit as dr
+
+        mi = self.mi
+        half = wi + wo
+        rho = dr.sqrt(half.x * half.x + half.y * half.y)
+        length = dr.sqrt(rho * rho + half.z * half.z)
+        cos_phi, sin_phi = dr.select(rho > 0, half.x / rho, 1), dr.select(rho > 0, half.y / rho, 0)
+        cos_theta, sin_theta = dr.select(length > 0, half.z / length, 1), dr.select(length > 0, rho / length, 0)
+        # The difference vector: omega_i turned by -phi_h about z, then by -theta_h about y.
+        x, y = cos_phi * wi.x + sin_phi * wi.y, cos_phi * wi.y - sin_phi * wi.x
+        d_x, d_z = cos_theta * x - sin_theta * wi.z, cos_theta * wi.z + sin_theta * x
+        # With either direction on the normal, phi_d is 0 or pi exactly (acdf drops the residue).
+        on_normal = ((wo.x == 0) & (wo.y == 0)) | ((wi.x == 0) & (wi.y == 0))
+        d_y = dr.select(on_normal, 0, y)
+        theta_half = dr.select(length > 0, dr.atan2(rho, half.z), 0)
+        theta_diff = dr.atan2(dr.sqrt(d_x * d_x + d_y * d_y), d_z)
+        phi_diff = dr.atan2(d_y, d_x)  # (-pi, pi], folded into [0, pi) by reciprocity
+        phi_diff = dr.select(dr.abs(phi_diff) == np.pi, 0, phi_diff)
+        phi_diff = dr.select(phi_diff < 0, phi_diff + np.pi, phi_diff)
+        phi_diff = dr.select(phi_diff >= np.pi, phi_diff - np.pi, phi_diff)
+        h_cells, d_cells, p_cells = self.cells
+        h = self._index(dr.sqrt(theta_half / (np.pi / 2) * h_cells * h_cells), h_cells)
+        d = self._index(theta_diff / (np.pi / 2) * d_cells, d_cells)
+        p = self._index(phi_diff / np.pi * p_cells, p_cells)
+        return (mi.UInt32(h) * d_cells + mi.UInt32(d)) * p_cells + mi.UInt32(p)
+
+    def eval(self, ctx, si, wo, active=True):
+        import drjit as dr
+
+        mi = self.mi
+        viewer, light = dr.normalize(mi.Vector3d(si.wi)), dr.normalize(mi.Vector3d(wo))
+        up = active & (viewer.z > 0) & (light.z > 0)
+        index = 3 * self.cell(viewer, light)
+        f = [mi.Float(mi.Float64(dr.gather(mi.Float, self.values, index + c, up)) * self.scale[c]) for c in range(3)]
+        return dr.select(up, mi.Color3f(*f) * mi.Float(light.z), 0)
+
+
+def _make_measured_classes():
+    """(BatchedMeasured, NativeMeasured) of the current variant."""
     mi = _mi()
     import drjit as dr
 
     class AcdfMeasured(mi.BSDF):
+        """What both implementations share: the parameters, the model and acdf's sampler."""
+
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             name = "acdf_measured"
@@ -494,7 +823,7 @@ def _make_measured_class():
             if "filename" not in props:
                 _refuse(name, "needs a filename (MERL .binary or RGL .bsdf)")
             filename = str(props["filename"])
-            sampling = str(props["sampling"]) if "sampling" in props else "adaptive"
+            sampling = _sampling_of(props)
             if sampling not in _SAMPLINGS:
                 _refuse(name, f"unknown sampling {sampling!r}; one of {', '.join(_SAMPLINGS)}")
             if filename.endswith(".binary"):
@@ -516,10 +845,20 @@ def _make_measured_class():
                 table = {"layout": "isotropic" if model.isotropic else "4d",
                          **_table_options(props, _MEASURED_TABLE_OPTIONS)}
                 self.sampler = acdf.TabulatedBrdfSampler(model, method=sampling, **table)
+            self.model = model
+            self.filename = filename
             self.sampling = sampling
+            self.bytes = self.sampler.bytes  # of acdf's sampling tables
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
+
+        def to_string(self):
+            return f"AcdfMeasured[sampling={self.sampling}, bytes={self.bytes}]"
+
+    class BatchedMeasured(AcdfMeasured):
+        """Every file and sampling, in every variant: one batched acdf call per wavefront (in JIT
+        variants under evaluated mode: register())."""
 
         # Mitsuba's si.wi points to the viewer and its wo to the light; acdf's wo is the viewer
         # and wi the light. Mitsuba's eval includes the cosine of the light direction; acdf's does not.
@@ -559,10 +898,57 @@ def _make_measured_class():
             bs.sampled_component = mi.UInt32(0)
             return bs, _color(mi, np.where(ok[:, None], weight, 0.0))
 
-        def to_string(self):
-            return f"AcdfMeasured[sampling={self.sampling}, bytes={self.sampler.bytes}]"
+    class NativeMeasured(AcdfMeasured):
+        """JIT variants, sampled by acdf's tables or cosine-weighted: acdf's table as arrays of the
+        variant, sampled and its pdf answered by drjit operations that Mitsuba records into its
+        kernels (_DrjitHalfVectorTable). The BRDF's value: of an RGL file, Mitsuba's own measured
+        plugin loaded from the same file, which acdf's RglBrdf equals (tests/python/test_mitsuba.py),
+        clamped at 0 as acdf's is; of a MERL file, its table in drjit (_DrjitMerl). No Python or acdf
+        call per wavefront; drjit's symbolic modes stay as they are."""
 
-    return AcdfMeasured
+        def __init__(self, props):
+            AcdfMeasured.__init__(self, props)
+            model = self.model
+            self.reflectance = (_DrjitMerl(mi, model) if isinstance(model, acdf.MerlBrdf)
+                                else mi.load_dict({"type": "measured", "filename": self.filename}))
+            self.table = None if self.sampling == "cosine" else _DrjitHalfVectorTable(mi, self.sampler)
+            # The arrays are all it samples and evaluates with: acdf's model and C++ table go.
+            del self.sampler, self.model
+
+        def _value(self, ctx, si, wo, active):
+            return dr.maximum(self.reflectance.eval(ctx, si, wo, active), 0)
+
+        def eval(self, ctx, si, wo, active=True):
+            return self._value(ctx, si, wo, active)
+
+        def pdf(self, ctx, si, wo, active=True):
+            # Mitsuba's viewer and light directions are acdf's wo and wi.
+            viewer, light = dr.normalize(mi.Vector3d(si.wi)), dr.normalize(mi.Vector3d(wo))
+            up = active & (viewer.z > 0) & (light.z > 0)
+            pdf = _cosine_pdf(light.z) if self.table is None else self.table.pdf(viewer, light, up)
+            return dr.select(up, mi.Float(pdf), 0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            viewer = dr.normalize(mi.Vector3d(si.wi))
+            ok = active & (viewer.z > 0)
+            if self.table is None:
+                light, pdf = _cosine_sample(mi, *_unit_variates(sample2))
+            else:
+                light, pdf = self.table.sample(viewer, sample2, ok)
+            ok &= (pdf > 0) & (light.z > 0)
+            bs = dr.zeros(mi.BSDFSample3f)
+            bs.wo = mi.Vector3f(light)
+            bs.pdf = dr.select(ok, mi.Float(pdf), 0)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            value = self._value(ctx, si, bs.wo, ok)
+            return bs, dr.select(ok, value / dr.select(ok, bs.pdf, 1), 0)
+
+    return BatchedMeasured, NativeMeasured
 
 
 def register(batched_plugins=True):
@@ -570,17 +956,17 @@ def register(batched_plugins=True):
     mi.set_variant, in the thread that renders).
 
     In JIT variants, batched_plugins=True turns on the evaluated mode the batched plugins need
-    (acdf_measured, acdf_envmap with local, local-compensated, alias or hierarchical). False leaves
-    drjit's symbolic modes as they are, so that Mitsuba records acdf_envmap's drjit sampling into
-    its kernels with the rest of the path (4-6x faster renders); the batched plugins are then
-    refused, naming this option."""
+    (acdf_measured with rgl sampling, acdf_envmap with local, local-compensated, alias or
+    hierarchical). False leaves drjit's symbolic modes as they are, so that Mitsuba records the
+    plugins' drjit sampling into its kernels with the rest of the path (4-6x faster renders); the
+    batched plugins are then refused, naming this option."""
     mi = _mi()
     base, batched, native = _make_envmap_classes()
     _envmap_classes.append(base)
     jit = not mi.variant().startswith("scalar")
     if jit and batched_plugins:
         evaluated_mode()
-    measured = _make_measured_class()
+    batched_measured, native_measured = _make_measured_classes()
 
     def allowed(plugin, cls, what):
         def make(props):
@@ -594,7 +980,9 @@ def register(batched_plugins=True):
     batched_envmap = allowed("acdf_envmap", batched, lambda props: f"strategy {_strategy_of(props)!r}")
     mi.register_emitter("acdf_envmap", lambda props: native(props) if jit and _strategy_of(props) in _NATIVE_STRATEGIES
                         else batched_envmap(props))
-    mi.register_bsdf("acdf_measured", allowed("acdf_measured", measured, lambda props: "the plugin"))
+    measured = allowed("acdf_measured", batched_measured, lambda props: "sampling 'rgl'")
+    mi.register_bsdf("acdf_measured", lambda props: native_measured(props) if jit and _sampling_of(props) != "rgl"
+                     else measured(props))
 
 
 def _with_bounds(scene):

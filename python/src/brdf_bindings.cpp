@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -122,7 +123,20 @@ Raises acdf.FileError for a missing, truncated or malformed file.)")
             py::gil_scoped_release release;
             return std::make_shared<MerlBrdf>(MerlBrdf::load(path, mode));
           },
-          "path"_a, "interpolation"_a = "nearest");
+          "path"_a, "interpolation"_a = "nearest")
+      .def_property_readonly(
+          "values",
+          [](const MerlBrdf& b) {
+            auto out = output<float>(MerlBrdf::kCells, 3);
+            std::copy_n(b.interleavedValues().data(), 3 * MerlBrdf::kCells, out.mutable_data());
+            return out;
+          },
+          "The stored values (file units, negatives as 0), float32 (cells, 3): cell (theta_h, theta_d, phi_d)\n"
+          "at row (theta_h * 90 + theta_d) * 180 + phi_d; times channel_scale they are f in 1/sr.")
+      .def_property_readonly_static("channel_scale", [](py::handle) { return MerlBrdf::kChannelScale; })
+      .def_property_readonly_static("cells", [](py::handle) {
+        return py::make_tuple(MerlBrdf::kThetaHalfCells, MerlBrdf::kThetaDiffCells, MerlBrdf::kPhiDiffCells);
+      });
 
   py::class_<RglBrdf, BrdfModel, std::shared_ptr<RglBrdf>>(m, "RglBrdf",
                                                            R"(A measured RGL material (Dupuy & Jakob 2018), .bsdf file.
@@ -234,7 +248,16 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
            "model"_a, "method"_a = std::string(toString(TabulatedBrdfOptions{}.method)), "simplify"_a = py::none())
       .def_property_readonly(
           "table", [](const TabulatedBrdfSampler& t) -> const Cascade& { return t.table(); },
-          py::return_value_policy::reference_internal, "The half-vector acdf.Cascade.");
+          py::return_value_policy::reference_internal, "The half-vector acdf.Cascade.")
+      .def_property_readonly(
+          "table_options",
+          [](const TabulatedBrdfSampler& t) {
+            py::dict options;
+            for (const TableOption& option : tableOptionList())
+              options[py::str(std::string(option.key))] = option.get(t.options());
+            return options;
+          },
+          "The sampler's table options (its defaults included) as text, keyed as acdf.table_options() names them.");
 
   py::class_<GgxBrdfSampler, BrdfSampler, std::shared_ptr<GgxBrdfSampler>>(
       m, "GgxBrdfSampler", "Sampling of an analytic model by its GGX distribution (D cos theta_h): no table.")

@@ -200,27 +200,7 @@ void bindLight(py::module_& m) {
       [](const EnvironmentLight& light, bool allowIncomplete) -> py::object {
         const Cascade* cascade = light.table({.allowIncompletePdf = allowIncomplete}).cascade();
         if (!cascade) return py::none();
-        py::list levels;
-        for (std::size_t axis = 0; axis < cascade->dims(); ++axis) {
-          const std::vector<std::vector<uint32_t>> vertices = cascade->breakpoints(axis);
-          const std::vector<std::vector<float>> values = cascade->breakpointValues(axis);
-          std::size_t points = 0;
-          for (const auto& cdf : vertices) points += cdf.size();
-          auto start = output<uint32_t>(vertices.size() + 1), vertex = output<uint32_t>(points);
-          auto value = output<float>(points);
-          uint32_t *starts = start.mutable_data(), *vs = vertex.mutable_data();
-          float* fs = value.mutable_data();
-          std::size_t at = 0;
-          for (std::size_t k = 0; k < vertices.size(); ++k) {
-            starts[k] = static_cast<uint32_t>(at);
-            std::copy(vertices[k].begin(), vertices[k].end(), vs + at);
-            std::copy(values[k].begin(), values[k].end(), fs + at);
-            at += vertices[k].size();
-          }
-          starts[vertices.size()] = static_cast<uint32_t>(at);
-          levels.append(py::dict("start"_a = start, "vertex"_a = vertex, "value"_a = value));
-        }
-        return levels;
+        return cascadeArrays(*cascade);
       },
       "allow_incomplete_pdf"_a = false,
       "The cascade of a uniform, adaptive or compensated table (None for other strategies and a black map),\n"

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -22,6 +23,30 @@
 namespace acdf::python {
 
 using namespace pybind11::literals;
+
+py::list cascadeArrays(const Cascade& cascade) {
+  py::list levels;
+  for (std::size_t axis = cascade.conditioningDims(); axis < cascade.dims(); ++axis) {
+    const std::vector<std::vector<uint32_t>> vertices = cascade.breakpoints(axis);
+    const std::vector<std::vector<float>> values = cascade.breakpointValues(axis);
+    std::size_t points = 0;
+    for (const auto& cdf : vertices) points += cdf.size();
+    auto start = output<uint32_t>(vertices.size() + 1), vertex = output<uint32_t>(points);
+    auto value = output<float>(points);
+    uint32_t *starts = start.mutable_data(), *vs = vertex.mutable_data();
+    float* fs = value.mutable_data();
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < vertices.size(); ++k) {
+      starts[k] = static_cast<uint32_t>(at);
+      std::copy(vertices[k].begin(), vertices[k].end(), vs + at);
+      std::copy(values[k].begin(), values[k].end(), fs + at);
+      at += vertices[k].size();
+    }
+    starts[vertices.size()] = static_cast<uint32_t>(at);
+    levels.append(py::dict("start"_a = start, "vertex"_a = vertex, "value"_a = value));
+  }
+  return levels;
+}
 
 namespace {
 
@@ -242,6 +267,14 @@ NaN or Inf value or bad options.)");
         return shape;
       },
       "Cells per axis, as the values array's shape.");
+  c.def_property_readonly(
+      "domains",
+      [](const Cascade& t) {
+        py::list domains;
+        for (const GridAxis& axis : t.axes()) domains.append(py::make_tuple(axis.lo(), axis.hi()));
+        return domains;
+      },
+      "Each axis' (lo, hi), as the axes argument gives them (float32 values).");
   c.def_property_readonly("bytes", &Cascade::bytes, "Bytes of the stored tables.");
   c.def_property_readonly("points", &Cascade::pointsPerDimension,
                           "Per sampled axis: kept points (interval ends) summed over its 1D CDFs.");
@@ -283,6 +316,23 @@ NaN or Inf value or bad options.)");
       "The grid vertices each 1D CDF of a sampled axis keeps (ends included), one array per CDF. For a 2D\n"
       "cascade, breakpoints(0)[0] bounds the row intervals and breakpoints(1)[j] the column intervals of\n"
       "row interval j.");
+  c.def("arrays", &cascadeArrays,
+        "The whole table, for sampling it in other arithmetic (acdf.mitsuba's drjit arrays): one dict per\n"
+        "sampled axis of its 1D CDFs laid end to end, in breakpoints()' order: CDF k's breakpoints are\n"
+        "[start[k], start[k + 1]), each a grid vertex (uint32) and the CDF's value there (float32), from\n"
+        "(0, 0) to (cells, 1). A slice samples first-level CDF distributions[slice]; below interval j of\n"
+        "the CDFs of one axis, counted across them in order, lies CDF j of the next axis. The density is\n"
+        "the product over sampled axes of (value step) / (vertex step x cell width).");
+  c.def_property_readonly(
+      "distributions",
+      [](const Cascade& t) {
+        auto out = output<uint32_t>(t.slices());
+        uint32_t* data = out.mutable_data();
+        for (std::size_t s = 0; s < t.slices(); ++s) data[s] = static_cast<uint32_t>(t.distributionOf(s));
+        return out;
+      },
+      "Per slice, the first-level CDF (of arrays()) it samples: the slice itself unless slice grouping\n"
+      "gave it an earlier slice's distribution.");
   c.def(
       "serialize",
       [](const Cascade& t) {

@@ -188,6 +188,7 @@ NOT_BATCHED = {
     "Cascade.integral": "no array",
     "Cascade.cell_probabilities": "an output; test_returned_arrays",
     "Cascade.breakpoints": "an output; test_returned_arrays",
+    "Cascade.arrays": "an output; test_returned_arrays",
     "Cascade.serialize": "bytes; test_api",
     "Cascade.deserialize": "bytes; test_api",
     "EnvironmentLight.load": "a file",
@@ -249,16 +250,18 @@ def test_arrays_in_any_layout(rng):
         assert conditioned.slice_of(given(np.array([2.6]))[::-1]) == 5, layout
 
 
-def probabilities_of_cascade(levels, height, width):
-    """Each pixel's probability from EnvironmentLight.cascade_arrays: the product of its row's and
-    column's interval masses, spread evenly over the interval's pixels."""
+def probabilities_of_cascade(levels, height, width, distribution=0):
+    """Each cell's probability from EnvironmentLight.cascade_arrays or Cascade.arrays (first-level CDF
+    `distribution`): the product of its row's and column's interval masses, spread evenly over the
+    interval's cells."""
     rows, columns = levels
-    assert list(rows["start"]) == [0, len(rows["vertex"])] and len(columns["start"]) == len(rows["vertex"])
+    assert len(columns["start"]) == len(rows["vertex"]) - len(rows["start"]) + 2
     p = np.zeros((height, width))
-    for j in range(len(rows["vertex"]) - 1):
+    for j in range(rows["start"][distribution], rows["start"][distribution + 1] - 1):
         a, b = rows["vertex"][j : j + 2]
         row_mass = float(rows["value"][j + 1]) - float(rows["value"][j])
-        first, end = columns["start"][j : j + 2]
+        # Below interval j of the first level lies CDF j of the next, intervals counted across CDFs.
+        first, end = columns["start"][j - distribution : j - distribution + 2]
         vertex, value = columns["vertex"][first:end], columns["value"][first:end].astype(F64)
         assert vertex[0] == 0 and vertex[-1] == width and value[0] == 0 and value[-1] == 1
         for k in range(len(vertex) - 1):
@@ -291,6 +294,15 @@ def test_returned_arrays(rng):
         np.testing.assert_allclose(probabilities_of_cascade(light.cascade_arrays(incomplete), 8, 16),
                                    light.pixel_probabilities(incomplete), rtol=1e-5, atol=1e-7)
     assert acdf.EnvironmentLight(world, strategy="alias").cascade_arrays() is None
+    # A conditioned cascade whose slices 1-3 share one distribution (scaled copies of one slice).
+    shape = values[None] * np.array([1.0, 2.0, 3.0, 4.0], dtype=F32)[:, None, None]
+    shape[0] = values[::-1]
+    grouped = acdf.Cascade(shape, conditioning_dims=1, slice_grouping_tolerance=0.01)
+    assert grouped.distinct_slices == 2
+    np.testing.assert_array_equal(grouped.distributions, [0, 1, 1, 1])
+    for s in range(4):
+        np.testing.assert_allclose(probabilities_of_cascade(grouped.arrays(), 12, 10, grouped.distributions[s]),
+                                   grouped.cell_probabilities(s), rtol=1e-5, atol=1e-7)
     vertices, cdf = acdf.AdaptiveCdf1D(values[0]).breakpoints
     assert vertices[0] == 0 and vertices[-1] == 10 and np.all(np.diff(vertices) > 0) and np.all(np.diff(cdf) > 0)
 

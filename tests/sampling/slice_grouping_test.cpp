@@ -84,6 +84,7 @@ TEST(SliceGrouping, DifferentSlicesStaySeparate) {
       slices([](std::size_t s, uint32_t r, uint32_t c) { return peak(r, c, 2.0 + 1.7 * static_cast<double>(s), 8); });
   const Cascade grouped(values, axes(), grouping(0.01));
   EXPECT_EQ(grouped.distinctSlices(), kCondA * kCondB);
+  for (std::size_t s = 0; s < grouped.slices(); ++s) EXPECT_EQ(grouped.distributionOf(s), s);
 }
 
 TEST(SliceGrouping, NeverGroupsOverMassTheGroupCannotReach) {
@@ -97,6 +98,9 @@ TEST(SliceGrouping, NeverGroupsOverMassTheGroupCannotReach) {
   // Slice 0 stays alone; slice 1 starts a group whose table reaches everything, so the later
   // slices (with or without the right-half mass) all join it.
   EXPECT_EQ(grouped.distinctSlices(), 2u);
+  EXPECT_EQ(grouped.distributionOf(0), 0u);
+  for (std::size_t s = 1; s < grouped.slices(); ++s) EXPECT_EQ(grouped.distributionOf(s), 1u) << "slice " << s;
+  EXPECT_THROW((void)grouped.distributionOf(grouped.slices()), std::out_of_range);
   const std::vector<float> condition = conditionOf(1);
   const float rightHalf[2] = {0.5f, 0.9f};
   EXPECT_GT(grouped.pdf(condition, rightHalf), 0.0f);

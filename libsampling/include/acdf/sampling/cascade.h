@@ -122,6 +122,10 @@ class Cascade {
   std::size_t slices() const { return sliceIntegral_.size(); }
   // Distributions stored: slices() unless slice grouping merged some.
   std::size_t distinctSlices() const;
+  // The distribution `slice` samples: its first-level CDF's index in breakpoints(conditioningDims())
+  // (the slice itself unless slice grouping gave it an earlier slice's). Throws std::out_of_range
+  // for slice >= slices().
+  std::size_t distributionOf(std::size_t slice) const;
   std::size_t sliceOf(std::span<const float> condition) const;
   // sample() and pdf() in a slice the caller found itself (sliceOf's row-major index of the
   // conditioning cells), for callers that know their condition's cells without coordinates.
