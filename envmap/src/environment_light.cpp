@@ -122,7 +122,7 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
       return {w, scaled(map_->radiance(p)), mixturePdf(context, seen, w, p)};
     }
-    u0 = static_cast<float>(std::min((u - kPortalShare) / (1.0 - kPortalShare), double{kOneMinusEpsilon}));
+    u0 = rescaledVariate(u, kPortalShare);
   }
   const EnvironmentTable::Sample s =
       usesLocal(context) ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <new>
-#include <cstdlib>
 
 #include "acdf/integrator/product_direct_light.h"
+#include "acdf/sampling/sample.h"
 
 namespace acdf {
 
@@ -112,15 +112,14 @@ PathIntegrator::Continuation PathIntegrator::continuation(const BrdfVertex& mate
   }
   constexpr double a = kGuidedBsdfShare;
   if (u0 < a) {
-    const BrdfSample s = material.sample(static_cast<float>(std::min(u0 / a, double{kOneMinusEpsilon})), u1);
+    const BrdfSample s = material.sample(rescaledVariate(u0, a), u1);
     if (!(s.pdf > 0) || s.weight.isBlack()) return {};
     const Vec3d direction = normalize(frame.toWorld(s.wi));
     const double q = a * s.pdf + (1.0 - a) * guide->pdf(direction);
     // s.weight · s.pdf is f · cosθ.
     return {direction, s.weight * static_cast<float>(s.pdf / q), q};
   }
-  const DirectionalDistribution::DirectionAndPdf g =
-      guide->sample(static_cast<float>(std::min((u0 - a) / (1.0 - a), double{kOneMinusEpsilon})), u1);
+  const DirectionalDistribution::DirectionAndPdf g = guide->sample(rescaledVariate(u0, a), u1);
   const Vec3d wi = frame.toLocal(g.direction);
   if (!(g.pdf > 0) || !(wi.z > 0)) return {};
   const Rgb f = material.eval(wi);
@@ -135,13 +134,11 @@ LightSample PathIntegrator::lightSample(const LightSampleContext& context, const
   if (!field) return env.sample(context, u0, u1);
   constexpr double b = kLightFieldShare;
   if (u0 < b) {
-    const DirectionalDistribution::DirectionAndPdf g =
-        field->sample(static_cast<float>(std::min(u0 / b, double{kOneMinusEpsilon})), u1);
+    const DirectionalDistribution::DirectionAndPdf g = field->sample(rescaledVariate(u0, b), u1);
     const RadianceAndPdf light = env.evalWithPdf(context, g.direction);
     return {g.direction, light.radiance, b * g.pdf + (1.0 - b) * light.pdf};
   }
-  LightSample light =
-      env.sample(context, static_cast<float>(std::min((u0 - b) / (1.0 - b), double{kOneMinusEpsilon})), u1);
+  LightSample light = env.sample(context, rescaledVariate(u0, b), u1);
   light.pdf = b * field->pdf(light.direction) + (1.0 - b) * light.pdf;
   return light;
 }
@@ -205,7 +202,8 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     lightContext = env.atPosition(env.atNormal(lightContext, hit->normal), hit->position);
     const DirectionalDistribution* guide =
         guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr;
-    lightField = guiding.lightField ? guiding.lightField->at(hit->position, hit->normal) : nullptr;
+    // Looked up only where light samples are drawn (and escapes weighed against them).
+    lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal) : nullptr;
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);

@@ -46,4 +46,12 @@ inline float clampUnit(float u) {
   return std::min(u, kOneMinusEpsilon);
 }
 
+// One variate choosing between two techniques and then reused by the chosen one: the first when
+// u < share, with u / share, else the second with (u − share) / (1 − share); below 1 after
+// rounding to float, so stratified variates stay stratified within each technique.
+inline float rescaledVariate(double u, double share) {
+  const double v = u < share ? u / share : (u - share) / (1.0 - share);
+  return static_cast<float>(std::min(v, double{kOneMinusEpsilon}));
+}
+
 }  // namespace acdf
