@@ -47,16 +47,15 @@ GuidingRecord guidingRecord(const Vec3d& position, const Vec3d& normal, const Ve
 
 // ---- DirectionalDistribution ----
 
-DirectionalDistribution::DirectionalDistribution(std::span<const GuidingRecord> records,
+DirectionalDistribution::DirectionalDistribution(std::span<GuidingRecord> records,
                                                  const GuidingFieldOptions& options) {
   double total = 0;
   for (const GuidingRecord& r : records) total += r.energy;
   if (!(total > 0) || !std::isfinite(total))
     throw std::invalid_argument("a directional distribution needs a positive, finite total energy");
-  std::vector<GuidingRecord> own(records.begin(), records.end());
   std::vector<float> energies;
   nodes_.reserve(64);
-  build(own, {0, 0, 1}, 0, total, options, energies);
+  build(records, {0, 0, 1}, 0, total, options, energies);
   leafDistribution_.emplace(energies, 0.0f, static_cast<float>(energies.size()));
 }
 
@@ -92,7 +91,7 @@ uint32_t DirectionalDistribution::build(std::span<GuidingRecord> records, Square
   return index;
 }
 
-std::pair<uint32_t, DirectionalDistribution::Square> DirectionalDistribution::leafAt(double s, double t) const {
+uint32_t DirectionalDistribution::leafAt(double s, double t) const {
   uint32_t node = 0;
   Square square{0, 0, 1};
   while (nodes_[node].child[0] != 0) {
@@ -101,7 +100,12 @@ std::pair<uint32_t, DirectionalDistribution::Square> DirectionalDistribution::le
     node = nodes_[node].child[(highT ? 2 : 0) + (highS ? 1 : 0)];
     square = {square.s0 + (highS ? half : 0), square.t0 + (highT ? half : 0), half};
   }
-  return {nodes_[node].leaf, square};
+  return nodes_[node].leaf;
+}
+
+double DirectionalDistribution::leafDensity(uint32_t leaf) const {
+  const double size = leafCells_[leaf].size;
+  return leafDistribution_->pdf(static_cast<float>(leaf) + 0.5f) / (size * size) / kFourPi;
 }
 
 DirectionalDistribution::DirectionAndPdf DirectionalDistribution::sample(float u0, float u1) const {
@@ -115,14 +119,12 @@ DirectionalDistribution::DirectionAndPdf DirectionalDistribution::sample(float u
   auto inside = [&](double f) { return kMargin + (1.0 - 2.0 * kMargin) * std::clamp(f, 0.0, 1.0); };
   const double s = square.s0 + square.size * inside(static_cast<double>(chosen.x) - leaf);
   const double t = square.t0 + square.size * inside(u1);
-  const double density = leafDistribution_->pdf(static_cast<float>(leaf) + 0.5f);
-  return {equalAreaDirection(s, t), density / (square.size * square.size) / kFourPi};
+  return {equalAreaDirection(s, t), leafDensity(leaf)};
 }
 
 double DirectionalDistribution::pdf(const Vec3d& direction) const {
   const auto [s, t] = equalAreaSquare(direction);
-  const auto [leaf, square] = leafAt(s, t);
-  return leafDistribution_->pdf(static_cast<float>(leaf) + 0.5f) / (square.size * square.size) / kFourPi;
+  return leafDensity(leafAt(s, t));
 }
 
 std::size_t DirectionalDistribution::bytes() const {

@@ -51,7 +51,7 @@ TEST(GuidingField, EqualAreaMapRoundTrips) {
 
 ACDF_CHI_SQUARE_TEST(GuidingField, DirectionalDistributionSamplesItsPdf, 1) {
   const Vec3d window = normalize(Vec3d{0.3, -0.5, 0.8});
-  const std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, window, 20000, 7);
+  std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, window, 20000, 7);
   const DirectionalDistribution guide(records, GuidingFieldOptions{});
   ASSERT_GT(guide.leaves(), 16u);
 
@@ -73,7 +73,8 @@ ACDF_CHI_SQUARE_TEST(GuidingField, DirectionalDistributionSamplesItsPdf, 1) {
 
 TEST(GuidingField, DirectionalDistributionFollowsTheEnergy) {
   const Vec3d window = normalize(Vec3d{0.3, -0.5, 0.8});
-  const DirectionalDistribution guide(windowRecords({0, 0, 0}, window, 20000, 3), GuidingFieldOptions{});
+  std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, window, 20000, 3);
+  const DirectionalDistribution guide(records, GuidingFieldOptions{});
   // The cone holds 5 % of the sphere and 50 / (50 · 0.05 + 0.2 · 0.95) = 93 % of the energy.
   Pcg32 rng(11);
   int inCone = 0;
@@ -87,7 +88,8 @@ TEST(GuidingField, DirectionalDistributionFollowsTheEnergy) {
 }
 
 TEST(GuidingField, CornerVariatesGiveValidSamples) {
-  const DirectionalDistribution guide(windowRecords({0, 0, 0}, {0, 0, 1}, 5000, 5), GuidingFieldOptions{});
+  std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, {0, 0, 1}, 5000, 5);
+  const DirectionalDistribution guide(records, GuidingFieldOptions{});
   for (float u0 : {0.0f, kOneMinusEpsilon})
     for (float u1 : {0.0f, kOneMinusEpsilon}) {
       const auto s = guide.sample(u0, u1);

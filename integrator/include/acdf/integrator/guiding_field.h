@@ -75,8 +75,8 @@ struct GuidingFieldOptions {
 // A distribution of directions over the whole sphere (world frame), one spatial leaf's.
 class DirectionalDistribution {
  public:
-  // The records' directions and energies; their total energy must be positive and finite.
-  DirectionalDistribution(std::span<const GuidingRecord> records, const GuidingFieldOptions& options);
+  // The records' directions and energies (reordered); their total energy must be positive and finite.
+  DirectionalDistribution(std::span<GuidingRecord> records, const GuidingFieldOptions& options);
 
   struct DirectionAndPdf {
     Vec3d direction;  // unit
@@ -101,8 +101,9 @@ class DirectionalDistribution {
   };
   uint32_t build(std::span<GuidingRecord> records, Square square, uint32_t depth, double total,
                  const GuidingFieldOptions& options, std::vector<float>& energies);
-  // The leaf holding (s, t) and its square.
-  std::pair<uint32_t, Square> leafAt(double s, double t) const;
+  // The leaf holding (s, t), and a leaf's density per steradian.
+  uint32_t leafAt(double s, double t) const;
+  double leafDensity(uint32_t leaf) const;
 
   std::vector<Node> nodes_;
   std::vector<Square> leafCells_;
