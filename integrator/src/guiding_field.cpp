@@ -57,6 +57,12 @@ DirectionalDistribution::DirectionalDistribution(std::span<GuidingRecord> record
   nodes_.reserve(64);
   build(records, {0, 0, 1}, 0, total, options, energies);
   leafDistribution_.emplace(energies, 0.0f, static_cast<float>(energies.size()));
+  // Each leaf's density, found once: sample() and pdf() read the same value.
+  leafDensities_.reserve(leafCells_.size());
+  for (std::size_t leaf = 0; leaf < leafCells_.size(); ++leaf) {
+    const double size = leafCells_[leaf].size;
+    leafDensities_.push_back(leafDistribution_->pdf(static_cast<float>(leaf) + 0.5f) / (size * size) / kFourPi);
+  }
 }
 
 uint32_t DirectionalDistribution::build(std::span<GuidingRecord> records, Square square, uint32_t depth,
@@ -103,11 +109,6 @@ uint32_t DirectionalDistribution::leafAt(double s, double t) const {
   return nodes_[node].leaf;
 }
 
-double DirectionalDistribution::leafDensity(uint32_t leaf) const {
-  const double size = leafCells_[leaf].size;
-  return leafDistribution_->pdf(static_cast<float>(leaf) + 0.5f) / (size * size) / kFourPi;
-}
-
 DirectionalDistribution::DirectionAndPdf DirectionalDistribution::sample(float u0, float u1) const {
   const Sample1D chosen = leafDistribution_->sample(u0);
   const auto leaf = std::min(static_cast<uint32_t>(chosen.x), static_cast<uint32_t>(leafCells_.size() - 1));
@@ -119,16 +120,17 @@ DirectionalDistribution::DirectionAndPdf DirectionalDistribution::sample(float u
   auto inside = [&](double f) { return kMargin + (1.0 - 2.0 * kMargin) * std::clamp(f, 0.0, 1.0); };
   const double s = square.s0 + square.size * inside(static_cast<double>(chosen.x) - leaf);
   const double t = square.t0 + square.size * inside(u1);
-  return {equalAreaDirection(s, t), leafDensity(leaf)};
+  return {equalAreaDirection(s, t), leafDensities_[leaf]};
 }
 
 double DirectionalDistribution::pdf(const Vec3d& direction) const {
   const auto [s, t] = equalAreaSquare(direction);
-  return leafDensity(leafAt(s, t));
+  return leafDensities_[leafAt(s, t)];
 }
 
 std::size_t DirectionalDistribution::bytes() const {
-  return nodes_.size() * sizeof(Node) + leafCells_.size() * sizeof(Square) + leafDistribution_->bytes();
+  return nodes_.size() * sizeof(Node) + leafCells_.size() * sizeof(Square) + leafDensities_.size() * sizeof(double) +
+         leafDistribution_->bytes();
 }
 
 // ---- GuidingField ----

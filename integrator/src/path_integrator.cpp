@@ -154,7 +154,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
-  const bool sampleLight = !product && mis != MisMode::BsdfOnly;
+  const bool sampleLight = drawsLightSamples(scene_.settings);
   const bool bsdfSeesLight = !product && mis != MisMode::LightOnly;
   // The normal and position are those of the vertex being lit; after a BSDF sample they stay those
   // of the vertex the sample left, for the pdf of the light the sample may reach.

@@ -515,9 +515,12 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (overrides.direct) settings.direct = *overrides.direct;
   if (overrides.candidates) settings.product.candidates = *overrides.candidates;
   if (overrides.guiding) settings.guiding = *overrides.guiding;
-  if (settings.guiding == GuidingMode::Light && settings.direct == DirectLighting::Product)
-    throw FileError(name, "$.render.guiding: 'light' guides light samples, which product direct lighting does not "
-                          "draw (guiding 'paths', or direct 'mis')");
+  if (settings.guiding == GuidingMode::Light && !drawsLightSamples(settings))
+    throw FileError(name, settings.direct == DirectLighting::Product
+                              ? "$.render.guiding: 'light' guides light samples, which product direct lighting does "
+                                "not draw (guiding 'paths', or direct 'mis')"
+                              : "$.render.guiding: 'light' guides light samples, which mis 'bsdf-only' does not draw "
+                                "(guiding 'paths', or another mis)");
   if (overrides.sampler) settings.sampler = *overrides.sampler;
   if (overrides.spp) settings.spp = *overrides.spp;
   if (overrides.seed) settings.seed = *overrides.seed;

@@ -76,6 +76,37 @@ TEST(Determinism, GuidedRendersAreTheSameForAnyThreadCount) {
       << "guiding must change the image";
 }
 
+// Where paths draw no light samples (product direct lighting, bsdf-only MIS) auto has no light to
+// guide: it learns nothing and renders what off renders.
+TEST(Determinism, AutoWithoutLightSamplesLearnsNothing) {
+  for (const bool product : {true, false}) {
+    SceneOverrides overrides;
+    overrides.spp = 8;
+    if (product)
+      overrides.direct = DirectLighting::Product;
+    else
+      overrides.mis = MisMode::BsdfOnly;
+    const Image off = rendertest::renderScene(smallScene(1), overrides).film.image();
+    overrides.guiding = GuidingMode::Auto;
+    const rendertest::Rendered automatic = rendertest::renderScene(smallScene(1), overrides);
+    EXPECT_EQ(automatic.stats.guiding.trainingPasses, 0u) << (product ? "product" : "bsdf-only");
+    EXPECT_FALSE(automatic.stats.guiding.measuredGain.has_value());
+    EXPECT_EQ(automatic.film.image().pixels, off.pixels) << (product ? "product" : "bsdf-only");
+  }
+}
+
+// A black image has no relative variance to compare: auto measures no gain and stays off.
+TEST(Determinism, AutoMeasuresNoGainOnABlackImage) {
+  nlohmann::json scene = smallScene(1);
+  scene["environment"] = {{"type", "constant"}, {"radiance", 0}};
+  SceneOverrides overrides;
+  overrides.guiding = GuidingMode::Auto;
+  const rendertest::Rendered black = rendertest::renderScene(scene, overrides);
+  ASSERT_TRUE(black.stats.guiding.measuredGain.has_value());
+  EXPECT_EQ(*black.stats.guiding.measuredGain, 1.0);
+  EXPECT_FALSE(black.stats.guiding.guided);
+}
+
 TEST(Determinism, CropWindowsReproduceTheirPartOfTheFrame) {
   const Image full = renderWithThreads(2, smallScene(1));
   // Two pieces a render farm could render separately: the left 15 columns and the rest.

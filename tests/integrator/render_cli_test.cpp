@@ -332,6 +332,10 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   failure(scene,
           "$.render.guiding: 'light' guides light samples, which product direct lighting does not draw (guiding "
           "'paths', or direct 'mis')");
+  scene["render"] = {{"guiding", "light"}, {"mis", "bsdf-only"}};
+  failure(scene,
+          "$.render.guiding: 'light' guides light samples, which mis 'bsdf-only' does not draw (guiding 'paths', or "
+          "another mis)");
   scene["render"] = {{"guiding", "always"}};
   failure(scene, "$.render.guiding: unknown guiding mode 'always' (off, light, paths or auto)");
   expectNoOutputs();

@@ -101,12 +101,12 @@ class DirectionalDistribution {
   };
   uint32_t build(std::span<GuidingRecord> records, Square square, uint32_t depth, double total,
                  const GuidingFieldOptions& options, std::vector<float>& energies);
-  // The leaf holding (s, t), and a leaf's density per steradian.
+  // The leaf holding (s, t).
   uint32_t leafAt(double s, double t) const;
-  double leafDensity(uint32_t leaf) const;
 
   std::vector<Node> nodes_;
   std::vector<Square> leafCells_;
+  std::vector<double> leafDensities_;  // per steradian
   std::optional<PiecewiseConstant1D> leafDistribution_;
 };
 

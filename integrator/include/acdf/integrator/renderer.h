@@ -9,8 +9,9 @@
 // one sample per pixel, unguided; every pass's paths record what they learn, and the next pass is
 // guided by the fields built from those records alone (guiding_field.h: the light's, and under
 // `paths` the paths' too). Passes double (1, 2, 4, …)
-// while the samples left after the next one are at least as many as it has; the last pass takes
-// the rest with the last field. Every sample counts in the image, each an unbiased estimate. Under
+// while the samples left after the next one are at least as many as it has and the last fields
+// learned from fewer than about a million records; the last pass takes the rest with the last
+// fields and records nothing. Every sample counts in the image, each an unbiased estimate. Under
 // `auto` the second pass (2 samples per pixel) guides the light of the pixels with x + y even and not the
 // others, and compares the two halves: relative variance per sample (the mean of the pixels'
 // luminance variance over the squared mean luminance) times rays per sample. Guiding goes on only

@@ -85,6 +85,12 @@ inline bool allowsIncompleteLightPdf(const RenderSettings& settings) {
   return allowsIncompleteLightPdf(settings.mis);
 }
 
+// Whether paths draw light samples at their vertices (what guiding of the light can improve): under
+// MIS direct lighting with a mode that samples the light.
+inline bool drawsLightSamples(const RenderSettings& settings) {
+  return settings.direct == DirectLighting::Mis && settings.mis != MisMode::BsdfOnly;
+}
+
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
   std::optional<MisMode> mis = std::nullopt;
