@@ -7,7 +7,6 @@
 #include <new>
 
 #include "acdf/integrator/product_direct_light.h"
-#include "acdf/sampling/sample.h"
 
 namespace acdf {
 
@@ -86,6 +85,11 @@ bool PathIntegrator::guidedMaterial(const BrdfSampler& sampler) {
   return sampler.pdf(normal, normal) <= kGuidedPeakDensity;
 }
 
+GuidedMixture<LightTechnique> PathIntegrator::guidedLight(const LightSampleContext& context,
+                                                         const DirectionalDistribution* field) const {
+  return {LightTechnique(*scene_.environment, context), field, kGuidedLightShare};
+}
+
 double PathIntegrator::misWeight(double chosen, double other) const {
   switch (scene_.settings.mis) {
     case MisMode::Power: return chosen * chosen / (chosen * chosen + other * other);
@@ -94,60 +98,6 @@ double PathIntegrator::misWeight(double chosen, double other) const {
     case MisMode::LightOnly: break;
   }
   return 1.0;  // single-strategy modes never combine
-}
-
-double PathIntegrator::continuationPdf(const BrdfVertex& material, const DirectionalDistribution* guide,
-                                       const Vec3d& wi, const Vec3d& w) const {
-  if (!guide) return material.pdf(wi);
-  return kGuidedBsdfShare * material.pdf(wi) + (1.0 - kGuidedBsdfShare) * guide->pdf(w);
-}
-
-PathIntegrator::Continuation PathIntegrator::continuation(const BrdfVertex& material, const Frame& frame,
-                                                          const DirectionalDistribution* guide, float u0,
-                                                          float u1) const {
-  if (!guide) {
-    const BrdfSample s = material.sample(u0, u1);
-    if (!(s.pdf > 0) || s.weight.isBlack()) return {};
-    return {normalize(frame.toWorld(s.wi)), s.weight, s.pdf};
-  }
-  constexpr double a = kGuidedBsdfShare;
-  if (u0 < a) {
-    const BrdfSample s = material.sample(rescaledVariate(u0, a), u1);
-    if (!(s.pdf > 0) || s.weight.isBlack()) return {};
-    const Vec3d direction = normalize(frame.toWorld(s.wi));
-    const double q = a * s.pdf + (1.0 - a) * guide->pdf(direction);
-    // s.weight · s.pdf is f · cosθ.
-    return {direction, s.weight * static_cast<float>(s.pdf / q), q};
-  }
-  const DirectionalDistribution::DirectionAndPdf g = guide->sample(rescaledVariate(u0, a), u1);
-  const Vec3d wi = frame.toLocal(g.direction);
-  if (!(g.pdf > 0) || !(wi.z > 0)) return {};
-  const Rgb f = material.eval(wi);
-  if (f.isBlack()) return {};
-  const double q = a * material.pdf(wi) + (1.0 - a) * g.pdf;
-  return {g.direction, f * static_cast<float>(wi.z / q), q};
-}
-
-LightSample PathIntegrator::lightSample(const LightSampleContext& context, const DirectionalDistribution* field,
-                                        float u0, float u1) const {
-  const EnvironmentLight& env = *scene_.environment;
-  if (!field) return env.sample(context, u0, u1);
-  constexpr double b = kLightFieldShare;
-  if (u0 < b) {
-    const DirectionalDistribution::DirectionAndPdf g = field->sample(rescaledVariate(u0, b), u1);
-    const RadianceAndPdf light = env.evalWithPdf(context, g.direction);
-    return {g.direction, light.radiance, b * g.pdf + (1.0 - b) * light.pdf};
-  }
-  LightSample light = env.sample(context, rescaledVariate(u0, b), u1);
-  light.pdf = b * field->pdf(light.direction) + (1.0 - b) * light.pdf;
-  return light;
-}
-
-RadianceAndPdf PathIntegrator::lightAlong(const LightSampleContext& context, const DirectionalDistribution* field,
-                                          const Vec3d& w) const {
-  RadianceAndPdf light = scene_.environment->evalWithPdf(context, w);
-  if (field) light.pdf = kLightFieldShare * field->pdf(w) + (1.0 - kLightFieldShare) * light.pdf;
-  return light;
 }
 
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays, const PathGuiding& guiding) const {
@@ -181,8 +131,8 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       if (depth == 0) {
         seen = env.eval(ray.direction);
       } else if (bsdfSeesLight && sampleLight) {
-        const RadianceAndPdf light = lightAlong(lightContext, lightField, ray.direction);
-        seen = light.radiance;
+        const ValueAndPdf light = guidedLight(lightContext, lightField).along(ray.direction);
+        seen = light.value;
         weight = static_cast<float>(misWeight(bsdfPdf, light.pdf));
       } else if (bsdfSeesLight || recorder.recordsLight()) {
         seen = env.eval(ray.direction);
@@ -200,8 +150,10 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
     lightContext = env.atPosition(env.atNormal(lightContext, hit->normal), hit->position);
-    const DirectionalDistribution* guide =
-        guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr;
+    const GuidedMixture bsdf(
+        BsdfTechnique(material, frame),
+        guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr,
+        kGuidedBsdfShare);
     // Looked up only where light samples are drawn (and escapes weighed against them).
     lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal) : nullptr;
 
@@ -216,10 +168,10 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       }
     } else if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
-      const LightSample light = lightSample(lightContext, lightField, u0, u1);
+      const TechniqueSample light = guidedLight(lightContext, lightField).sample(u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
       bool visible = false;
-      if (light.pdf > 0 && wi.z > 0 && !light.radiance.isBlack()) {
+      if (light.pdf > 0 && wi.z > 0 && !light.value.isBlack()) {
         // The shadow ray first: a measured BRDF's eval costs about as much as the ray, and a
         // fifth of the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0).
         ++rays;
@@ -228,20 +180,20 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
         if (visible) {
           const Rgb f = material.eval(wi);
           if (!f.isBlack()) {
-            const double weight =
-                bsdfSeesLight ? misWeight(light.pdf, continuationPdf(material, guide, wi, light.direction)) : 1.0;
-            add(f * light.radiance * static_cast<float>(wi.z * weight / light.pdf));
+            const double weight = bsdfSeesLight ? misWeight(light.pdf, bsdf.pdf(light.direction)) : 1.0;
+            add(f * light.value * static_cast<float>(wi.z * weight / light.pdf));
           }
         }
       }
-      recorder.light(hit->position, hit->normal, light.direction, visible ? light.radiance : Rgb{}, light.pdf);
+      recorder.light(hit->position, hit->normal, light.direction, visible ? light.value : Rgb{}, light.pdf);
     }
 
     const auto [u0, u1] = sampler.get2D();
-    const Continuation next = continuation(material, frame, guide, u0, u1);
-    if (!(next.pdf > 0) || next.weight.isBlack()) break;
-    throughput *= next.weight;
-    recorder.scale(next.weight);
+    const TechniqueSample next = bsdf.sample(u0, u1);
+    if (!(next.pdf > 0) || next.value.isBlack()) break;
+    const Rgb weight = next.value * static_cast<float>(1.0 / next.pdf);
+    throughput *= weight;
+    recorder.scale(weight);
     recorder.open(hit->position, hit->normal, next.direction, next.pdf);
     bsdfPdf = next.pdf;
     lastPosition = hit->position;

@@ -18,16 +18,16 @@
 // (allowsIncompleteLightPdf); its samples and the MIS weights of escaped BSDF samples then use the
 // same one. The random values come from a Sampler, in the order sampler.h lists.
 //
-// Guiding (guiding_field.h, renderer.h). Two fields learned from earlier passes may join in:
-//   - the light field: what of the environment each place sees. Light samples then come from
-//       p_light'(ω) = b · p_field(ω) + (1 − b) · p_light(ω),      b = kLightFieldShare,
-//     u0 choosing the technique, and p_light' replaces p_light in both MIS weights (the light's
-//     radiance is the map's either way). With the light alone (light-only MIS) p_light is complete,
-//     so p_light' is; under MIS the BSDF covers what neither density reaches, as before.
-//   - the path field: the radiance paths carried. A vertex whose material is guided
-//     (guidedMaterial) continues from
-//       q(ω) = a · p_bsdf(ω) + (1 − a) · p_field(ω),      a = kGuidedBsdfShare,
-//     the BSDF sample's first value choosing the technique; the weight is f · cosθ / q, and q
+// The BSDF and the light are techniques (direction_techniques.h): each draws a direction and answers
+// its density for any direction, which is all the MIS weights need. Guiding (guiding_field.h,
+// renderer.h) mixes a field learned in earlier passes into a technique (GuidedMixture):
+//   - the light field: what of the environment each place sees, into light sampling with the
+//     light's tables' share kGuidedLightShare. The mixture's density replaces p_light in both MIS
+//     weights (the light's radiance is the map's either way). With the light alone (light-only MIS)
+//     p_light is complete, so the mixture is; under MIS the BSDF covers what neither density
+//     reaches, as before.
+//   - the path field: the radiance paths carried, into the continuations of guided materials
+//     (guidedMaterial) with the BSDF's share kGuidedBsdfShare; the weight is f · cosθ / q and q
 //     replaces p_bsdf in both MIS weights. Unbiased because p_bsdf > 0 wherever f · cos > 0.
 // What a path records for them, where the render asks (PathGuiding): for the light field, each
 // light sample's map radiance where unblocked (0 where blocked or below the surface) over its
@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "acdf/integrator/direction_techniques.h"
 #include "acdf/integrator/guiding_field.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
@@ -64,10 +65,9 @@ class PathIntegrator {
   // pixel dimensions taken; `rays` counts the rays cast (intersect + shadow).
   Rgb radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays, const PathGuiding& guiding = {}) const;
 
-  // The BSDF's share of the guided mixture.
+  // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
-  // The learned field's share of light sampling.
-  static constexpr double kLightFieldShare = 0.5;
+  static constexpr double kGuidedLightShare = 0.5;
   // A material is guided when its density towards the mirror direction at normal incidence is at
   // most this (a Lambertian surface's is 1/π, GGX α = 0.2's about 2, α = 0.05's about 32): guiding
   // learns radiance, not its product with the BSDF, and a narrow lobe's own sampler beats it.
@@ -75,26 +75,9 @@ class PathIntegrator {
   static bool guidedMaterial(const BrdfSampler& sampler);
 
  private:
-  // The direction a vertex continues along, in the world frame, with f · cosθ / density and the
-  // density; density 0 when the path ends there.
-  struct Continuation {
-    Vec3d direction;
-    Rgb weight;
-    double pdf = 0;
-  };
-  Continuation continuation(const BrdfVertex& material, const Frame& frame, const DirectionalDistribution* guide,
-                            float u0, float u1) const;
-  // The density of continuing along world direction w (local wi) at the vertex.
-  double continuationPdf(const BrdfVertex& material, const DirectionalDistribution* guide, const Vec3d& wi,
-                         const Vec3d& w) const;
-  // A light sample at a vertex: from the light's own sampler, or with a field, from the mixture
-  //   p(ω) = b · p_field(ω) + (1 − b) · p_light(ω),      b = kLightFieldShare,
-  // u0 choosing the technique.
-  LightSample lightSample(const LightSampleContext& context, const DirectionalDistribution* field, float u0,
-                          float u1) const;
-  // That mixture's radiance and density along w.
-  RadianceAndPdf lightAlong(const LightSampleContext& context, const DirectionalDistribution* field,
-                            const Vec3d& w) const;
+  // The light at a vertex seen from `context`, mixed with the light field there (none: the light alone).
+  GuidedMixture<LightTechnique> guidedLight(const LightSampleContext& context,
+                                            const DirectionalDistribution* field) const;
   // The MIS weight of a strategy with density `chosen` against one with density `other`.
   double misWeight(double chosen, double other) const;
 
