@@ -196,7 +196,13 @@ LightSampleContext EnvironmentLight::atNormal(const LightSampleContext& context,
   LightSampleContext at = context;
   at.normal = normal;
   at.localCell.reset();
-  if (local_) at.localCell = localCell(at);
+  if (local_) {
+    LocalCellFound found;
+    found.normal_ = normal;
+    found.light_ = id_;
+    found.cell_ = localCell(at);
+    at.localCell = found;
+  }
   return at;
 }
 
@@ -227,7 +233,9 @@ bool EnvironmentLight::usesLocal(const LightSampleContext& context) const {
 }
 
 std::size_t EnvironmentLight::localCell(const LightSampleContext& context) const {
-  return context.localCell ? *context.localCell : local_->sliceOf(options_.worldFromMap.applyInverse(*context.normal));
+  const std::optional<LocalCellFound>& kept = context.localCell;
+  if (kept && kept->light_ == id_ && kept->normal_ == *context.normal) return kept->cell_;
+  return local_->sliceOf(options_.worldFromMap.applyInverse(*context.normal));
 }
 
 Rgb EnvironmentLight::scaled(const Rgb& L) const {

@@ -445,6 +445,39 @@ TEST(Local, TheNormalChoosesTheLocalTable) {
   EXPECT_EQ(table->slicesBuilt(), 1u);
 }
 
+// A context keeps the normal cell atNormal found, and a call uses it only from that light and for
+// that normal: given another normal, or handed to a light with another normal grid, it samples as a
+// context that never had one.
+TEST(Local, AContextGivenAnotherNormalOrLightFindsItsCellAgain) {
+  const auto map = smoothMap(256, 128);
+  const EnvironmentLight fine(map, {.strategy = EnvironmentSampling::Local,
+                                    .local = {.normalRows = 16, .normalColumns = 32, .blockSize = 8}});
+  const EnvironmentLight coarse(map, {.strategy = EnvironmentSampling::Local,
+                                      .local = {.normalRows = 4, .normalColumns = 8, .blockSize = 8}});
+  const Vec3d from = LatLongMapping::direction(0.4 * kPi, 0.6 * kPi);
+  const Vec3d to = LatLongMapping::direction(0.7 * kPi, 0.1 * kPi);
+  // What a stale cell would be differs from the one that holds.
+  ASSERT_NE(fine.localTable()->sliceOf(from), fine.localTable()->sliceOf(to));
+  ASSERT_GE(fine.localTable()->sliceOf(from), coarse.localTable()->slices());
+
+  const LightSampleContext found = fine.atNormal({}, from);
+  LightSampleContext moved = found;
+  moved.normal = to;
+  const LightSampleContext movedFresh{.normal = to}, otherLightsFresh{.normal = from};
+  Pcg32 rng(31);
+  for (int i = 0; i < 2000; ++i) {
+    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const LightSample a = fine.sample(moved, u0, u1), b = fine.sample(movedFresh, u0, u1);
+    ASSERT_EQ(a.direction, b.direction);
+    ASSERT_EQ(a.pdf, b.pdf);
+    ASSERT_EQ(fine.pdf(moved, b.direction), b.pdf);
+    const LightSample c = coarse.sample(found, u0, u1), d = coarse.sample(otherLightsFresh, u0, u1);
+    ASSERT_EQ(c.direction, d.direction);
+    ASSERT_EQ(c.pdf, d.pdf);
+    ASSERT_EQ(coarse.pdf(found, d.direction), d.pdf);
+  }
+}
+
 // A compensated local light's per-normal tables are incomplete: calls that need a complete pdf get
 // the Adaptive table, normal or not; the others its compensated local table.
 TEST(Local, CompensatedLocalGivesCompletePdfsFromTheAdaptiveTable) {

@@ -78,6 +78,18 @@ class PortalsSeen {
   std::array<double, kCapacity> solidAngles_{};  // Ω_i of the first kCapacity portals
 };
 
+// The local table's normal cell of one shading normal, found once for the calls there by
+// EnvironmentLight::atNormal. Like PortalsSeen, a call uses it only from the light that found it
+// and for the normal it was found for: a context given another normal or another light finds the
+// cell again, never a stale one (another light's grid may have other cells).
+class LocalCellFound {
+ private:
+  friend class EnvironmentLight;
+  Vec3d normal_;             // world frame
+  std::uint64_t light_ = 0;  // EnvironmentLight::id_
+  std::size_t cell_ = 0;
+};
+
 // What a light sample or pdf depends on besides its variates or direction.
 struct LightSampleContext {
   // True when another technique samples every direction the light lights (BSDF sampling, the
@@ -86,9 +98,8 @@ struct LightSampleContext {
   // The shading normal of the point lit (world frame, non-zero): Local sampling's condition.
   std::optional<Vec3d> normal = std::nullopt;
   // The local table's normal cell of `normal`, found once for the calls of one shading point by
-  // EnvironmentLight::atNormal; without it each call finds the cell. A caller that sets `normal`
-  // itself must leave this empty.
-  std::optional<std::size_t> localCell = std::nullopt;
+  // EnvironmentLight::atNormal; without it (or with one found elsewhere) each call finds the cell.
+  std::optional<LocalCellFound> localCell = std::nullopt;
   // The point lit (world frame): what the portals are seen from. Without it no portal is used.
   std::optional<Vec3d> position = std::nullopt;
   // The portals seen from `position`, found once for the calls of one shading point by
