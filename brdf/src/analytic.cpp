@@ -62,6 +62,10 @@ double smithG1(double alpha, double cosTheta) {
   return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * tan2));
 }
 
+Rgb toRgb(const std::array<double, 3>& f) {
+  return {static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2])};
+}
+
 }  // namespace
 
 AnalyticBrdf::AnalyticBrdf(Kind kind, double alpha, const std::array<double, 3>& f0,
@@ -85,17 +89,19 @@ AnalyticBrdf AnalyticBrdf::coatedDiffuse(double alpha, const std::array<double, 
 
 std::array<double, 3> AnalyticBrdf::closedForm(double thetaHalf, double thetaDiff, double phiDiff) const {
   const DirectionPair p = fromHalfDiff({thetaHalf, 0.0, thetaDiff, phiDiff});
-  const double cosI = p.wi.z, cosO = p.wo.z;
+  return fromCosines(p.wi.z, p.wo.z, std::cos(thetaHalf), std::cos(thetaDiff));
+}
+
+std::array<double, 3> AnalyticBrdf::fromCosines(double cosI, double cosO, double cosHalf, double cosDiff) const {
   if (!(cosI > 0 && cosO > 0)) return {0.0, 0.0, 0.0};
-  const double cosD = std::cos(thetaDiff);
   const double specular =
-      ggxD(alpha_, std::cos(thetaHalf)) * smithG1(alpha_, cosI) * smithG1(alpha_, cosO) / (4.0 * cosI * cosO);
+      ggxD(alpha_, cosHalf) * smithG1(alpha_, cosI) * smithG1(alpha_, cosO) / (4.0 * cosI * cosO);
   std::array<double, 3> f{};
   if (kind_ == Kind::Conductor) {
-    for (int c = 0; c < 3; ++c) f[c] = schlick(f0_[c], cosD) * specular;
+    for (int c = 0; c < 3; ++c) f[c] = schlick(f0_[c], cosDiff) * specular;
   } else {
     const double r = (ior_ - 1.0) / (ior_ + 1.0), coatF0 = r * r;
-    const double coat = schlick(coatF0, cosD) * specular;
+    const double coat = schlick(coatF0, cosDiff) * specular;
     const double transmitted = (1.0 - schlick(coatF0, cosI)) * (1.0 - schlick(coatF0, cosO));
     for (int c = 0; c < 3; ++c) f[c] = coat + transmitted * albedo_[c] / kPi;
   }
@@ -103,14 +109,15 @@ std::array<double, 3> AnalyticBrdf::closedForm(double thetaHalf, double thetaDif
 }
 
 Rgb AnalyticBrdf::evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const {
-  const std::array<double, 3> f = closedForm(thetaHalf, thetaDiff, phiDiff);
-  return {static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2])};
+  return toRgb(closedForm(thetaHalf, thetaDiff, phiDiff));
 }
 
 Rgb AnalyticBrdf::eval(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wo.z > 0 && wi.z > 0)) return {};
-  const HalfDiffAngles a = toHalfDiff(wo, wi, false);
-  return evalHalfDiff(a.thetaHalf, a.thetaDiff, a.phiDiff);
+  // cos θh and cos θd straight from the half vector: the angles themselves (two atan2 there, and
+  // sines and cosines back here) are not needed.
+  const Vec3d h = normalize(wo + wi);
+  return toRgb(fromCosines(wi.z, wo.z, h.z, dot(wi, h)));
 }
 
 std::string AnalyticBrdf::addToKey(ContentHash&) const {

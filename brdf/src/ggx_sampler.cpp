@@ -24,7 +24,7 @@ SampledDirection GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, floa
   const double u = std::fmin(u0, 1.0 - 0x1p-40);  // u → 1 is the horizon, where D cosθh = 0
   const double tan2 = alpha_ * alpha_ * u / (1.0 - u);
   const double cosTheta = 1.0 / std::sqrt(1.0 + tan2);
-  const Vec3d wh = sphericalDirection(std::acos(cosTheta), 2.0 * std::numbers::pi * u1);
+  const Vec3d wh = directionAtTurns(cosTheta, std::sqrt(tan2) * cosTheta, u1);  // sinθ = tanθ·cosθ, without acos
   const HalfVector h = sampledHalfVector(wo, wh);
   return reflected(vertex(wo), normalize(reflect(wo, wh)), h, h.incidentPdf(halfVectorPdf(wh)));
 }

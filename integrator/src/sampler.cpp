@@ -43,12 +43,13 @@ CandidateValues IndependentSampler::getCandidates(uint32_t) {
 void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
   pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
   sampleIndex_ = sampleIndex;
+  paddedIndex_ = PaddedSobolIndex(sampleIndex);
   component_ = 0;
 }
 
-float SobolSampler::get1D() { return paddedSobol1D(sampleIndex_, component_++, pixelSeed_); }
+float SobolSampler::get1D() { return paddedSobol1D(paddedIndex_, component_++, pixelSeed_); }
 
-std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(sampleIndex_, component_++, pixelSeed_); }
+std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(paddedIndex_, component_++, pixelSeed_); }
 
 CandidateValues SobolSampler::getCandidates(uint32_t count) {
   const uint32_t component = component_++;
@@ -56,7 +57,7 @@ CandidateValues SobolSampler::getCandidates(uint32_t count) {
                          pixelSeed_, sampleIndex_, count, component);
 }
 
-std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(sampleIndex_, 0, pixelSeed_); }
+std::array<float, 2> SobolSampler::getPixel2D() { return paddedSobol2D(paddedIndex_, 0, pixelSeed_); }
 
 namespace {
 constexpr EnumName<SamplerKind> kSamplerNames[] = {{SamplerKind::Independent, "independent"},

@@ -175,18 +175,28 @@ float sobolSample(uint32_t index, uint32_t dimension, uint64_t seed) {
 // Shuffling by Owen-scrambling the index maps every aligned block of 2^m indices onto an aligned
 // block of 2^m Sobol points, which in dimensions 0 and 1 is a (0,m,2)-net. Dimension 0 reversed
 // is the index itself.
-float paddedSobol1D(uint32_t index, uint32_t dimension, uint64_t seed) {
+PaddedSobolIndex::PaddedSobolIndex(uint32_t index) : reversed(reverseBits(index)) {}
+
+float paddedSobol1D(PaddedSobolIndex index, uint32_t dimension, uint64_t seed) {
   const uint64_t h = splitMix64(seed, uint64_t{2} * dimension);
-  const uint32_t shuffled = owenScramble(index, low32(h));
+  const uint32_t shuffled = reverseBits(nestedPermutation(index.reversed, low32(h)));  // owenScramble(index)
   return reversedToUnitFloat(nestedPermutation(shuffled, high32(h)));
 }
 
-std::array<float, 2> paddedSobol2D(uint32_t index, uint32_t dimension, uint64_t seed) {
+float paddedSobol1D(uint32_t index, uint32_t dimension, uint64_t seed) {
+  return paddedSobol1D(PaddedSobolIndex(index), dimension, seed);
+}
+
+std::array<float, 2> paddedSobol2D(PaddedSobolIndex index, uint32_t dimension, uint64_t seed) {
   const uint64_t h = splitMix64(seed, uint64_t{2} * dimension);
   const uint32_t yScramble = high32(splitMix64(seed, uint64_t{2} * dimension + 1));
-  const uint32_t shuffled = owenScramble(index, low32(h));
+  const uint32_t shuffled = reverseBits(nestedPermutation(index.reversed, low32(h)));  // owenScramble(index)
   return {reversedToUnitFloat(nestedPermutation(shuffled, high32(h))),
           reversedToUnitFloat(nestedPermutation(reversedDimension1(shuffled), yScramble))};
+}
+
+std::array<float, 2> paddedSobol2D(uint32_t index, uint32_t dimension, uint64_t seed) {
+  return paddedSobol2D(PaddedSobolIndex(index), dimension, seed);
 }
 
 }  // namespace acdf

@@ -41,7 +41,8 @@ class AnalyticBrdf final : public BrdfModel {
   // is at or below the horizon.
   std::array<double, 3> closedForm(double thetaHalf, double thetaDiff, double phiDiff) const;
 
-  // closedForm() at the directions' angles, rounded to float.
+  // closedForm() at the directions' angles, rounded to float (computed from the directions'
+  // cosines, without the angles).
   Rgb eval(const Vec3d& wo, const Vec3d& wi) const override;
   Rgb evalHalfDiff(double thetaHalf, double thetaDiff, double phiDiff) const override;
   bool isotropic() const override { return true; }
@@ -60,6 +61,10 @@ class AnalyticBrdf final : public BrdfModel {
   static AnalyticBrdf preset(const std::string& name);
 
  private:
+  // The closed form given cos θi, cos θo (to the normal), cos θh and cos θd; 0 unless both
+  // directions are above the horizon.
+  std::array<double, 3> fromCosines(double cosI, double cosO, double cosHalf, double cosDiff) const;
+
   AnalyticBrdf(Kind kind, double alpha, const std::array<double, 3>& f0, const std::array<double, 3>& albedo,
                double ior);
 

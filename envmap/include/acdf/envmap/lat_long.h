@@ -99,8 +99,8 @@ class LatLongMapping {
     const double cosTheta = cosEdge_[p.row] + s * (cosEdge_[p.row + 1] - cosEdge_[p.row]);
     // (1 − c)(1 + c) rather than 1 − c²: no cancellation near the poles.
     const double sinTheta = std::sqrt(std::max(0.0, (1.0 - cosTheta) * (1.0 + cosTheta)));
-    const double phi = 2.0 * std::numbers::pi * (p.column + t) / width_;
-    return {sinTheta * std::sin(phi), cosTheta, -sinTheta * std::cos(phi)};
+    const SinCos phi = sinCos2Pi((p.column + t) / width_);
+    return {sinTheta * phi.sin, cosTheta, -sinTheta * phi.cos};
   }
 
   // ΔΩ of every pixel of `row`.

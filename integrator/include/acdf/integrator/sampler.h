@@ -24,6 +24,7 @@
 #include <string_view>
 
 #include "acdf/sampling/rng.h"
+#include "acdf/sampling/sobol.h"
 
 namespace acdf {
 
@@ -132,6 +133,7 @@ class SobolSampler final : public Sampler {
   uint32_t frameWidth_;
   uint64_t pixelSeed_ = 0;
   uint32_t sampleIndex_ = 0;
+  PaddedSobolIndex paddedIndex_{0};  // sampleIndex_, prepared once for all its components
   uint32_t component_ = 0;
 };
 

@@ -72,14 +72,24 @@ constexpr float bitsToUnitFloat(uint32_t bits) { return static_cast<float>(bits 
 // s hashed from (seed, dimension).
 float sobolSample(uint32_t index, uint32_t dimension, uint64_t seed);
 
+// Point `index` of the padded sequence with its bits reversed, as every component's shuffle
+// starts: a sampler that draws many components of one point reverses the index once.
+// paddedSobol*(PaddedSobolIndex(i), d, s) equals paddedSobol*(i, d, s).
+struct PaddedSobolIndex {
+  explicit PaddedSobolIndex(uint32_t index);
+  uint32_t reversed;
+};
+
 // Component `dimension` (any value) of point `index` of the padded sequence, 2D: Sobol
 // dimensions 0 and 1 at the shuffled index, each scrambled by its own seed; all three seeds are
 // hashed from (seed, dimension).
 std::array<float, 2> paddedSobol2D(uint32_t index, uint32_t dimension, uint64_t seed);
+std::array<float, 2> paddedSobol2D(PaddedSobolIndex index, uint32_t dimension, uint64_t seed);
 
 // The 1D component `dimension` of the padded sequence: the first coordinate of
 // paddedSobol2D(index, dimension, seed), at half the cost. 1D and 2D components share one
 // numbering; give each call site its own `dimension`.
 float paddedSobol1D(uint32_t index, uint32_t dimension, uint64_t seed);
+float paddedSobol1D(PaddedSobolIndex index, uint32_t dimension, uint64_t seed);
 
 }  // namespace acdf
