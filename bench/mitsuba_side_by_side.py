@@ -20,8 +20,8 @@ heavy-tailed); the largest |z| of the image means against Mitsuba's plugin, over
 4 x 4 blocks per channel, with the Sidak bound at alpha 0.01 (means and variances from the seeds'
 images); table bytes (acdf's C++ table's, and of the drjit arrays a plugin samples in drjit);
 wall time per spp of the median mi.render after a warm-up render (kernels compiled and cached;
-with --timing-renders N, for the measured materials' rows in symbolic mode the fastest of N
-renders interleaved with the file's other such rows), and how much of it was spent inside acdf's batched calls; efficiency at
+with --timing-renders N, for the rows in symbolic mode the fastest of N renders interleaved with
+the map's or file's other such rows), and how much of it was spent inside acdf's batched calls; efficiency at
 equal time against the Mitsuba plugin of the block, (relMSE x time per spp) of Mitsuba's over the
 row's: above 1, the row reaches a given error sooner. Each row renders in the mode a user of it
 gets: drjit's symbolic loops and calls on, unless the row's plugin makes batched acdf calls, which
@@ -191,7 +191,8 @@ def compare_envmaps(args, acdf):
         theirs = mi.load_dict(envmap_scene({"type": "envmap", "filename": path}, args.res))
         reference = render(theirs, args.reference_spp, 1000)
         baseline, errors, ms, _ = measure(theirs, reference, args)
-        envmap_row = report(source, "envmap", errors, None, hierarchical_bytes(path), ms, "-", None)
+        rows = [("envmap", errors, None, hierarchical_bytes(path), ms, "-")]
+        scenes = [(theirs, 0)]  # the symbolic rows' scenes and rows, timed interleaved
         for strategy in args.strategies:
             scene = mi.load_dict(envmap_scene({"type": "acdf_envmap", "filename": path, "strategy": strategy}, args.res))
             emitter = scene.emitters()[0]
@@ -199,8 +200,16 @@ def compare_envmaps(args, acdf):
             emitter.light = timed = TimedCalls(emitter.light, {"sample", "pdf", "eval"})
             reference = render(scene, args.reference_spp, 1000)
             images, errors, ms, inside = measure(scene, reference, args, timed)
-            report(source, f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside,
-                   envmap_row)
+            rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside))
+            if not batched(emitter):
+                scenes.append((scene, len(rows) - 1))
+        if args.timing_renders:
+            for (_, row), ms in zip(scenes, interleaved_ms_per_spp([scene for scene, _ in scenes], args)):
+                rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
+        envmap_row = None
+        for name, errors, z, table, ms, inside in rows:
+            row = report(source, name, errors, z, table, ms, inside, envmap_row)
+            envmap_row = envmap_row or row
 
 
 def compare_materials(args, acdf):
@@ -258,9 +267,9 @@ def main():
     parser.add_argument("--reference-spp", type=int, default=1024)
     parser.add_argument("--res", type=int, default=256)
     parser.add_argument("--timing-renders", type=int, default=0,
-                        help="measured materials: time each row in symbolic mode as the fastest of this many "
-                        "renders at --spp, interleaved with its file's other such rows (0, and batched rows: the "
-                        "median of the seeds' renders)")
+                        help="time each row in symbolic mode as the fastest of this many renders at --spp, "
+                        "interleaved with its map's or file's other such rows (0, and batched rows: the median of "
+                        "the seeds' renders)")
     args = parser.parse_args()
     if args.rgl and not args.bsdf_map:
         parser.error("--rgl needs --bsdf-map")

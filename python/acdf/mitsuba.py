@@ -29,7 +29,8 @@ them). Any other parameter is refused, by either plugin. Mitsuba's si.wi (toward
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
 In the JIT variants `acdf_envmap` with a table that is a cascade over the pixels (uniform, adaptive,
-compensated) or none (uniform-sphere) samples and evaluates it with drjit operations over the table's
+compensated), one per normal cell over blocks of pixels (local, local-compensated: each lane's from
+it.n) or none (uniform-sphere) samples and evaluates it with drjit operations over the tables'
 arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured` with adaptive,
 uniform or cosine sampling (NativeMeasured), whose BRDF values are, for an RGL file, those of
 Mitsuba's `measured` plugin loaded from the same file, for a MERL file its table's in drjit. The
@@ -40,6 +41,7 @@ are per thread, and Mitsuba may build plugins on others). `register(batched_plug
 drjit's symbolic modes as they are, for renders 4-6x faster, and refuses the batched plugins.
 """
 
+import drjit as dr  # Mitsuba's array library, installed with it
 import numpy as np
 
 import acdf
@@ -56,8 +58,6 @@ def _mi():
 def evaluated_mode():
     """Lets Python plugins read their arguments: drjit loops and virtual calls are evaluated
     wavefront by wavefront instead of recorded as symbolic kernels (JIT variants only)."""
-    import drjit as dr
-
     dr.set_flag(dr.JitFlag.SymbolicLoops, False)
     dr.set_flag(dr.JitFlag.SymbolicCalls, False)
     dr.set_flag(dr.JitFlag.SymbolicConditionals, False)
@@ -126,8 +126,6 @@ def _strategy_of(props):
 def _make_envmap_classes():
     """(AcdfEnvmap, BatchedEnvmap, NativeEnvmap) of the current variant."""
     mi = _mi()
-    import drjit as dr
-
     class AcdfEnvmap(mi.Emitter):
         """What both implementations share: the parameters, the light, the scene's bounds."""
 
@@ -249,9 +247,11 @@ def _make_envmap_classes():
             return ray, _color(mi, weight)
 
     class NativeEnvmap(AcdfEnvmap):
-        """JIT variants, the strategies of _NATIVE_STRATEGIES: acdf's table as arrays of the variant,
+        """JIT variants, the strategies of _NATIVE_STRATEGIES: acdf's tables as arrays of the variant,
         sampled and evaluated by drjit operations that Mitsuba records into its kernels with the rest
-        of the path (no Python or acdf call per wavefront; drjit's symbolic modes stay as they are)."""
+        of the path (no Python or acdf call per wavefront; drjit's symbolic modes stay as they are).
+        A local light samples each lane's normal cell's table, lanes without a normal its complete
+        table, as acdf's EnvironmentLight does."""
 
         def __init__(self, props):
             AcdfEnvmap.__init__(self, props)
@@ -260,25 +260,38 @@ def _make_envmap_classes():
             rgb = light.map.rgb.reshape(-1) * np.float32(self.scale)
             self.radiance = mi.Float(rgb.astype(np.float32))
             self.width, self.height = width, height
-            self.m = [[float(x) for x in row] for row in self.world_from_map]
+            self.cos_edge = mi.Float64(_pixel_solid_angles(width, height)[0])
+            linear = np.eye(4)
+            linear[:3, :3] = self.world_from_map
+            self.to_world = mi.Transform4f(linear)
+            self.to_map = mi.Transform4f(linear.T)  # a rotation's inverse: its transpose, exactly
+            # Normals are mapped in double, as acdf's C++ maps them before finding their normal cell.
+            self.normal_to_map = mi.Transform4d(linear.T)
+            # local and local-compensated: the tables of calls with a normal; those without one (and
+            # sample_ray) get the complete adaptive table, as acdf's EnvironmentLight does.
+            local = light.local_arrays()
+            self.local = None if local is None else _DrjitLocalTable(mi, local, width, height)
             if self.strategy == "uniform-sphere" or light.emits_nothing:
                 self.table = self.complete = None
             else:
                 self.table = _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=self.incomplete), width, height)
-                self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height) if self.incomplete
-                                 else self.table)
+                self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height)
+                                 if self.incomplete and self.local is None else self.table)
 
         def _to_world(self, d):
-            m = self.m
-            return mi.Vector3f(m[0][0] * d.x + m[0][1] * d.y + m[0][2] * d.z,
-                               m[1][0] * d.x + m[1][1] * d.y + m[1][2] * d.z,
-                               m[2][0] * d.x + m[2][1] * d.y + m[2][2] * d.z)
+            return self.to_world @ d
 
         def _to_map(self, d):
-            m = self.m
-            return mi.Vector3f(m[0][0] * d.x + m[1][0] * d.y + m[2][0] * d.z,
-                               m[0][1] * d.x + m[1][1] * d.y + m[2][1] * d.z,
-                               m[0][2] * d.x + m[1][2] * d.y + m[2][2] * d.z)
+            return self.to_map @ d
+
+        def _normal_cell(self, it, active):
+            """The local table's normal cell of each lane's it.n, and which lanes have a normal (a
+            default interaction's fields are empty; a medium interaction's normal is zero)."""
+            if self.local is None or dr.width(it.n) == 0:
+                return None, None
+            normal = self.normal_to_map @ mi.Vector3d(it.n)
+            has_normal = active & (dr.squared_norm(normal) > 0)
+            return self.local.cell_of(normal), has_normal
 
         def _radiance_of_pixel(self, row, column, active):
             return dr.gather(mi.Color3f, self.radiance, row * self.width + column, active)
@@ -287,8 +300,9 @@ def _make_envmap_classes():
             row, column = _pixel_of(mi, self._to_map(world_dir), self.width, self.height)
             return self._radiance_of_pixel(row, column, active)
 
-        def _sample(self, table, u, active):
-            """Map-frame direction, its pixel and pdf per steradian (0 for a light that emits nothing)."""
+        def _sample(self, table, u, active, cell=None, local=None):
+            """Map-frame direction, its pixel and pdf per steradian (0 for a light that emits nothing):
+            from `table`, and for the lanes `local` from the local table of their normal cell `cell`."""
             if self.strategy == "uniform-sphere":
                 d = mi.warp.square_to_uniform_sphere(u)
                 row, column = _pixel_of(mi, d, self.width, self.height)
@@ -296,7 +310,14 @@ def _make_envmap_classes():
             if table is None:
                 zero = mi.UInt32(0)
                 return mi.Vector3f(0, 0, 1), zero, zero, mi.Float(0)
-            return table.sample(u, active)
+            drawn = table.sample(u, active if cell is None else active & ~local)
+            if cell is not None:
+                # Each lane's own table: both are traced, each gathering for its own lanes only; the
+                # direction is placed once, in the pixel drawn.
+                drawn = (dr.select(local, a, b) for a, b in zip(self.local.sample(cell, u, local), drawn))
+            row, column, down, right, pdf = drawn
+            d = _direction_in_pixel(mi, self.cos_edge, self.width, row, column, down, right, active)
+            return d, row, column, pdf
 
         def eval(self, si, active=True):
             return self._radiance(-si.wi, active)
@@ -309,10 +330,15 @@ def _make_envmap_classes():
                 return mi.Float(dr.inv_four_pi)
             if self.table is None:
                 return mi.Float(0)
-            return self.table.pdf(self._to_map(ds.d), active)
+            row, column = _pixel_of(mi, self._to_map(ds.d), self.width, self.height)
+            cell, local = self._normal_cell(it, active)
+            if cell is None:
+                return self.table.pdf(row, column, active)
+            return dr.select(local, self.local.pdf(cell, row, column, local),
+                             self.table.pdf(row, column, active & ~local))
 
         def sample_direction(self, it, sample, active=True):
-            d_map, row, column, pdf = self._sample(self.table, sample, active)
+            d_map, row, column, pdf = self._sample(self.table, sample, active, *self._normal_cell(it, active))
             d = self._to_world(d_map)
             ds = dr.zeros(mi.DirectionSample3f)
             ds.d = d
@@ -346,8 +372,9 @@ def _make_envmap_classes():
     return AcdfEnvmap, BatchedEnvmap, NativeEnvmap
 
 
-# The strategies NativeEnvmap samples: a table that is a cascade over the pixels, or none.
-_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "adaptive", "compensated")
+# The strategies NativeEnvmap samples: a table that is a cascade over the pixels, none, or one per
+# normal cell over blocks of pixels (local).
+_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "adaptive", "compensated", "local", "local-compensated")
 # How far from a pixel's edges (a fraction of the pixel) NativeEnvmap places its samples: a float32
 # direction's pixel, found again by pdf_direction, is then the pixel it was drawn in (float32 angles
 # err by a few 1e-7 rad, 1e-3 of a pixel of a 8192 x 4096 map). The radiance and the pdf are
@@ -359,8 +386,6 @@ _PIXEL_MARGIN = 2e-3
 def _pixel_of(mi, d, width, height):
     """The pixel (row, column) of a map-frame direction: theta from +Y, phi from -Z towards +X
     (acdf's lat-long mapping, envmap/lat_long.h), in the variant's float arithmetic."""
-    import drjit as dr
-
     theta = dr.atan2(dr.sqrt(d.x * d.x + d.z * d.z), d.y)
     phi = dr.atan2(d.x, -d.z)
     phi = dr.select(phi < 0, phi + dr.two_pi, phi)
@@ -382,33 +407,33 @@ class _DrjitCdfs:
         inner[start[:-1]] = inner[start[1:] - 1] = False
         self.mi = mi
         self.cells = cells
-        self.first = mi.UInt32(start - 2 * np.arange(len(start)))  # interior breakpoints before CDF k
+        # CDFs that all keep every vertex (a uniform level, e.g. acdf's pixel tables inside a block)
+        # need neither offsets nor vertices: CDF k's interior breakpoint j lies at vertex j + 1, after
+        # k (cells - 1) others, and a cell is its own interval.
+        self.every_vertex = bool(np.all(np.diff(start) == cells + 1))
         # (One unused entry where no CDF has interior breakpoints: drjit gathers from no array.)
         value = np.asarray(arrays["value"], dtype=np.float32)[inner]
         self.value = mi.Float(value if len(value) else np.zeros(1, np.float32))
-        self.bits = 8 if cells <= 1 << 8 else 16 if cells <= 1 << 16 else 32
-        per_word = 32 // self.bits
-        vertex = np.zeros(max(-(-len(value) // per_word), 1) * per_word, dtype=f"<u{self.bits // 8}")
-        vertex[:len(value)] = np.asarray(arrays["vertex"])[inner]
-        self.vertex = mi.UInt32(np.frombuffer(vertex.tobytes(), dtype="<u4"))
+        self.first = self.vertex = None
+        if not self.every_vertex:
+            self.first = mi.UInt32(start - 2 * np.arange(len(start)))  # interior breakpoints before CDF k
+            self.bits = 8 if cells <= 1 << 8 else 16 if cells <= 1 << 16 else 32
+            per_word = 32 // self.bits
+            vertex = np.zeros(max(-(-len(value) // per_word), 1) * per_word, dtype=f"<u{self.bits // 8}")
+            vertex[:len(value)] = np.asarray(arrays["vertex"])[inner]
+            self.vertex = mi.UInt32(np.frombuffer(vertex.tobytes(), dtype="<u4"))
         # Halvings that find a lane's interval in the longest CDF.
         self.steps = int(np.ceil(np.log2(np.diff(start).max() - 1)))
 
     @property
     def bytes(self):
-        import drjit as dr
-
-        return 4 * (dr.width(self.first) + dr.width(self.value) + dr.width(self.vertex))
+        return 4 * sum(dr.width(a) for a in (self.first, self.value, self.vertex) if a is not None)
 
     def _value(self, k, active):
-        import drjit as dr
-
         return dr.gather(self.mi.Float, self.value, k, active)
 
     def _vertex(self, k, active):
         """The vertex of interior breakpoint k, unpacked."""
-        import drjit as dr
-
         mi = self.mi
         shift = {8: 2, 16: 1, 32: 0}[self.bits]
         word = dr.gather(mi.UInt32, self.vertex, k >> shift, active)
@@ -417,8 +442,6 @@ class _DrjitCdfs:
     def _count_at_most(self, first, count, of, threshold, active):
         """How many of the `count` interior breakpoints from `first` have of(k) <= threshold (of:
         the values or the vertices, non-decreasing in a CDF): a binary search of the lane's own CDF."""
-        import drjit as dr
-
         at, left = first, count
         for _ in range(self.steps):
             half = left >> 1
@@ -428,63 +451,87 @@ class _DrjitCdfs:
             left = dr.select(below, left - half - 1, half)
         return at - first
 
-    def _interval(self, cdf, of, threshold, active, kind):
-        """The interval j of CDF `cdf` that threshold falls in, the next axis' CDF below it, its CDF
-        values (lo, hi) in `kind` (mi.Float or mi.Float64) and vertices (a, b), and its density on
-        the axis' unit interval: its mass spread over its cells."""
-        import drjit as dr
-
+    def _interval(self, cdf, find, active, kind):
+        """The interval j = find(first, count) of CDF `cdf` (whose interior breakpoints are the `count`
+        from `first`), the next axis' CDF below it, its CDF values (lo, hi) in `kind` (mi.Float or
+        mi.Float64) and vertices (a, b), and its density on the axis' unit interval: its mass spread
+        over its cells."""
         mi = self.mi
-        first = dr.gather(mi.UInt32, self.first, cdf, active)
-        count = dr.gather(mi.UInt32, self.first, cdf + 1, active) - first
-        j = self._count_at_most(first, count, of, threshold, active)
+        if self.every_vertex:
+            first, count = cdf * (self.cells - 1), mi.UInt32(self.cells - 1)
+        else:
+            first = dr.gather(mi.UInt32, self.first, cdf, active)
+            count = dr.gather(mi.UInt32, self.first, cdf + 1, active) - first
+        j = find(first, count)
         starts, ends = active & (j > 0), active & (j < count)
         lo = dr.select(starts, kind(self._value(first + j - 1, starts)), 0)
         hi = dr.select(ends, kind(self._value(first + j, ends)), 1)
-        a = dr.select(starts, self._vertex(first + j - 1, starts), 0)
-        b = dr.select(ends, self._vertex(first + j, ends), self.cells)
+        if self.every_vertex:
+            a, b = j, j + 1
+        else:
+            a = dr.select(starts, self._vertex(first + j - 1, starts), 0)
+            b = dr.select(ends, self._vertex(first + j, ends), self.cells)
         return first + cdf + j, lo, hi, a, b, (hi - lo) * self.cells / kind(dr.maximum(b - a, 1))
 
     def draw(self, cdf, u, active, kind):
         """Variate u in [0, 1) through CDF `cdf`: the next axis' CDF below its interval (which has
         mass), the grid coordinate u maps to (in `kind`), the interval's vertices (a, b) and its
         density on the axis' unit interval."""
-        child, lo, hi, a, b, density = self._interval(cdf, self._value, u, active, kind)
+        child, lo, hi, a, b, density = self._interval(
+            cdf, lambda first, count: self._count_at_most(first, count, self._value, u, active), active, kind)
         return child, kind(a) + (kind(u) - lo) / (hi - lo) * kind(b - a), a, b, density
 
     def lookup(self, cdf, cell, active, kind):
         """The next axis' CDF below the interval of CDF `cdf` that holds `cell`, and the density
         there on the axis' unit interval (in `kind`)."""
-        child, _, _, _, _, density = self._interval(cdf, self._vertex, cell, active, kind)
+        def find(first, count):
+            return cell if self.every_vertex else self._count_at_most(first, count, self._vertex, cell, active)
+
+        child, _, _, _, _, density = self._interval(cdf, find, active, kind)
         return child, density
+
+
+def _pixel_solid_angles(width, height):
+    """cos theta at each map row's top edge (and the last row's bottom), and the solid angle of each
+    row's pixels, as acdf's LatLongMapping has them (exact at the poles)."""
+    cos_edge = np.cos(np.pi * np.arange(height + 1) / height)
+    cos_edge[0], cos_edge[-1] = 1.0, -1.0
+    return cos_edge, (cos_edge[:-1] - cos_edge[1:]) * (2 * np.pi / width)
+
+
+def _direction_in_pixel(mi, cos_edge, width, row, column, down, right, active):
+    """The map-frame direction at fractions (down, right) of pixel (row, column), uniform in solid
+    angle inside it as acdf's (envmap/lat_long.h), kept _PIXEL_MARGIN from its edges. Placed in
+    double: in float32, cos theta near a pole cannot tell a pixel's rows apart."""
+    down = mi.Float64(dr.clip(down, _PIXEL_MARGIN, 1 - _PIXEL_MARGIN))
+    right = mi.Float64(dr.clip(right, _PIXEL_MARGIN, 1 - _PIXEL_MARGIN))
+    top, bottom = dr.gather(mi.Float64, cos_edge, row, active), dr.gather(mi.Float64, cos_edge, row + 1, active)
+    cos_theta = top + down * (bottom - top)
+    sin_theta = dr.sqrt(dr.maximum(0, (1 - cos_theta) * (1 + cos_theta)))
+    sin_phi, cos_phi = dr.sincos((mi.Float64(column) + right) * (2 * np.pi / width))
+    return mi.Vector3f(mi.Float(sin_theta * sin_phi), mi.Float(cos_theta), mi.Float(-sin_theta * cos_phi))
 
 
 class _DrjitTable:
     """An acdf table of a map's pixels (a two-level cascade: rows, then the columns of each row
     interval) in a JIT variant's arrays. Its density on the unit square is that of acdf's
-    EnvironmentTable; per steradian it is divided by W H times the pixel's solid angle, and inside a
-    pixel samples are uniform in solid angle, as acdf's (envmap/environment_table.h)."""
+    EnvironmentTable; per steradian it is divided by W H times the pixel's solid angle, as acdf's
+    (envmap/environment_table.h). sample() draws a pixel and where in it; _direction_in_pixel places
+    the direction there."""
 
     def __init__(self, mi, levels, width, height):
         self.mi = mi
         self.rows = _DrjitCdfs(mi, levels[0], height)
         self.columns = _DrjitCdfs(mi, levels[1], width)
         self.width, self.height = width, height
-        cos_edge = np.cos(np.pi * np.arange(height + 1) / height)
-        cos_edge[0], cos_edge[-1] = 1.0, -1.0
-        solid_angle = (cos_edge[:-1] - cos_edge[1:]) * (2 * np.pi / width)
-        # Directions are placed in double: in float32, cos theta near a pole cannot tell a pixel's rows apart.
-        self.cos_edge = mi.Float64(cos_edge)
+        solid_angle = _pixel_solid_angles(width, height)[1]
         self.pdf_scale = mi.Float((1.0 / (float(width) * height * solid_angle)).astype(np.float32))
 
     def _density(self, row, row_density, column_density, active):
-        import drjit as dr
-
         return row_density * column_density * dr.gather(self.mi.Float, self.pdf_scale, row, active)
 
     def sample(self, u, active):
-        import drjit as dr
-
+        """The pixel (row, column) drawn, where in it (down, right: fractions) and the pdf per steradian."""
         mi = self.mi
         below_one = float(np.nextafter(np.float32(1), np.float32(0)))
         u0, u1 = dr.clip(u.x, 0, below_one), dr.clip(u.y, 0, below_one)
@@ -492,21 +539,103 @@ class _DrjitTable:
         row = dr.clip(mi.UInt32(row_at), a, b - 1)
         _, column_at, a, b, column_density = self.columns.draw(below, u1, active, mi.Float)
         column = dr.clip(mi.UInt32(column_at), a, b - 1)
-        down = dr.clip(row_at - mi.Float(row), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
-        right = dr.clip(column_at - mi.Float(column), _PIXEL_MARGIN, 1 - _PIXEL_MARGIN)
+        return (row, column, row_at - mi.Float(row), column_at - mi.Float(column),
+                self._density(row, row_density, column_density, active))
 
-        top, bottom = dr.gather(mi.Float64, self.cos_edge, row, active), dr.gather(mi.Float64, self.cos_edge, row + 1, active)
-        cos_theta = top + mi.Float64(down) * (bottom - top)
-        sin_theta = dr.sqrt(dr.maximum(0, (1 - cos_theta) * (1 + cos_theta)))
-        sin_phi, cos_phi = dr.sincos((mi.Float64(column) + mi.Float64(right)) * (2 * np.pi / self.width))
-        d = mi.Vector3f(mi.Float(sin_theta * sin_phi), mi.Float(cos_theta), mi.Float(-sin_theta * cos_phi))
-        return d, row, column, self._density(row, row_density, column_density, active)
-
-    def pdf(self, d, active):
-        row, column = _pixel_of(self.mi, d, self.width, self.height)
+    def pdf(self, row, column, active):
+        """Density per steradian of sample() on map pixel (row, column)."""
         below, row_density = self.rows.lookup(0, row, active, self.mi.Float)
         column_density = self.columns.lookup(below, column, active, self.mi.Float)[1]
         return self._density(row, row_density, column_density, active)
+
+
+class _DrjitLocalTable:
+    """An acdf LocalEnvironmentTable (envmap/local_environment_table.h; EnvironmentLight.local_arrays)
+    in a JIT variant's arrays: per normal cell a cascade over the map's blocks of pixels, then the
+    block's exact pixel table (_DrjitCdfs each), sampled as acdf's C++ samples them so that the same
+    variates give the same pixel: each level drawn in double and placed as a float32 coordinate of its
+    axis (GridAxis::place), the place inside the block's cell reused as the pixel table's variates."""
+
+    def __init__(self, mi, arrays, width, height):
+        self.mi = mi
+        self.normal_rows, self.normal_columns = arrays["normal_rows"], arrays["normal_columns"]
+        self.block_height, self.block_width = arrays["block_height"], arrays["block_width"]
+        block_rows, self.block_columns = -(-height // self.block_height), -(-width // self.block_width)
+        # Per level, its CDFs and its axis on the unit interval. The normal cells' block tables lie
+        # end to end: CDF k of the block rows is normal cell k's.
+        self.blocks = [(_DrjitCdfs(mi, level, cells), _DrjitAxis((0.0, 1.0), cells))
+                       for level, cells in zip(arrays["blocks"], (block_rows, self.block_columns))]
+        self.pixels = [(_DrjitCdfs(mi, level, cells), _DrjitAxis((0.0, 1.0), cells))
+                       for level, cells in zip(arrays["pixels"], (self.block_height, self.block_width))]
+        self.pixel_distributions = mi.UInt32(arrays["pixel_distributions"])
+        self.width, self.height = width, height
+        solid_angle = _pixel_solid_angles(width, height)[1]
+        blocks = block_rows * self.block_columns
+        self.pdf_scale = mi.Float64(1.0 / (float(blocks) * self.block_height * self.block_width * solid_angle))
+
+    def cell_of(self, normal):
+        """The normal cell of map-frame normals (float64, non-zero): as LocalEnvironmentTable::sliceOf,
+        the pixel of a normal_columns x normal_rows lat-long grid, its last row and column taking
+        theta = pi and phi rounded up to 2 pi."""
+        row, column = _pixel_of(self.mi, normal, self.normal_columns, self.normal_rows)
+        return row * self.normal_columns + column
+
+    def _kind(self, cdfs):
+        """The arithmetic a level is drawn and looked up in: float32 where each interval is one cell
+        (no rounding can leave it), else double as in acdf's Cascade, so that the cell is acdf's."""
+        return self.mi.Float if cdfs.every_vertex else self.mi.Float64
+
+    def _draw(self, level, cdf, u, active):
+        """Variate u through CDF `cdf` of a level, as acdf's Cascade::sampleCellsInSlice: the next
+        level's CDF, the cell drawn, where inside it and the density (float64)."""
+        mi = self.mi
+        cdfs, axis = level
+        kind = self._kind(cdfs)
+        child, at, a, b, density = cdfs.draw(cdf, u, active, kind)
+        if cdfs.every_vertex:
+            return child, a, at - kind(a), mi.Float64(density)
+        x = axis.place(mi, at, a, b)
+        cell = axis.cell_of(mi, x)
+        return child, cell, axis.grid_coordinate(mi, x) - mi.Float64(cell), density
+
+    def _lookup(self, level, cdf, cell, active):
+        """The next level's CDF below cell `cell` of CDF `cdf`, and the density there (float64)."""
+        cdfs = level[0]
+        child, density = cdfs.lookup(cdf, cell, active, self._kind(cdfs))
+        return child, self.mi.Float64(density)
+
+    def _density(self, row, block_density, pixel_density, active):
+        scale = dr.gather(self.mi.Float64, self.pdf_scale, row, active)
+        return self.mi.Float(block_density * pixel_density * scale)
+
+    def _pixel_table(self, block_row, block_column, active):
+        return dr.gather(self.mi.UInt32, self.pixel_distributions, block_row * self.block_columns + block_column,
+                         active)
+
+    def sample(self, cell, u, active):
+        """For lanes of normal cell `cell`: the pixel (row, column) drawn, where in it (down, right:
+        fractions, float32 as _DrjitTable's) and the pdf per steradian."""
+        mi = self.mi
+        u0, u1 = _unit_variates(u)
+        below, block_row, down, row_density = self._draw(self.blocks[0], cell, u0, active)
+        _, block_column, right, column_density = self._draw(self.blocks[1], below, u1, active)
+        pixels = self._pixel_table(block_row, block_column, active)
+        v0, v1 = (dr.clip(mi.Float(f), 0, _below(1)) for f in (down, right))
+        below, row, down, pixel_row_density = self._draw(self.pixels[0], pixels, v0, active)
+        _, column, right, pixel_column_density = self._draw(self.pixels[1], below, v1, active)
+        row, column = block_row * self.block_height + row, block_column * self.block_width + column
+        density = self._density(row, row_density * column_density, pixel_row_density * pixel_column_density, active)
+        return row, column, mi.Float(down), mi.Float(right), density
+
+    def pdf(self, cell, row, column, active):
+        """Density per steradian of sample(cell, .) on map pixel (row, column)."""
+        block_row, block_column = row // self.block_height, column // self.block_width
+        below, row_density = self._lookup(self.blocks[0], cell, block_row, active)
+        column_density = self._lookup(self.blocks[1], below, block_column, active)[1]
+        pixels = self._pixel_table(block_row, block_column, active)
+        below, pixel_row_density = self._lookup(self.pixels[0], pixels, row - block_row * self.block_height, active)
+        pixel_column_density = self._lookup(self.pixels[1], below, column - block_column * self.block_width, active)[1]
+        return self._density(row, row_density * column_density, pixel_row_density * pixel_column_density, active)
 
 
 # acdf's margins and thresholds of the half-vector tables (brdf/tabulated_brdf_sampler.cpp,
@@ -517,23 +646,17 @@ _ROUND_TRIP_EXACT = 1e-3
 
 
 def _polar_angle(d):
-    import drjit as dr
-
     return dr.atan2(dr.sqrt(d.x * d.x + d.y * d.y), d.z)
 
 
 def _azimuth(d):
     """In [0, 2 pi)."""
-    import drjit as dr
-
     phi = dr.atan2(d.y, d.x)
     return dr.select(phi < 0, phi + 2 * np.pi, phi)
 
 
 def _cosine_hemisphere(mi, u0, u1):
     """acdf's cosine-weighted direction (sampling/sphere.h), in float64."""
-    import drjit as dr
-
     r2 = dr.minimum(u0, 1 - 2.0**-40)
     r = dr.sqrt(r2)
     sin_phi, cos_phi = dr.sincos(2 * np.pi * u1)
@@ -541,15 +664,11 @@ def _cosine_hemisphere(mi, u0, u1):
 
 
 def _cosine_pdf(z):
-    import drjit as dr
-
     return dr.select(z > 0, z * (1 / np.pi), 0)
 
 
 def _unit_variates(u):
     """A Point2f's coordinates clamped into [0, 1) (clampUnit)."""
-    import drjit as dr
-
     return dr.clip(u.x, 0, _below(1)), dr.clip(u.y, 0, _below(1))
 
 
@@ -582,23 +701,17 @@ class _DrjitAxis:
 
     def cell_of(self, mi, x):
         """The cell of float32 coordinate x, clamped into the axis (GridAxis::cellOf)."""
-        import drjit as dr
-
         return dr.minimum(mi.UInt32(dr.maximum(self.grid_coordinate(mi, x), 0)), self.cells - 1)
 
     def cell(self, mi, angle):
         """The cell of a float64 angle: rounded to float32 and kept inside [lo, hi) first (onAxis,
         brdf/outgoing_cells.h)."""
-        import drjit as dr
-
         return self.cell_of(mi, dr.clip(mi.Float(angle), self.lo, _below(self.hi)))
 
     def place(self, mi, at, first, end):
         """The float32 coordinate of grid coordinate `at` (float64) in cells [first, end), inside the
         domain by a margin and moved by one float where rounding carried it across the range's
         edge (GridAxis::place). lo >= 0."""
-        import drjit as dr
-
         x = dr.clip(mi.Float(self.lo + at * self.width), self.inner_lo, self.inner_hi)
         cell = self.cell_of(mi, x)
         bits = dr.reinterpret_array(mi.UInt32, x)
@@ -636,14 +749,10 @@ class _DrjitHalfVectorTable:
     @property
     def bytes(self):
         """Of its arrays."""
-        import drjit as dr
-
         return self.s.bytes + self.phi.bytes + 4 * dr.width(self.distributions) + 8 * dr.width(self.caps)
 
     def _distribution(self, wo, active):
         """The first-level CDF of omega_o's slice (OutgoingCells)."""
-        import drjit as dr
-
         mi = self.mi
         slice_ = self.outgoing[0].cell(mi, _polar_angle(wo))
         if len(self.outgoing) == 2:
@@ -653,8 +762,6 @@ class _DrjitHalfVectorTable:
     def _per_steradian(self, density, cell, active):
         """The cascade's density (per unit s and azimuth) on s cell `cell` per steradian of omega_h,
         clamped into float32's positive range as acdf's Cascade does."""
-        import drjit as dr
-
         mi = self.mi
         density = mi.Float64(mi.Float(dr.clip(density, float(np.finfo(np.float32).smallest_subnormal),
                                               float(np.finfo(np.float32).max))))
@@ -663,8 +770,6 @@ class _DrjitHalfVectorTable:
 
     def pdf(self, wo, wi, active):
         """Density of omega_i (float64 unit vectors) given omega_o above the horizon, per steradian."""
-        import drjit as dr
-
         mi = self.mi
         w = self.cosine_weight
         h = wi + wo
@@ -690,8 +795,6 @@ class _DrjitHalfVectorTable:
 
     def sample(self, wo, u, active):
         """omega_i and its density for omega_o (float64, above the horizon) and variates u (Point2f)."""
-        import drjit as dr
-
         mi = self.mi
         w = self.cosine_weight
         u0, u1 = _unit_variates(u)
@@ -765,14 +868,10 @@ class _DrjitMerl:
     @staticmethod
     def _index(g, cells):
         """A grid coordinate's cell, clamped; 0 for NaN (clampIndex)."""
-        import drjit as dr
-
         return dr.select(g > 0, dr.minimum(g, cells - 1), 0)
 
     def cell(self, wo, wi):
         """The flat index of the cell of (omega_o, omega_i), float64 unit vectors above the horizon."""
-        import drjit as dr
-
         mi = self.mi
         half = wi + wo
         rho = dr.sqrt(half.x * half.x + half.y * half.y)
@@ -798,8 +897,6 @@ class _DrjitMerl:
         return (mi.UInt32(h) * d_cells + mi.UInt32(d)) * p_cells + mi.UInt32(p)
 
     def eval(self, ctx, si, wo, active=True):
-        import drjit as dr
-
         mi = self.mi
         viewer, light = dr.normalize(mi.Vector3d(si.wi)), dr.normalize(mi.Vector3d(wo))
         up = active & (viewer.z > 0) & (light.z > 0)
@@ -811,8 +908,6 @@ class _DrjitMerl:
 def _make_measured_classes():
     """(BatchedMeasured, NativeMeasured) of the current variant."""
     mi = _mi()
-    import drjit as dr
-
     class AcdfMeasured(mi.BSDF):
         """What both implementations share: the parameters, the model and acdf's sampler."""
 
@@ -956,10 +1051,10 @@ def register(batched_plugins=True):
     mi.set_variant, in the thread that renders).
 
     In JIT variants, batched_plugins=True turns on the evaluated mode the batched plugins need
-    (acdf_measured with rgl sampling, acdf_envmap with local, local-compensated, alias or
-    hierarchical). False leaves drjit's symbolic modes as they are, so that Mitsuba records the
-    plugins' drjit sampling into its kernels with the rest of the path (4-6x faster renders); the
-    batched plugins are then refused, naming this option."""
+    (acdf_measured with rgl sampling, acdf_envmap with alias or hierarchical). False leaves drjit's
+    symbolic modes as they are, so that Mitsuba records the plugins' drjit sampling into its kernels
+    with the rest of the path (4-6x faster renders); the batched plugins are then refused, naming
+    this option."""
     mi = _mi()
     base, batched, native = _make_envmap_classes()
     _envmap_classes.append(base)

@@ -3,6 +3,8 @@
 // environment classes use the sampling ones, product sampling both).
 #include <pybind11/pybind11.h>
 
+#include <span>
+
 namespace acdf {
 class Cascade;
 }
@@ -14,6 +16,11 @@ namespace acdf::python {
 // breakpoints are [start[k], start[k + 1])), "vertex" (each breakpoint's grid vertex) and "value"
 // (the CDF there), the CDFs laid end to end in Cascade::breakpoints' order.
 pybind11::list cascadeArrays(const Cascade& cascade);
+// The same for cascades of one shape laid end to end (each axis' CDFs of the first, then of the
+// second, ...): the first axis' CDFs of the i-th come after those of the ones before it, and below
+// interval j of an axis' CDFs, counted across all the cascades in order, still lies CDF j of the
+// next axis.
+pybind11::list cascadeArrays(std::span<const Cascade* const> cascades);
 
 void bindSampling(pybind11::module_& m);
 void bindEnvmap(pybind11::module_& m);

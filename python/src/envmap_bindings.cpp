@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "acdf/envmap/environment_light.h"
 #include "acdf/envmap/environment_map.h"
@@ -210,6 +211,36 @@ void bindLight(py::module_& m) {
       "rows is CDF 0 of axis 0; below its interval j lies CDF j of axis 1. The density on the unit square\n"
       "is the product over axes of (value step) / (vertex step / cells); per steradian, divide by\n"
       "width x height x the row's pixel solid angle.");
+  c.def(
+      "local_arrays",
+      [](const EnvironmentLight& light) -> py::object {
+        const LocalEnvironmentTable* local = light.localTable();
+        if (!local || !local->pixelTable()) return py::none();
+        std::vector<const Cascade*> cells(local->slices());
+        {
+          py::gil_scoped_release release;
+          local->buildAll();
+          for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = &local->blocksOfCell(i);
+        }
+        const Cascade& pixels = *local->pixelTable();
+        auto distributions = output<uint32_t>(pixels.slices());
+        uint32_t* ds = distributions.mutable_data();
+        for (std::size_t s = 0; s < pixels.slices(); ++s) ds[s] = static_cast<uint32_t>(pixels.distributionOf(s));
+        const LocalEnvironmentOptions& o = local->options();
+        return py::dict("normal_rows"_a = o.normalRows, "normal_columns"_a = o.normalColumns,
+                        "block_height"_a = local->blockHeight(), "block_width"_a = local->blockWidth(),
+                        "blocks"_a = cascadeArrays(cells), "pixels"_a = cascadeArrays(pixels),
+                        "pixel_distributions"_a = distributions);
+      },
+      "The tables of a local or local-compensated light's calls with a normal (None for other strategies and\n"
+      "a black map), every normal cell's built, for sampling them in other arithmetic (acdf.mitsuba's drjit\n"
+      "arrays); the map frame's normal cells are the pixels of a normal_columns x normal_rows lat-long grid,\n"
+      "row-major. blocks: P(block | normal cell) as cascade_arrays lays out a cascade, the cells' cascades\n"
+      "(over the grid of block_height x block_width-pixel blocks, the last ones partial) end to end: CDF k of\n"
+      "axis 0 is normal cell k's. pixels: P(pixel | block), block b (row-major) sampling first-level CDF\n"
+      "pixel_distributions[b] over its rows, then its columns. The density per steradian is the product of\n"
+      "the two tables' (each as cascade_arrays says) over blocks x block_height x block_width x the row's\n"
+      "pixel solid angle.");
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");

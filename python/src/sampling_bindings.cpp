@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,11 +26,16 @@ namespace acdf::python {
 
 using namespace pybind11::literals;
 
-py::list cascadeArrays(const Cascade& cascade) {
+py::list cascadeArrays(std::span<const Cascade* const> cascades) {
   py::list levels;
-  for (std::size_t axis = cascade.conditioningDims(); axis < cascade.dims(); ++axis) {
-    const std::vector<std::vector<uint32_t>> vertices = cascade.breakpoints(axis);
-    const std::vector<std::vector<float>> values = cascade.breakpointValues(axis);
+  const Cascade& first = *cascades.front();
+  for (std::size_t axis = first.conditioningDims(); axis < first.dims(); ++axis) {
+    std::vector<std::vector<uint32_t>> vertices;
+    std::vector<std::vector<float>> values;
+    for (const Cascade* cascade : cascades) {
+      std::ranges::move(cascade->breakpoints(axis), std::back_inserter(vertices));
+      std::ranges::move(cascade->breakpointValues(axis), std::back_inserter(values));
+    }
     std::size_t points = 0;
     for (const auto& cdf : vertices) points += cdf.size();
     auto start = output<uint32_t>(vertices.size() + 1), vertex = output<uint32_t>(points);
@@ -46,6 +53,11 @@ py::list cascadeArrays(const Cascade& cascade) {
     levels.append(py::dict("start"_a = start, "vertex"_a = vertex, "value"_a = value));
   }
   return levels;
+}
+
+py::list cascadeArrays(const Cascade& cascade) {
+  const Cascade* one[] = {&cascade};
+  return cascadeArrays(one);
 }
 
 namespace {
@@ -316,7 +328,7 @@ NaN or Inf value or bad options.)");
       "The grid vertices each 1D CDF of a sampled axis keeps (ends included), one array per CDF. For a 2D\n"
       "cascade, breakpoints(0)[0] bounds the row intervals and breakpoints(1)[j] the column intervals of\n"
       "row interval j.");
-  c.def("arrays", &cascadeArrays,
+  c.def("arrays", py::overload_cast<const Cascade&>(&cascadeArrays),
         "The whole table, for sampling it in other arithmetic (acdf.mitsuba's drjit arrays): one dict per\n"
         "sampled axis of its 1D CDFs laid end to end, in breakpoints()' order: CDF k's breakpoints are\n"
         "[start[k], start[k + 1]), each a grid vertex (uint32) and the CDF's value there (float32), from\n"

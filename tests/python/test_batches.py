@@ -194,6 +194,7 @@ NOT_BATCHED = {
     "EnvironmentLight.load": "a file",
     "EnvironmentLight.pixel_probabilities": "an output; test_returned_arrays",
     "EnvironmentLight.cascade_arrays": "an output; test_returned_arrays",
+    "EnvironmentLight.local_arrays": "an output; test_returned_arrays",
     "EnvironmentMap.load": "a file",
     "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
     "MerlBrdf.load": "a file",
@@ -294,6 +295,28 @@ def test_returned_arrays(rng):
         np.testing.assert_allclose(probabilities_of_cascade(light.cascade_arrays(incomplete), 8, 16),
                                    light.pixel_probabilities(incomplete), rtol=1e-5, atol=1e-7)
     assert acdf.EnvironmentLight(world, strategy="alias").cascade_arrays() is None
+    # A local light's tables: its normal cell's block probabilities times each block's pixel ones
+    # are the probabilities of its pdf at that normal.
+    normal = np.array([0.3, 0.8, 0.5])
+    for strategy in ("local", "local-compensated"):
+        local = acdf.EnvironmentLight(world, strategy=strategy, normal_rows=2, normal_columns=4, block_size=4)
+        arrays = local.local_arrays()
+        assert (arrays["normal_rows"], arrays["normal_columns"], arrays["block_height"], arrays["block_width"]) == (
+            2, 4, 4, 4)
+        theta, phi = np.arctan2(np.hypot(normal[0], normal[2]), normal[1]), np.arctan2(normal[0], -normal[2])
+        cell = int(theta / np.pi * 2) * 4 + int(np.mod(phi, 2 * np.pi) / (2 * np.pi) * 4)
+        blocks = probabilities_of_cascade(arrays["blocks"], 2, 4, cell)
+        p = np.zeros((8, 16))
+        for b, distribution in enumerate(arrays["pixel_distributions"]):
+            r, c = divmod(b, 4)
+            p[4 * r:4 * r + 4, 4 * c:4 * c + 4] = blocks[r, c] * probabilities_of_cascade(arrays["pixels"], 4, 4,
+                                                                                          distribution)
+        theta = np.repeat((np.arange(8) + 0.5) * np.pi / 8, 16)
+        phi = np.tile((np.arange(16) + 0.5) * np.pi / 8, 8)
+        centres = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], 1)
+        pdf = local.pdf(centres, normal=normal, allow_incomplete_pdf=strategy == "local-compensated")
+        np.testing.assert_allclose(p, pdf.reshape(8, 16) * solid_angle[:, None], rtol=1e-5, atol=1e-7)
+    assert acdf.EnvironmentLight(world, strategy="adaptive").local_arrays() is None
     # A conditioned cascade whose slices 1-3 share one distribution (scaled copies of one slice).
     shape = values[None] * np.array([1.0, 2.0, 3.0, 4.0], dtype=F32)[:, None, None]
     shape[0] = values[::-1]

@@ -414,6 +414,91 @@ def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     assert chi2.sf(statistic, dof) > alpha, f"chi-square {statistic:.1f} with {dof} degrees of freedom"
 
 
+LOCAL_STRATEGIES = ["local", "local-compensated"]
+
+
+@pytest.mark.parametrize("strategy", LOCAL_STRATEGIES)
+def test_llvm_local_envmap_samples_each_normals_table_in_drjit(block_map, strategy):
+    """In llvm_ad_rgb acdf_envmap with local tables samples, in drjit, the table of each lane's normal
+    cell (it.n in the map frame), and lanes without a normal the complete adaptive table, as acdf's
+    C++ light does. 10^6 samples of the shared sunset map (or the block map) at random normals, one
+    lane in 8 without one: pdf_direction of each sample is its returned pdf, bit for bit; the pdf is
+    acdf's for that normal (float32 against double, 1e-5); the sample lies in the pixel acdf's C++
+    sampler picks for the same variates and normal (all but rounding cases at pixel edges); and at one
+    tilted normal the pixels' counts fit acdf's exact pixel probabilities, its pdf times the pixel's
+    solid angle (chi-square, cells pooled to an expected count >= 5, alpha 0.01 Sidak-corrected over
+    the strategies)."""
+    if "llvm_ad_rgb" not in mi.variants():
+        pytest.skip("mitsuba has no llvm_ad_rgb variant")
+    mi.set_variant("llvm_ad_rgb")
+    acdf.mitsuba.register()
+    from scipy.stats import chi2
+    from test_chi_square import pooled_chi_square
+
+    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
+                          "envmaps", "sunset_1024x512.exr")
+    path = shared if os.path.exists(shared) else block_map[0]
+    emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
+    assert "Native" in type(emitter).__name__
+    light, incomplete = emitter.light, emitter.incomplete
+    width, height = light.map.width, light.map.height
+    to_map = np.array(rotation().matrix, dtype=np.float64)[:3, :3]  # world to map: rows @ to_map
+    n = 1_000_000
+    rng = np.random.default_rng(5)
+    u = rng.random((n, 2)).astype(np.float32)
+    normals = rng.normal(size=(n, 3)).astype(np.float32)
+    normals[::8] = 0  # no normal: a medium interaction's
+    it = dr.zeros(mi.Interaction3f, n)
+    it.n = mi.Normal3f(normals[:, 0], normals[:, 1], normals[:, 2])
+    ds, weight = emitter.sample_direction(it, mi.Point2f(u[:, 0], u[:, 1]))
+    pdf = np.asarray(ds.pdf)
+    assert np.all(pdf > 0) and np.all(np.isfinite(pdf))
+    np.testing.assert_array_equal(np.asarray(emitter.pdf_direction(it, ds)), pdf)
+
+    def pixels(d):
+        theta = np.arctan2(np.hypot(d[:, 0], d[:, 2]), d[:, 1])
+        phi = np.mod(np.arctan2(d[:, 0], -d[:, 2]), 2 * np.pi)
+        row = np.minimum((theta / np.pi * height).astype(np.int64), height - 1)
+        return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
+
+    has_normal = np.any(normals != 0, axis=1)
+
+    def acdf_calls(f, rows):
+        """The results of f(rows, ...) of acdf's C++ light: lanes with a normal given it, the others not."""
+        parts = (f(rows[has_normal], normal=normals[has_normal].astype(np.float64) @ to_map,
+                   allow_incomplete_pdf=incomplete), f(rows[~has_normal], allow_incomplete_pdf=incomplete))
+        merged = []
+        for with_normal, without in zip(*(p if isinstance(p, tuple) else (p,) for p in parts)):
+            result = np.empty((n, *with_normal.shape[1:]), with_normal.dtype)
+            result[has_normal], result[~has_normal] = with_normal, without
+            merged.append(result)
+        return merged
+
+    dirs = rows_of(ds.d) @ to_map
+    np.testing.assert_allclose(acdf_calls(light.pdf, dirs)[0], pdf, rtol=1e-5)
+    acdf_dirs, acdf_radiance, acdf_pdf = acdf_calls(light.sample, u)
+    ours = pixels(dirs)
+    assert np.count_nonzero(ours != pixels(acdf_dirs)) <= n * 1e-5
+    np.testing.assert_allclose(rows_of(weight).mean(0), (acdf_radiance / acdf_pdf[:, None]).mean(0), rtol=1e-5)
+
+    tilted = np.array([0.3, 0.8, 0.5], dtype=np.float32) / np.float32(np.linalg.norm([0.3, 0.8, 0.5]))
+    it = dr.zeros(mi.Interaction3f, n)
+    it.n = mi.Normal3f(*(np.full(n, x, dtype=np.float32) for x in tilted))
+    ds, _ = emitter.sample_direction(it, mi.Point2f(u[:, 0], u[:, 1]))
+    observed = np.bincount(pixels(rows_of(ds.d) @ to_map), minlength=width * height).astype(np.float64)
+    edges = np.cos(np.arange(height + 1) * np.pi / height)
+    theta = np.repeat((np.arange(height) + 0.5) * np.pi / height, width)
+    phi = np.tile((np.arange(width) + 0.5) * 2 * np.pi / width, height)
+    centres = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], 1)
+    solid_angles = np.repeat((edges[:-1] - edges[1:]) * 2 * np.pi / width, width)
+    probabilities = light.pdf(centres, normal=tilted.astype(np.float64) @ to_map,
+                              allow_incomplete_pdf=incomplete) * solid_angles
+    assert probabilities.sum() == pytest.approx(1.0, abs=1e-5)
+    statistic, dof = pooled_chi_square(observed, probabilities * n)
+    alpha = acdf.sidak_alpha(0.01, len(LOCAL_STRATEGIES))
+    assert chi2.sf(statistic, dof) > alpha, f"chi-square {statistic:.1f} with {dof} degrees of freedom"
+
+
 class CountedCalls:
     """An acdf object whose calls are counted by name, with the number of rows each was given."""
 
@@ -444,6 +529,8 @@ def test_unknown_parameters_are_refused_and_table_options_reach_acdf(variant, bl
                            "normal_columns": 8, "block_size": 4})
     fine = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "local"})
     same = acdf.EnvironmentLight.load(path, strategy="local", normal_rows=4, normal_columns=8, block_size=4)
+    for light in (coarse.light, fine.light, same):
+        light.local_arrays()  # builds every normal cell's table (the drjit plugin's have), so bytes compare
     assert coarse.light.bytes == same.bytes != fine.light.bytes
     small = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": "uniform",
                           "theta_half": 32, "phi_half": 8})
@@ -463,21 +550,22 @@ def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
     assert "AcdfMeasured[sampling=adaptive" in str(scene.shapes()[0].bsdf())
 
 
-@pytest.mark.parametrize("strategy", ["adaptive", "local"])
+@pytest.mark.parametrize("strategy", ["adaptive", "local", "local-compensated", "hierarchical"])
 def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map, strategy):
     """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes): registered with
-    batched_plugins=False, acdf_envmap with a table drjit samples (adaptive) renders with drjit's
-    symbolic modes on and makes no acdf call at all, nor does acdf_measured sampling an RGL file with
-    acdf's table (on the sphere), and the batched plugins are refused; by default, acdf_measured with
-    the file's own warps (rgl), and acdf_envmap with a strategy it leaves to acdf (local), call acdf a
-    few times per bounce, each call with every lane still active (thousands of rows), never once per
-    lane."""
+    batched_plugins=False, acdf_envmap with tables drjit samples (adaptive, local, local-compensated)
+    renders with drjit's symbolic modes on and makes no acdf call at all, nor does acdf_measured
+    sampling an RGL file with acdf's table (on the sphere), and the batched plugins are refused; by
+    default, acdf_measured with the file's own warps (rgl), and acdf_envmap with a strategy it leaves
+    to acdf (hierarchical), call acdf a few times per bounce, each call with every lane still active
+    (thousands of rows), never once per lane."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
     for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
         dr.set_flag(flag, True)
-    acdf.mitsuba.register(batched_plugins=strategy != "adaptive")
+    batched = strategy == "hierarchical"
+    acdf.mitsuba.register(batched_plugins=batched)
     path, _ = block_map
     program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
     material = str(tmp_path / "aluminium.bsdf")
@@ -487,7 +575,7 @@ def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map,
               "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
               "sampler": {"type": "independent", "sample_count": 4}}
     light = {"type": "acdf_envmap", "filename": path, "strategy": strategy}
-    if strategy == "adaptive":
+    if not batched:
         scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
                               "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
                               "floor": {"type": "rectangle", "bsdf": {"type": "roughconductor"},
@@ -502,7 +590,7 @@ def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map,
         assert emitter.light.calls == []
         assert np.all(np.isfinite(image)) and image.mean() > 0
         # A batched plugin would need evaluated mode: refused, naming the option.
-        for plugin in ({"type": "acdf_envmap", "filename": path, "strategy": "local"},
+        for plugin in ({"type": "acdf_envmap", "filename": path, "strategy": "hierarchical"},
                        {"type": "acdf_measured", "filename": material, "sampling": "rgl"}):
             with pytest.raises(Exception, match="batched_plugins=False"):
                 mi.load_dict(plugin)

@@ -101,6 +101,15 @@ class LocalEnvironmentTable {
   // Builds every slice not built yet, in parallel.
   void buildAll() const;
 
+  // The tables themselves, for sampling them in other arithmetic (acdf.mitsuba's drjit arrays):
+  // P(block | normal cell `cell`), a 2D cascade over the block grid (built on first use), and
+  // P(pixel | block), conditioned on (block row, block column) over B × B pixels (null when the
+  // light emits nothing).
+  const Cascade& blocksOfCell(std::size_t cell) const { return slice(cell); }
+  const Cascade* pixelTable() const { return pixels_ ? &*pixels_ : nullptr; }
+  uint32_t blockHeight() const { return blockHeight_; }
+  uint32_t blockWidth() const { return blockWidth_; }
+
   const EnvironmentMap& map() const { return *map_; }
   const LocalEnvironmentOptions& options() const { return options_; }
   const SimplifyOptions& simplify() const { return simplify_; }
