@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "acdf/sampling/rng.h"
+
 namespace acdf::envmaptest {
 
 namespace fs = std::filesystem;
@@ -45,6 +47,19 @@ std::shared_ptr<const EnvironmentMap> smoothMap(uint32_t width, uint32_t height)
 std::string sharedEnvmap(const std::string& name) {
   const fs::path path = fs::path(ACDF_SHARED_ENVMAPS) / name;
   return fs::is_regular_file(path) ? path.string() : std::string();
+}
+
+void expectSameSamples(const EnvironmentLight& a, const LightSampleContext& contextA, const EnvironmentLight& b,
+                       const LightSampleContext& contextB, uint64_t seed, int count) {
+  Pcg32 rng(seed);
+  for (int i = 0; i < count; ++i) {
+    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
+    const LightSample sa = a.sample(contextA, u0, u1), sb = b.sample(contextB, u0, u1);
+    ASSERT_EQ(sa.direction, sb.direction) << "u " << u0 << ", " << u1;
+    ASSERT_EQ(sa.pdf, sb.pdf) << "u " << u0 << ", " << u1;
+    ASSERT_EQ(a.pdf(contextA, sa.direction), b.pdf(contextB, sa.direction)) << "u " << u0 << ", " << u1;
+    ASSERT_EQ(b.pdf(contextB, sb.direction), sb.pdf) << "u " << u0 << ", " << u1;
+  }
 }
 
 }  // namespace acdf::envmaptest

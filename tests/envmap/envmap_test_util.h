@@ -35,6 +35,12 @@ inline std::string describe(const LightSampleContext& context) {
   return context.allowIncompletePdf ? "incomplete pdf allowed" : "complete pdf";
 }
 
+// Light `a` with context `contextA` draws the same samples as light `b` with `contextB` (`count`
+// variate pairs from Pcg32(seed)): the same directions and pdfs, the same pdf() of each, and b's
+// pdf() of its sample is the sample's. For two lights, or one light's stale and fresh contexts.
+void expectSameSamples(const EnvironmentLight& a, const LightSampleContext& contextA, const EnvironmentLight& b,
+                       const LightSampleContext& contextB, uint64_t seed, int count);
+
 // Path of a shared real map ("sunset_1024x512.exr", ...), or "" when the shared data are absent.
 std::string sharedEnvmap(const std::string& name);
 inline constexpr const char* kSharedEnvmaps[] = {"sunset_1024x512.exr", "forest_1024x512.exr", "stage_1000x500.exr"};

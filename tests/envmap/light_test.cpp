@@ -321,14 +321,7 @@ TEST(Compensation, CompletePdfsComeFromTheAdaptiveTable) {
   EXPECT_EQ(compensated.table(kComplete).strategy(), EnvironmentTableStrategy::Adaptive);
   EXPECT_EQ(compensated.table(kComplete).pixelProbabilities(), adaptive.table(kComplete).pixelProbabilities());
   EXPECT_EQ(compensated.tableBytes(), compensated.table(kComplete).bytes() + compensated.table(kIncomplete).bytes());
-  Pcg32 rng(4);
-  for (int i = 0; i < 1000; ++i) {
-    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
-    const LightSample a = compensated.sample(kComplete, u0, u1), b = adaptive.sample(kIncomplete, u0, u1);
-    ASSERT_EQ(a.direction, b.direction);
-    ASSERT_EQ(a.pdf, b.pdf);
-    ASSERT_EQ(compensated.pdf(kComplete, a.direction), adaptive.pdf(kIncomplete, a.direction));
-  }
+  expectSameSamples(compensated, kComplete, adaptive, kIncomplete, 4, 1000);
 }
 
 TEST(Compensation, ConstantMapFallsBackToTheUncompensatedTable) {
@@ -463,19 +456,8 @@ TEST(Local, AContextGivenAnotherNormalOrLightFindsItsCellAgain) {
   const LightSampleContext found = fine.atNormal({}, from);
   LightSampleContext moved = found;
   moved.normal = to;
-  const LightSampleContext movedFresh{.normal = to}, otherLightsFresh{.normal = from};
-  Pcg32 rng(31);
-  for (int i = 0; i < 2000; ++i) {
-    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
-    const LightSample a = fine.sample(moved, u0, u1), b = fine.sample(movedFresh, u0, u1);
-    ASSERT_EQ(a.direction, b.direction);
-    ASSERT_EQ(a.pdf, b.pdf);
-    ASSERT_EQ(fine.pdf(moved, b.direction), b.pdf);
-    const LightSample c = coarse.sample(found, u0, u1), d = coarse.sample(otherLightsFresh, u0, u1);
-    ASSERT_EQ(c.direction, d.direction);
-    ASSERT_EQ(c.pdf, d.pdf);
-    ASSERT_EQ(coarse.pdf(found, d.direction), d.pdf);
-  }
+  expectSameSamples(fine, moved, fine, {.normal = to}, 31, 2000);
+  expectSameSamples(coarse, found, coarse, {.normal = from}, 32, 2000);
 }
 
 // A compensated local light's per-normal tables are incomplete: calls that need a complete pdf get

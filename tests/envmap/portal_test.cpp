@@ -157,19 +157,8 @@ TEST(Portals, AContextMovedOrGivenToAnotherLightFindsItsPortalsAgain) {
   const LightSampleContext found = both.atPosition({}, from);
   LightSampleContext moved = found;
   moved.position = to;
-  const LightSampleContext movedFresh{.position = to}, otherLightsFresh{.position = from};
-  Pcg32 rng(29);
-  for (int k = 0; k < 2000; ++k) {
-    const float u0 = rng.nextFloat(), u1 = rng.nextFloat();
-    const LightSample a = both.sample(moved, u0, u1), b = both.sample(movedFresh, u0, u1);
-    ASSERT_EQ(a.direction, b.direction);
-    ASSERT_EQ(a.pdf, b.pdf);
-    ASSERT_EQ(both.pdf(moved, b.direction), b.pdf);
-    const LightSample c = windowOnly.sample(found, u0, u1), d = windowOnly.sample(otherLightsFresh, u0, u1);
-    ASSERT_EQ(c.direction, d.direction);
-    ASSERT_EQ(c.pdf, d.pdf);
-    ASSERT_EQ(windowOnly.pdf(found, d.direction), d.pdf);
-  }
+  expectSameSamples(both, moved, both, {.position = to}, 29, 2000);
+  expectSameSamples(windowOnly, found, windowOnly, {.position = from}, 30, 2000);
 }
 
 // The window cut into 3 × 4 portals: more than a context keeps (PortalsSeen::kCapacity), so the
