@@ -362,6 +362,24 @@ def test_sample_ray_carries_the_lights_power(variant, block_map):
 NATIVE_STRATEGIES = ["uniform", "adaptive", "compensated"]
 
 
+def native_envmap(block_map, strategy):
+    """acdf_envmap of the shared sunset map (else the block map) turned by rotation(), sampled in drjit."""
+    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
+                          "envmaps", "sunset_1024x512.exr")
+    path = shared if os.path.exists(shared) else block_map[0]
+    emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
+    assert "Native" in type(emitter).__name__
+    return emitter
+
+
+def map_pixels(d, width, height):
+    """The row-major pixel of each map-frame direction (acdf's lat-long mapping), in double."""
+    theta = np.arctan2(np.hypot(d[:, 0], d[:, 2]), d[:, 1])
+    phi = np.mod(np.arctan2(d[:, 0], -d[:, 2]), 2 * np.pi)
+    row = np.minimum((theta / np.pi * height).astype(np.int64), height - 1)
+    return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
+
+
 @pytest.mark.parametrize("strategy", NATIVE_STRATEGIES)
 def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     """In llvm_ad_rgb acdf_envmap samples acdf's own table with drjit operations. 10^6 samples of the
@@ -376,11 +394,7 @@ def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     acdf.mitsuba.register()
     from test_chi_square import pooled_chi_square
 
-    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
-                          "envmaps", "sunset_1024x512.exr")
-    path = shared if os.path.exists(shared) else block_map[0]
-    emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
-    assert "Native" in type(emitter).__name__
+    emitter = native_envmap(block_map, strategy)
     n = 1_000_000
     u = np.random.default_rng(1).random((n, 2)).astype(np.float32)
     it = dr.zeros(mi.Interaction3f)
@@ -394,15 +408,9 @@ def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     np.testing.assert_allclose(light.pdf(dirs, allow_incomplete_pdf=emitter.incomplete), pdf, rtol=1e-5)
     width, height = light.map.width, light.map.height
 
-    def pixels(d):
-        theta = np.arctan2(np.hypot(d[:, 0], d[:, 2]), d[:, 1])
-        phi = np.mod(np.arctan2(d[:, 0], -d[:, 2]), 2 * np.pi)
-        row = np.minimum((theta / np.pi * height).astype(np.int64), height - 1)
-        return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
-
     acdf_dirs, acdf_radiance, acdf_pdf = light.sample(u, allow_incomplete_pdf=emitter.incomplete)
-    ours = pixels(dirs)
-    assert np.count_nonzero(ours != pixels(acdf_dirs)) <= n * 1e-5
+    ours = map_pixels(dirs, width, height)
+    assert np.count_nonzero(ours != map_pixels(acdf_dirs, width, height)) <= n * 1e-5
     np.testing.assert_allclose(rows_of(weight).mean(0), (acdf_radiance / acdf_pdf[:, None]).mean(0), rtol=1e-5)
 
     probabilities = light.pixel_probabilities(allow_incomplete_pdf=emitter.incomplete).reshape(-1)
@@ -435,11 +443,7 @@ def test_llvm_local_envmap_samples_each_normals_table_in_drjit(block_map, strate
     from scipy.stats import chi2
     from test_chi_square import pooled_chi_square
 
-    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
-                          "envmaps", "sunset_1024x512.exr")
-    path = shared if os.path.exists(shared) else block_map[0]
-    emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
-    assert "Native" in type(emitter).__name__
+    emitter = native_envmap(block_map, strategy)
     light, incomplete = emitter.light, emitter.incomplete
     width, height = light.map.width, light.map.height
     to_map = np.array(rotation().matrix, dtype=np.float64)[:3, :3]  # world to map: rows @ to_map
@@ -454,12 +458,6 @@ def test_llvm_local_envmap_samples_each_normals_table_in_drjit(block_map, strate
     pdf = np.asarray(ds.pdf)
     assert np.all(pdf > 0) and np.all(np.isfinite(pdf))
     np.testing.assert_array_equal(np.asarray(emitter.pdf_direction(it, ds)), pdf)
-
-    def pixels(d):
-        theta = np.arctan2(np.hypot(d[:, 0], d[:, 2]), d[:, 1])
-        phi = np.mod(np.arctan2(d[:, 0], -d[:, 2]), 2 * np.pi)
-        row = np.minimum((theta / np.pi * height).astype(np.int64), height - 1)
-        return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
 
     has_normal = np.any(normals != 0, axis=1)
 
@@ -477,15 +475,16 @@ def test_llvm_local_envmap_samples_each_normals_table_in_drjit(block_map, strate
     dirs = rows_of(ds.d) @ to_map
     np.testing.assert_allclose(acdf_calls(light.pdf, dirs)[0], pdf, rtol=1e-5)
     acdf_dirs, acdf_radiance, acdf_pdf = acdf_calls(light.sample, u)
-    ours = pixels(dirs)
-    assert np.count_nonzero(ours != pixels(acdf_dirs)) <= n * 1e-5
+    ours = map_pixels(dirs, width, height)
+    assert np.count_nonzero(ours != map_pixels(acdf_dirs, width, height)) <= n * 1e-5
     np.testing.assert_allclose(rows_of(weight).mean(0), (acdf_radiance / acdf_pdf[:, None]).mean(0), rtol=1e-5)
 
     tilted = np.array([0.3, 0.8, 0.5], dtype=np.float32) / np.float32(np.linalg.norm([0.3, 0.8, 0.5]))
     it = dr.zeros(mi.Interaction3f, n)
     it.n = mi.Normal3f(*(np.full(n, x, dtype=np.float32) for x in tilted))
     ds, _ = emitter.sample_direction(it, mi.Point2f(u[:, 0], u[:, 1]))
-    observed = np.bincount(pixels(rows_of(ds.d) @ to_map), minlength=width * height).astype(np.float64)
+    observed = np.bincount(map_pixels(rows_of(ds.d) @ to_map, width, height), minlength=width * height)
+    observed = observed.astype(np.float64)
     edges = np.cos(np.arange(height + 1) * np.pi / height)
     theta = np.repeat((np.arange(height) + 0.5) * np.pi / height, width)
     phi = np.tile((np.arange(width) + 0.5) * 2 * np.pi / width, height)
