@@ -180,6 +180,19 @@ def hierarchical_bytes(path):
     return f"~{int(4 * finest * 4 / 3)}"
 
 
+def report_block(source, rows, timed, args):
+    """Reports one map's or file's rows, the first Mitsuba's own plugin (each other row's efficiency is
+    against it); with --timing-renders the rows of the scenes in `timed` ((scene, row index), the
+    symbolic ones) take the fastest of their interleaved renders as their time."""
+    if args.timing_renders:
+        for (_, row), ms in zip(timed, interleaved_ms_per_spp([scene for scene, _ in timed], args)):
+            rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
+    baseline = None
+    for name, errors, z, table, ms, inside in rows:
+        row = report(source, name, errors, z, table, ms, inside, baseline)
+        baseline = baseline or row
+
+
 def compare_envmaps(args, acdf):
     print(f"\n## envmap vs acdf_envmap: {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
           f"references at {args.reference_spp} spp")
@@ -203,13 +216,7 @@ def compare_envmaps(args, acdf):
             rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside))
             if not batched(emitter):
                 scenes.append((scene, len(rows) - 1))
-        if args.timing_renders:
-            for (_, row), ms in zip(scenes, interleaved_ms_per_spp([scene for scene, _ in scenes], args)):
-                rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
-        envmap_row = None
-        for name, errors, z, table, ms, inside in rows:
-            row = report(source, name, errors, z, table, ms, inside, envmap_row)
-            envmap_row = envmap_row or row
+        report_block(source, rows, scenes, args)
 
 
 def compare_materials(args, acdf):
@@ -246,13 +253,7 @@ def compare_materials(args, acdf):
                 gc.collect()
             else:
                 scenes.append((scene, len(rows) - 1))
-        if args.timing_renders:
-            for (_, row), ms in zip(scenes, interleaved_ms_per_spp([scene for scene, _ in scenes], args)):
-                rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
-        measured_row = None
-        for name, errors, z, table, ms, inside in rows:
-            row = report(source, name, errors, z, table, ms, inside, measured_row)
-            measured_row = measured_row or row
+        report_block(source, rows, scenes, args)
 
 
 def main():
