@@ -163,7 +163,7 @@ bench: deps
 # are listed with the reason). About 10 minutes on 2 cores with the defaults below.
 PEERS_ARGS ?= --seeds 4 --spp 16,64 --resolution 256x192 --threads 2
 PEERS_OUT ?= $(RESULTS_DIR)/peers
-PEERS_ENV := ACDF_PROGRAM=$(abspath $(BUILD_DIR))/bin/acdf
+PEERS_ENV := ACDF_PROGRAM=$(abspath $(BUILD_DIR))/bin/acdf PYTHONPATH=$(abspath $(BUILD_DIR))/python
 
 bench-peers-check: deps
 	$(MAKE) build

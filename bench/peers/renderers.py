@@ -31,6 +31,8 @@ RENDERERS = {
     "cycles-guiding": "Cycles 5.0.1 with path guiding (use_guiding, use_surface_guiding)",
     "mitsuba-independent": "Mitsuba 3.9.1 llvm_ad_rgb, path, independent sampler",
     "mitsuba-multijitter": "Mitsuba 3.9.1 llvm_ad_rgb, path, multijitter sampler",
+    "mitsuba-multijitter-acdf": "the same with the map sampled by acdf's plugin (acdf_envmap, compensated: "
+                                "acdf render's default table, traced into Mitsuba's kernels)",
 }
 
 
@@ -77,12 +79,16 @@ class CyclesRenderer:
 
 
 class MitsubaRenderer:
-    def __init__(self, scene, threads, sampler):
+    def __init__(self, scene, threads, sampler, acdf_map):
         import drjit as dr
         import mitsuba as mi
         mi.set_variant("llvm_ad_rgb")
         dr.set_thread_count(threads)
-        self.scene = scene_conversion.load_mitsuba_scene(scene_conversion.mitsuba_scene_dict(scene, sampler, 1))
+        if acdf_map:
+            import acdf.mitsuba
+            acdf.mitsuba.register(batched_plugins=False)  # the map's tables in drjit: no Python per wavefront
+        scene_dict = scene_conversion.mitsuba_scene_dict(scene, sampler, 1, acdf_map)
+        self.scene = scene_conversion.load_mitsuba_scene(scene_dict)
 
     def render(self, spp, seed):
         import drjit as dr
@@ -107,7 +113,7 @@ def make_renderer(name, scene, threads, workdir):
     if name.startswith("cycles"):
         return CyclesRenderer(scene, threads, workdir, guiding=name == "cycles-guiding")
     if name.startswith("mitsuba"):
-        return MitsubaRenderer(scene, threads, name.split("-", 1)[1])
+        return MitsubaRenderer(scene, threads, name.split("-")[1], acdf_map=name.endswith("-acdf"))
     raise ValueError(f"unknown renderer {name!r} (one of {', '.join(RENDERERS)})")
 
 

@@ -252,8 +252,13 @@ def mitsuba_look_at(camera):
     return _columns_matrix([_scaled(right, -1), up, forward], camera["eye"])
 
 
-def mitsuba_scene_dict(scene, sampler, spp):
-    """The Mitsuba 3 scene dict of `scene` (transforms as nested lists: load_mitsuba_scene wraps them)."""
+# The table acdf_envmap samples the map with when a Mitsuba row asks for acdf's: acdf render's default.
+ACDF_MAP_STRATEGY = "compensated"
+
+
+def mitsuba_scene_dict(scene, sampler, spp, acdf_map=False):
+    """The Mitsuba 3 scene dict of `scene` (transforms as nested lists: load_mitsuba_scene wraps them); with
+    acdf_map, a map is acdf's plugin (acdf.mitsuba.register() first) instead of Mitsuba's `envmap`."""
     check_peer_can_render(scene, "Mitsuba 3")
     camera, environment = scene.camera, scene.data["environment"]
     result = {
@@ -270,6 +275,8 @@ def mitsuba_scene_dict(scene, sampler, spp):
         result["environment"] = {"type": "envmap", "filename": environment["file"],
                                  "scale": environment.get("scale", 1.0),
                                  "to_world": axis_rotation((0, 1, 0), environment.get("rotation", 0.0))}
+        if acdf_map:
+            result["environment"].update(type="acdf_envmap", strategy=ACDF_MAP_STRATEGY)
     else:
         result["environment"] = {"type": "constant",
                                  "radiance": {"type": "rgb", "value": _color(environment["radiance"])}}

@@ -29,7 +29,7 @@ SPP = 16
 ALPHA = 0.01
 BLOCKS = (4, 4)
 MAP_FILTER_ALLOWANCE = 0.005
-PEERS = ["cycles", "cycles-guiding", "mitsuba-independent", "mitsuba-multijitter"]
+PEERS = ["cycles", "cycles-guiding", "mitsuba-independent", "mitsuba-multijitter", "mitsuba-multijitter-acdf"]
 
 
 def write_lopsided_map(path, width=512, height=256):

@@ -113,6 +113,13 @@ def test_mitsuba_dict():
     assert scene_dict["shape-1"]["face_normals"] is True
 
 
+def test_the_acdf_map_row_swaps_only_the_emitter_for_acdfs_plugin():
+    scene = sc.read_scene(SPHERES)
+    envmap = sc.mitsuba_scene_dict(scene, "multijitter", 4)["environment"]
+    acdf_map = sc.mitsuba_scene_dict(scene, "multijitter", 4, acdf_map=True)["environment"]
+    assert acdf_map == dict(envmap, type="acdf_envmap", strategy="compensated")
+
+
 def test_mitsuba_loads_the_dict():
     mi = pytest.importorskip("mitsuba", reason="mitsuba is not importable (run with the project's venv)")
     mi.set_variant("scalar_rgb")
