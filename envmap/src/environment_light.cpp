@@ -186,24 +186,37 @@ double EnvironmentLight::mixturePdf(const LightSampleContext& context, const Por
 
 LightSampleContext EnvironmentLight::atPosition(const LightSampleContext& context, const Vec3d& position) const {
   LightSampleContext at = context;
-  at.position = position;
-  at.portals.reset();
-  if (!options_.portals.empty()) at.portals = portalsSeenFrom(position);
+  movePosition(at, position);
   return at;
 }
 
 LightSampleContext EnvironmentLight::atNormal(const LightSampleContext& context, const Vec3d& normal) const {
   LightSampleContext at = context;
-  at.normal = normal;
-  at.localCell.reset();
+  moveNormal(at, normal);
+  return at;
+}
+
+void EnvironmentLight::moveTo(LightSampleContext& context, const Vec3d& position, const Vec3d& normal) const {
+  moveNormal(context, normal);
+  movePosition(context, position);
+}
+
+void EnvironmentLight::movePosition(LightSampleContext& context, const Vec3d& position) const {
+  context.position = position;
+  context.portals.reset();
+  if (!options_.portals.empty()) context.portals = portalsSeenFrom(position);
+}
+
+void EnvironmentLight::moveNormal(LightSampleContext& context, const Vec3d& normal) const {
+  context.normal = normal;
+  context.localCell.reset();
   if (local_) {
     LocalCellFound found;
     found.normal_ = normal;
     found.light_ = id_;
-    found.cell_ = localCell(at);
-    at.localCell = found;
+    found.cell_ = localCell(context);
+    context.localCell = found;
   }
-  return at;
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
@@ -217,10 +230,12 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
 }
 
 RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {
-  const Vec3d mapDirection = options_.worldFromMap.applyInverse(w);
-  const PixelIndex p = map_->mapping().pixelOf(mapDirection);
+  const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  // The pdf's search first, while the pixel's radiance (usually a cache miss) is on its way.
+  map_->prefetchRadiance(p);
   std::optional<PortalsSeen> found;
-  return {scaled(map_->radiance(p)), mixturePdf(context, portalsSeen(context, found), w, p)};
+  const double pdf = mixturePdf(context, portalsSeen(context, found), w, p);
+  return {scaled(map_->radiance(p)), pdf};
 }
 
 std::optional<double> EnvironmentLight::localPdf(const LightSampleContext& context, PixelIndex p) const {

@@ -287,6 +287,7 @@ EnvironmentTable::Sample EnvironmentTable::sample(float u0, float u1) const {
     return {w, map_->mapping().pixelOf(w), kUniformSpherePdf};
   }
   const PixelDistribution::Pick pick = pixels_->sample(clampUnit(u0), clampUnit(u1));
+  map_->prefetchRadiance(pick.pixel);  // the light's next need, after the direction
   return {map_->mapping().directionInPixel(pick.pixel, pick.fractionDown, pick.fractionRight), pick.pixel,
           pick.density * pdfScale_[pick.pixel.row]};
 }

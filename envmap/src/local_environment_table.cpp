@@ -206,6 +206,7 @@ LocalEnvironmentTable::Sample LocalEnvironmentTable::sampleInCell(std::size_t ce
                             clampUnit(static_cast<float>(b.fractions[1]))};
   const CellSample q = pixels_->sampleCellsInSlice(blockIndex(br, bc), inBlock);
   const PixelIndex p = pixelOf(br, bc, q.cells[0], q.cells[1]);
+  map_->prefetchRadiance(p);  // the light's next need, after the direction
   const double pdf = static_cast<double>(b.pdf) * q.pdf * pdfScale_[p.row];
   return {map_->mapping().directionInPixel(p, q.fractions[0], q.fractions[1]), p, pdf};
 }

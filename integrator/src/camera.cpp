@@ -21,11 +21,11 @@ Camera::Camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fo
   right_ = normalize(side);
   up_ = cross(right_, forward_);
   tanHalfFov_ = std::tan(0.5 * fovDegrees * std::numbers::pi / 180.0);
+  aspect_ = static_cast<double>(width_) / height_;
 }
 
 Ray Camera::generateRay(double x, double y) const {
-  const double aspect = static_cast<double>(width_) / height_;
-  const double sx = (2.0 * x / width_ - 1.0) * tanHalfFov_ * aspect;
+  const double sx = (2.0 * x / width_ - 1.0) * tanHalfFov_ * aspect_;
   const double sy = (1.0 - 2.0 * y / height_) * tanHalfFov_;
   return {eye_, normalize(forward_ + right_ * sx + up_ * sy)};
 }

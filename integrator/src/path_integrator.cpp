@@ -149,7 +149,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     const Frame frame(hit->normal, hit->tangentHint);
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
-    lightContext = env.atPosition(env.atNormal(lightContext, hit->normal), hit->position);
+    env.moveTo(lightContext, hit->position, hit->normal);
     const GuidedMixture bsdf(
         BsdfTechnique(material, frame),
         guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr,

@@ -30,7 +30,7 @@ detail::BreakpointCdf view(const std::vector<float>& cdf, const VertexIndices& v
 
 Sample1D AdaptiveCdf1D::sample(float u) const {
   const detail::Draw d = detail::draw(view(cdf_, vertices_, axis_.cells()), axis_, clampUnit(u));
-  return {d.x, clampDensity(d.density)};
+  return {d.placed.x, clampDensity(d.density)};
 }
 
 float AdaptiveCdf1D::pdf(float x) const {

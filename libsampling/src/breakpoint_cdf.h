@@ -78,11 +78,11 @@ struct BreakpointCdf {
   }
 };
 
-// One sampled coordinate: the interval chosen, its cells, where in it the sample fell, and the
-// density along this axis.
+// One sampled coordinate: the interval chosen, where in it the sample fell (the coordinate, its
+// cell and grid coordinate), and the density along this axis.
 struct Draw {
   std::size_t interval;
-  float x;
+  GridAxis::Placed placed;
   double density;
 };
 
@@ -92,7 +92,7 @@ inline Draw draw(const BreakpointCdf& c, const GridAxis& axis, float u) {
   const double mass = static_cast<double>(hi) - static_cast<double>(lo);
   const auto [first, end] = c.ends(j);
   const double t = (static_cast<double>(u) - lo) / mass;
-  return {j, axis.place(first, end, t), axis.density(mass, end - first)};
+  return {j, axis.placeOnGrid(first, end, t), axis.density(mass, end - first)};
 }
 
 struct Lookup {

@@ -495,10 +495,19 @@ float Cascade::pdf(std::span<const float> condition, std::span<const float> x) c
 }
 
 SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) const {
+  const CellSample c = sampleCellsInSlice(slice, u);
+  SampleND result;
+  result.x = c.x;
+  result.pdf = c.pdf;
+  result.dims = c.dims;
+  return result;
+}
+
+CellSample Cascade::sampleCellsInSlice(std::size_t slice, std::span<const float> u) const {
   requireSlice(slice);
   requireArity(u.size(), sampledDims(), "variates");
   std::size_t index = rootOf(slice);
-  SampleND result;
+  CellSample result;
   result.dims = static_cast<uint8_t>(levels_.size());
   double density = 1.0;
   const GridAxis* axis = axes_.data() + conditioningDims_;
@@ -506,27 +515,15 @@ SampleND Cascade::sampleInSlice(std::size_t slice, std::span<const float> u) con
   for (const Level& level : levels_) {
     const NodeView n = viewOf(level, axis->cells()).node(index);
     const detail::Draw drawn = detail::draw(n.cdf, *axis, clampUnit(u[d]));
-    result.x[d] = drawn.x;
+    result.x[d] = drawn.placed.x;
+    result.cells[d] = drawn.placed.cell;
+    result.fractions[d] = drawn.placed.gridCoordinate - drawn.placed.cell;
     density *= drawn.density;
     index = n.childBase + drawn.interval;
     ++axis, ++d;
   }
   result.pdf = clampDensity(density);
   return result;
-}
-
-CellSample Cascade::sampleCellsInSlice(std::size_t slice, std::span<const float> u) const {
-  const SampleND s = sampleInSlice(slice, u);
-  CellSample c;
-  c.dims = s.dims;
-  c.x = s.x;
-  c.pdf = s.pdf;
-  for (std::size_t d = 0; d < s.dims; ++d) {
-    const GridAxis& axis = axes_[conditioningDims_ + d];
-    c.cells[d] = axis.cellOf(s.x[d]);
-    c.fractions[d] = axis.gridCoordinate(s.x[d]) - c.cells[d];
-  }
-  return c;
 }
 
 float Cascade::pdfInSlice(std::size_t slice, std::span<const float> x) const {

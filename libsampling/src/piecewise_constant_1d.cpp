@@ -21,7 +21,7 @@ detail::BreakpointCdf view(std::span<const float> cdf) {
 
 Sample1D PiecewiseConstant1D::sample(float u) const {
   const detail::Draw d = detail::draw(view(cdf_), axis_, clampUnit(u));
-  return {d.x, clampDensity(d.density)};
+  return {d.placed.x, clampDensity(d.density)};
 }
 
 float PiecewiseConstant1D::pdf(float x) const {

@@ -57,6 +57,9 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
       for (bool incomplete : {false, true}) {
         const LightSampleContext context =
             light.atNormal({.allowIncompletePdf = incomplete, .position = position}, normalize({0.2, 1, -0.3}));
+        // The same point reached in place, with the portals found once (moveTo, a path tracer's).
+        LightSampleContext moved{.allowIncompletePdf = incomplete};
+        light.moveTo(moved, position, normalize({0.2, 1, -0.3}));
         SCOPED_TRACE(std::string(toString(strategy)) + (incomplete ? ", incomplete" : ", complete"));
         Pcg32 rng(3);
         std::vector<std::array<float, 2>> variates;
@@ -75,6 +78,10 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
           const LightSampleContext once = light.atPosition(context, position);
           ASSERT_EQ(light.sample(once, u0, u1).pdf, s.pdf);
           ASSERT_EQ(light.pdf(once, s.direction), s.pdf);
+          const LightSample m = light.sample(moved, u0, u1);
+          ASSERT_EQ(m.direction, s.direction);
+          ASSERT_EQ(m.pdf, s.pdf);
+          ASSERT_EQ(light.evalWithPdf(moved, s.direction).pdf, s.pdf);
           ASSERT_EQ(e.radiance.r, s.radiance.r);
           // u0 below the portals' share draws through one of them (every point here faces one).
           bool through = false;

@@ -312,6 +312,11 @@ TEST(GridAxisPlace, IsTheNudgedFormulaBitForBit) {
         ASSERT_EQ(std::bit_cast<uint32_t>(placed), std::bit_cast<uint32_t>(expected))
             << "cells " << a.cells() << " on [" << a.lo() << ", " << a.hi() << "): [" << first << ", " << end
             << ") at t = " << t << " gave " << placed << ", not " << expected;
+        // placeOnGrid: the same coordinate, with the cell and grid coordinate x maps back to.
+        const GridAxis::Placed onGrid = a.placeOnGrid(first, end, t);
+        ASSERT_EQ(std::bit_cast<uint32_t>(onGrid.x), std::bit_cast<uint32_t>(placed));
+        ASSERT_EQ(onGrid.cell, a.cellOf(placed));
+        ASSERT_EQ(std::bit_cast<uint64_t>(onGrid.gridCoordinate), std::bit_cast<uint64_t>(a.gridCoordinate(placed)));
         const double g = first + std::clamp(t, 0.0, 1.0) * span;
         nudged += expected != std::clamp(static_cast<float>(a.lo() + g * a.cellWidth()), a.innerLo(), a.innerHi());
         ++cases;

@@ -162,6 +162,10 @@ class EnvironmentLight {
   // `context` at the point `position` (world frame), with the solid angles its portals subtend
   // found once for every call there.
   LightSampleContext atPosition(const LightSampleContext& context, const Vec3d& position) const;
+  // atPosition(atNormal(context, normal), position), in place: a path tracer moves one context
+  // from vertex to vertex, and copying it (with the portals' solid angles) twice per vertex costs
+  // more than finding what changed.
+  void moveTo(LightSampleContext& context, const Vec3d& position, const Vec3d& normal) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
   Rgb eval(const Vec3d& w) const;
   // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
@@ -182,6 +186,9 @@ class EnvironmentLight {
   std::size_t tableBytes() const;
 
  private:
+  // atPosition and atNormal of `context` itself.
+  void movePosition(LightSampleContext& context, const Vec3d& position) const;
+  void moveNormal(LightSampleContext& context, const Vec3d& normal) const;
   Rgb scaled(const Rgb& L) const;
   // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
   // else none.

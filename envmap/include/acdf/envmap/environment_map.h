@@ -38,8 +38,16 @@ class EnvironmentMap {
   const LatLongMapping& mapping() const { return mapping_; }
 
   Rgb radiance(PixelIndex p) const {
-    const float* v = &rgb_[3 * (std::size_t{p.row} * width() + p.column)];
+    const float* v = rgbOf(p);
     return {v[0], v[1], v[2]};
+  }
+  // Starts loading pixel p's radiance into the cache. The map is megabytes, so a sampled pixel is
+  // usually a cache miss: a caller that knows the pixel before it needs the radiance lets its
+  // other work (a direction, a pdf) hide the wait. Both ends: a pixel may straddle two lines.
+  void prefetchRadiance(PixelIndex p) const {
+    const float* v = rgbOf(p);
+    __builtin_prefetch(v);
+    __builtin_prefetch(v + 2);
   }
   // Nearest-pixel radiance in the map frame.
   Rgb radiance(const Vec3d& mapDirection) const { return radiance(mapping_.pixelOf(mapDirection)); }
@@ -62,6 +70,8 @@ class EnvironmentMap {
   double luminanceIntegral() const;
 
  private:
+  const float* rgbOf(PixelIndex p) const { return &rgb_[3 * (std::size_t{p.row} * width() + p.column)]; }
+
   LatLongMapping mapping_;
   std::vector<float> rgb_;
   std::size_t negativePixelsClamped_ = 0;

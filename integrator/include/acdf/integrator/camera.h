@@ -36,6 +36,7 @@ class Camera {
  private:
   Vec3d eye_, forward_, right_, up_;
   double tanHalfFov_ = 0;
+  double aspect_ = 0;  // width / height, divided once rather than per ray
   uint32_t width_, height_;
   CropWindow crop_;
 };

@@ -39,16 +39,27 @@ class GridAxis {
 
   // The coordinate at fraction t in [0,1] of the cell range [firstCell, endCell), nudged so that
   // cellOf(result) is in [firstCell, endCell) and innerLo() <= result <= innerHi().
-  float place(uint32_t firstCell, uint32_t endCell, double t) const {
+  float place(uint32_t firstCell, uint32_t endCell, double t) const { return placeOnGrid(firstCell, endCell, t).x; }
+
+  // place()'s coordinate with its cellOf() and gridCoordinate(), which place() has at hand when
+  // it checks the cell: a caller that needs the cell and the fraction in it need not find them
+  // again from x.
+  struct Placed {
+    float x;
+    uint32_t cell;
+    double gridCoordinate;
+  };
+  Placed placeOnGrid(uint32_t firstCell, uint32_t endCell, double t) const {
     const double g = firstCell + std::clamp(t, 0.0, 1.0) * (endCell - firstCell);
     const float x = std::clamp(static_cast<float>(lo_ + g * cellWidth_), innerLo_, innerHi_);
     // cellOf(x) is in [firstCell, endCell) whenever x's unclamped grid coordinate is (the cell
     // bounds are integers), so one comparison settles the common case; the rare nudge stays out
     // of line, so no value of a caller's loop has to survive its calls.
     const double placed = rawGridCoordinate(x);
-    if (placed >= firstCell && placed < endCell) [[likely]]
-      return x;
-    return nudgeInto(x, firstCell, endCell);
+    if (placed >= firstCell && placed < endCell) [[likely]]  // inside [0, cells): cellOf's floor, no clamp
+      return {x, static_cast<uint32_t>(placed), placed};
+    const float nudged = nudgeInto(x, firstCell, endCell);
+    return {nudged, cellOf(nudged), gridCoordinate(nudged)};
   }
 
   // Density (w.r.t. this axis' length measure) of probability `mass` spread evenly over
