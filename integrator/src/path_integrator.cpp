@@ -86,7 +86,7 @@ bool PathIntegrator::guidedMaterial(const BrdfSampler& sampler) {
 }
 
 GuidedMixture<LightTechnique> PathIntegrator::guidedLight(const LightSampleContext& context,
-                                                         const DirectionalDistribution* field) const {
+                                                         DirectionalDistribution field) const {
   return {LightTechnique(*scene_.environment, context), field, kGuidedLightShare};
 }
 
@@ -120,7 +120,7 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   Ray ray = cameraRay;
   double bsdfPdf = 0;  // density of the sample that produced `ray`; 0 for the camera ray
   // The learned light at the vertex `ray` left, and that vertex.
-  const DirectionalDistribution* lightField = nullptr;
+  DirectionalDistribution lightField;
   Vec3d lastPosition, lastNormal;
   for (uint32_t depth = 0;; ++depth) {
     ++rays;
@@ -150,12 +150,13 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
     // The material at ωo, found once for the direct light's calls and the continuation.
     const BrdfVertex material = scene_.bsdfSamplers[hit->material]->vertex(frame.toLocal(-ray.direction));
     env.moveTo(lightContext, hit->position, hit->normal);
-    const GuidedMixture bsdf(
-        BsdfTechnique(material, frame),
-        guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal) : nullptr,
-        kGuidedBsdfShare);
+    const GuidedMixture bsdf(BsdfTechnique(material, frame),
+                             guiding.field && guided_[hit->material] ? guiding.field->at(hit->position, hit->normal)
+                                                                     : DirectionalDistribution{},
+                             kGuidedBsdfShare);
     // Looked up only where light samples are drawn (and escapes weighed against them).
-    lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal) : nullptr;
+    lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal)
+                                                   : DirectionalDistribution{};
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);

@@ -19,8 +19,10 @@ detail::BreakpointCdf view(std::span<const float> cdf) {
 }
 }  // namespace
 
-Sample1D PiecewiseConstant1D::sample(float u) const {
-  const detail::Draw d = detail::draw(view(cdf_), axis_, clampUnit(u));
+Sample1D PiecewiseConstant1D::sample(float u) const { return sample(cdf_, axis_, u); }
+
+Sample1D PiecewiseConstant1D::sample(std::span<const float> cdf, const GridAxis& axis, float u) {
+  const detail::Draw d = detail::draw(view(cdf), axis, clampUnit(u));
   return {d.placed.x, clampDensity(d.density)};
 }
 

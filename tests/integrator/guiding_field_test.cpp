@@ -1,10 +1,12 @@
 // The guiding field without a renderer: a leaf's directional distribution is a proper density
 // (chi-square against its own pdf, pdf(sample) equal to the returned pdf, integral 1, corner
-// variates valid), it follows the energy it learned, and the spatial tree splits by record count
-// and finds each point's leaf.
+// variates valid), it follows the energy it learned, a quadtree too deep for its cells' corners is
+// rejected, and the spatial tree splits by record count and finds each point's leaf.
 
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -33,6 +35,14 @@ std::vector<GuidingRecord> windowRecords(const Vec3d& position, const Vec3d& tow
   return records;
 }
 
+// One distribution learned from `records`, with the storage that holds it.
+struct OneDistribution {
+  explicit OneDistribution(std::vector<GuidingRecord>& records)
+      : all(std::vector<std::span<GuidingRecord>>{records}, GuidingFieldOptions{}), distribution(all[0]) {}
+  DirectionalDistributions all;
+  DirectionalDistribution distribution;
+};
+
 TEST(GuidingField, EqualAreaMapRoundTrips) {
   for (const Vec3d& d :
        {Vec3d{0, 0, 1}, Vec3d{0, 0, -1}, normalize(Vec3d{1, -2, 0.3}), normalize(Vec3d{-1, 0, -0.2})}) {
@@ -52,7 +62,8 @@ TEST(GuidingField, EqualAreaMapRoundTrips) {
 ACDF_CHI_SQUARE_TEST(GuidingField, DirectionalDistributionSamplesItsPdf, 1) {
   const Vec3d window = normalize(Vec3d{0.3, -0.5, 0.8});
   std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, window, 20000, 7);
-  const DirectionalDistribution guide(records, GuidingFieldOptions{});
+  const OneDistribution learned(records);
+  const DirectionalDistribution& guide = learned.distribution;
   ASSERT_GT(guide.leaves(), 16u);
 
   SphereChiSquareOptions options;
@@ -74,7 +85,8 @@ ACDF_CHI_SQUARE_TEST(GuidingField, DirectionalDistributionSamplesItsPdf, 1) {
 TEST(GuidingField, DirectionalDistributionFollowsTheEnergy) {
   const Vec3d window = normalize(Vec3d{0.3, -0.5, 0.8});
   std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, window, 20000, 3);
-  const DirectionalDistribution guide(records, GuidingFieldOptions{});
+  const OneDistribution learned(records);
+  const DirectionalDistribution& guide = learned.distribution;
   // The cone holds 5 % of the sphere and 50 / (50 · 0.05 + 0.2 · 0.95) = 93 % of the energy.
   Pcg32 rng(11);
   int inCone = 0;
@@ -89,7 +101,8 @@ TEST(GuidingField, DirectionalDistributionFollowsTheEnergy) {
 
 TEST(GuidingField, CornerVariatesGiveValidSamples) {
   std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, {0, 0, 1}, 5000, 5);
-  const DirectionalDistribution guide(records, GuidingFieldOptions{});
+  const OneDistribution learned(records);
+  const DirectionalDistribution& guide = learned.distribution;
   for (float u0 : {0.0f, kOneMinusEpsilon})
     for (float u1 : {0.0f, kOneMinusEpsilon}) {
       const auto s = guide.sample(u0, u1);
@@ -99,6 +112,12 @@ TEST(GuidingField, CornerVariatesGiveValidSamples) {
     }
 }
 
+TEST(GuidingField, RejectsQuadtreesDeeperThanCellCornersResolve) {
+  std::vector<GuidingRecord> records = windowRecords({0, 0, 0}, {0, 0, 1}, 100, 5);
+  const GuidingFieldOptions options{.maxDirectionalDepth = DirectionalDistributions::kMaxDirectionalDepth + 1};
+  EXPECT_THROW(GuidingField(records, options), std::invalid_argument);
+}
+
 TEST(GuidingField, SpatialTreeSplitsByRecordsAndFindsLeaves) {
   // Two rooms' worth of records, a window up in the one at x < 0 and one down in the one at x > 0.
   std::vector<GuidingRecord> records = windowRecords({-5, 0, 0}, {0, 0, 1}, 3000, 1);
@@ -106,20 +125,20 @@ TEST(GuidingField, SpatialTreeSplitsByRecordsAndFindsLeaves) {
   records.insert(records.end(), right.begin(), right.end());
   const GuidingField field(records, {.maxRecordsPerLeaf = 4000});
   EXPECT_EQ(field.spatialLeaves(), 2u);
-  const DirectionalDistribution* left = field.at({-5, 0, 0}, {1, 0, 0});
-  const DirectionalDistribution* rightLeaf = field.at({7, 1, 1}, {1, 0, 0});  // outside the records' box
-  ASSERT_NE(left, nullptr);
-  ASSERT_NE(rightLeaf, nullptr);
-  EXPECT_GT(left->pdf({0, 0, 1}), 10 * left->pdf({0, 0, -1}));
-  EXPECT_GT(rightLeaf->pdf({0, 0, -1}), 10 * rightLeaf->pdf({0, 0, 1}));
+  const DirectionalDistribution left = field.at({-5, 0, 0}, {1, 0, 0});
+  const DirectionalDistribution rightLeaf = field.at({7, 1, 1}, {1, 0, 0});  // outside the records' box
+  ASSERT_TRUE(left);
+  ASSERT_TRUE(rightLeaf);
+  EXPECT_GT(left.pdf({0, 0, 1}), 10 * left.pdf({0, 0, -1}));
+  EXPECT_GT(rightLeaf.pdf({0, 0, -1}), 10 * rightLeaf.pdf({0, 0, 1}));
 }
 
 TEST(GuidingField, LeavesWithoutEnergyHaveNoDistribution) {
   std::vector<GuidingRecord> records = windowRecords({-5, 0, 0}, {0, 0, 1}, 3000, 1);
   for (uint32_t i = 0; i < 3000; ++i) records.push_back(guidingRecord({5, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0.0));
   const GuidingField field(records, {.maxRecordsPerLeaf = 4000});
-  EXPECT_NE(field.at({-5, 0, 0}, {1, 0, 0}), nullptr);
-  EXPECT_EQ(field.at({5, 0, 0}, {1, 0, 0}), nullptr);
+  EXPECT_TRUE(field.at({-5, 0, 0}, {1, 0, 0}));
+  EXPECT_FALSE(field.at({5, 0, 0}, {1, 0, 0}));
 }
 
 }  // namespace

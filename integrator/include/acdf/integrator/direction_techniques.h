@@ -83,36 +83,36 @@ class LightTechnique {
 template <class Technique>
 class GuidedMixture {
  public:
-  // `field` may be null (the technique alone); `share` in (0, 1) is the technique's.
-  GuidedMixture(const Technique& technique, const DirectionalDistribution* field, double share)
+  // `field` may be none (the technique alone); `share` in (0, 1) is the technique's.
+  GuidedMixture(const Technique& technique, DirectionalDistribution field, double share)
       : technique_(technique), field_(field), share_(share) {}
 
   TechniqueSample sample(float u0, float u1) const {
     if (!field_) return technique_.sample(u0, u1);
     if (u0 < share_) {
       TechniqueSample s = technique_.sample(rescaledVariate(u0, share_), u1);
-      if (s.pdf > 0) s.pdf = mixed(s.pdf, field_->pdf(s.direction));
+      if (s.pdf > 0) s.pdf = mixed(s.pdf, field_.pdf(s.direction));
       return s;
     }
-    const DirectionalDistribution::DirectionAndPdf g = field_->sample(rescaledVariate(u0, share_), u1);
+    const DirectionalDistribution::DirectionAndPdf g = field_.sample(rescaledVariate(u0, share_), u1);
     const ValueAndPdf own = technique_.along(g.direction);
     return {g.direction, own.value, mixed(own.pdf, g.pdf)};
   }
   ValueAndPdf along(const Vec3d& w) const {
     ValueAndPdf own = technique_.along(w);
-    if (field_) own.pdf = mixed(own.pdf, field_->pdf(w));
+    if (field_) own.pdf = mixed(own.pdf, field_.pdf(w));
     return own;
   }
   double pdf(const Vec3d& w) const {
     const double own = technique_.pdf(w);
-    return field_ ? mixed(own, field_->pdf(w)) : own;
+    return field_ ? mixed(own, field_.pdf(w)) : own;
   }
 
  private:
   double mixed(double own, double field) const { return share_ * own + (1.0 - share_) * field; }
 
   Technique technique_;
-  const DirectionalDistribution* field_;
+  DirectionalDistribution field_;
   double share_;
 };
 

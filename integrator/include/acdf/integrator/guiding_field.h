@@ -32,17 +32,24 @@
 // of the records still finds a leaf (the closest along each split). A leaf whose records carry no
 // energy has no distribution.
 //
+// Storage. A guided vertex looks up its spatial leaf and then samples and evaluates that leaf's
+// distribution, so all of them sit in shared arrays (DirectionalDistributions) rather than each in
+// its own heap blocks: a spatial node takes 16 bytes with its children adjacent, a quadtree's inner
+// node holds its four children's entries, a cell (16 bytes) its square as integers (exact: dyadic,
+// at most kMaxDirectionalDepth bits) beside its density, and the 1D CDFs follow one another.
+//
 // Deterministic: the field depends only on the records and their order, and is built in parallel
 // over the spatial leaves, each from its own records.
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
 
-#include "acdf/sampling/piecewise_constant_1d.h"
+#include "acdf/sampling/grid_axis.h"
 #include "acdf/sampling/sphere.h"
 
 namespace acdf {
@@ -72,11 +79,14 @@ struct GuidingFieldOptions {
   uint32_t minRecordsToSplit = 32;
 };
 
-// A distribution of directions over the whole sphere (world frame), one spatial leaf's.
+class DirectionalDistributions;
+
+// A distribution of directions over the whole sphere (world frame), one spatial leaf's: a view of
+// its part of the DirectionalDistributions that hold it. A default one is none (false).
 class DirectionalDistribution {
  public:
-  // The records' directions and energies (reordered); their total energy must be positive and finite.
-  DirectionalDistribution(std::span<GuidingRecord> records, const GuidingFieldOptions& options);
+  DirectionalDistribution() = default;
+  explicit operator bool() const { return parts_ != nullptr; }
 
   struct DirectionAndPdf {
     Vec3d direction;  // unit
@@ -86,28 +96,63 @@ class DirectionalDistribution {
   DirectionAndPdf sample(float u0, float u1) const;
   double pdf(const Vec3d& direction) const;
 
-  std::size_t leaves() const { return leafCells_.size(); }
-  std::size_t bytes() const;
+  std::size_t leaves() const { return parts_->axis.cells(); }
 
  private:
-  struct Node {
-    // Children (0 = none: a leaf) in the order (s low, t low), (s high, t low), (s low, t high),
-    // (s high, t high); a leaf's index among the leaves.
-    uint32_t child[4] = {0, 0, 0, 0};
-    uint32_t leaf = 0;
+  friend class DirectionalDistributions;
+  // Where the distribution sits in its DirectionalDistributions, and the axis its CDF is over.
+  struct Parts {
+    uint32_t firstNode, firstCell, firstCdf;  // the root, when there are inner nodes, is the first
+    GridAxis axis;                            // a unit cell per quadtree leaf
   };
-  struct Square {
-    double s0, t0, size;
-  };
-  uint32_t build(std::span<GuidingRecord> records, Square square, uint32_t depth, double total,
-                 const GuidingFieldOptions& options, std::vector<float>& energies);
-  // The leaf holding (s, t).
-  uint32_t leafAt(double s, double t) const;
+  DirectionalDistribution(const DirectionalDistributions& all, const Parts& parts) : all_(&all), parts_(&parts) {}
 
-  std::vector<Node> nodes_;
-  std::vector<Square> leafCells_;
-  std::vector<double> leafDensities_;  // per steradian
-  std::optional<PiecewiseConstant1D> leafDistribution_;
+  const DirectionalDistributions* all_ = nullptr;
+  const Parts* parts_ = nullptr;
+};
+
+// Many directional distributions in shared arrays, so that a guided sample reads a few adjacent
+// cache lines, not a scatter of per-leaf heap blocks: the quadtrees' inner nodes, their leaves'
+// cells and the 1D CDFs over the cells, each distribution a contiguous range of each.
+class DirectionalDistributions {
+ public:
+  // One distribution per record set, built in parallel; each set's records are reordered, and
+  // their total energy must be positive and finite. Throws std::invalid_argument when it is not or
+  // when options.maxDirectionalDepth exceeds kMaxDirectionalDepth.
+  DirectionalDistributions(std::span<const std::span<GuidingRecord>> recordSets, const GuidingFieldOptions& options);
+
+  DirectionalDistribution operator[](std::size_t set) const { return {*this, parts_[set]}; }
+  std::size_t bytes() const;
+
+  // Deep enough for any use, shallow enough that a cell's corner takes 24 bits.
+  static constexpr uint32_t kMaxDirectionalDepth = 24;
+
+ private:
+  friend class DirectionalDistribution;
+  struct Built;
+  // An inner node of a quadtree. Children in the order (s low, t low), (s high, t low),
+  // (s low, t high), (s high, t high); each an inner node's index, or kCell plus a cell's index,
+  // both counted from the distribution's first.
+  struct QuadNode {
+    uint32_t child[4];
+  };
+  static constexpr uint32_t kCell = 1u << 31;
+  // A quadtree leaf: its density and its square [s0, s0 + size) × [t0, t0 + size), corner and size
+  // exact, being dyadic: the corner in units of 2^-kMaxDirectionalDepth, the size 2^-depth. 16
+  // bytes rather than 24 with float corners: the cells are most of the field.
+  struct Cell {
+    double density;  // per steradian
+    uint32_t s0 : 24, depth : 8;
+    uint32_t t0;
+    // 2^-depth from its exponent bits: no libm call on the sampling path.
+    double size() const { return std::bit_cast<double>(static_cast<uint64_t>(1023 - depth) << 52); }
+  };
+  static constexpr double kCellUnit = 1.0 / (1u << kMaxDirectionalDepth);
+
+  std::vector<DirectionalDistribution::Parts> parts_;  // per distribution
+  std::vector<QuadNode> nodes_;
+  std::vector<Cell> cells_;
+  std::vector<float> cdfs_;  // each distribution's cells + 1 values, as PiecewiseConstant1D::cdf()
 };
 
 class GuidingField {
@@ -117,31 +162,39 @@ class GuidingField {
 
   // The distribution of the spatial leaf holding `position` in the tree of `normal`'s bucket; none
   // where that leaf learned nothing.
-  const DirectionalDistribution* at(const Vec3d& position, const Vec3d& normal) const;
+  DirectionalDistribution at(const Vec3d& position, const Vec3d& normal) const;
 
-  std::size_t spatialLeaves() const { return leaves_.size(); }
+  std::size_t spatialLeaves() const { return spatialLeaves_; }
   std::size_t bytes() const;
 
   static constexpr uint32_t kMaxSpatialDepth = 40;
 
  private:
+  // An inner node splits `axis` at `split`, its children adjacent from `index` (below the split
+  // first); a leaf's `index` is its distribution's, kNoDistribution where it learned nothing. The
+  // split is kept as a double, as the positions compared with it are: a float would cost a
+  // conversion on each level of the descent's dependency chain.
   struct Node {
-    uint32_t child[2] = {0, 0};  // both 0: a leaf
-    uint8_t axis = 0;
-    float split = 0;
-    uint32_t leaf = 0;  // index into leaves_
+    double split = 0;
+    uint32_t axisAndIndex = kLeaf;  // the axis in the low 2 bits (kLeaf for a leaf), the index above
+    uint32_t axis() const { return axisAndIndex & 3; }
+    uint32_t index() const { return axisAndIndex >> 2; }
+    static Node leaf(uint32_t index) { return {0, index << 2 | kLeaf}; }
   };
+  static constexpr uint32_t kLeaf = 3;
+  static constexpr uint32_t kNoDistribution = (1u << 30) - 1;
   struct Box {
     float lo[3], hi[3];
   };
-  uint32_t build(std::span<GuidingRecord> records, Box box, uint32_t depth, std::size_t maxRecords,
-                 std::vector<std::span<GuidingRecord>>& leafRecords);
+  void build(uint32_t node, std::span<GuidingRecord> records, Box box, uint32_t depth, std::size_t maxRecords,
+             std::vector<std::span<GuidingRecord>>& leafRecords);
 
   static constexpr uint32_t kNoTree = ~0u;
   static constexpr std::size_t kBuckets = 6;
   std::array<uint32_t, kBuckets> roots_;  // per normal bucket; kNoTree without records
   std::vector<Node> nodes_;
-  std::vector<std::optional<DirectionalDistribution>> leaves_;
+  std::size_t spatialLeaves_ = 0;
+  std::optional<DirectionalDistributions> distributions_;
 };
 
 }  // namespace acdf

@@ -76,8 +76,7 @@ class PathIntegrator {
 
  private:
   // The light at a vertex seen from `context`, mixed with the light field there (none: the light alone).
-  GuidedMixture<LightTechnique> guidedLight(const LightSampleContext& context,
-                                            const DirectionalDistribution* field) const;
+  GuidedMixture<LightTechnique> guidedLight(const LightSampleContext& context, DirectionalDistribution field) const;
   // The MIS weight of a strategy with density `chosen` against one with density `other`.
   double misWeight(double chosen, double other) const;
 

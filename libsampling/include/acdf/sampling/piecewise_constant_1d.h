@@ -23,6 +23,9 @@ class PiecewiseConstant1D {
   explicit PiecewiseConstant1D(std::span<const float> function, float lo = 0.0f, float hi = 1.0f);
 
   Sample1D sample(float u) const;
+  // sample() of a distribution kept elsewhere as its cdf() and axis(): lets a caller hold many
+  // distributions' CDFs in one array.
+  static Sample1D sample(std::span<const float> cdf, const GridAxis& axis, float u);
   float pdf(float x) const;  // 0 outside [lo, hi)
   float invert(float x) const;
 
