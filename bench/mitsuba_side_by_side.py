@@ -102,8 +102,20 @@ def symbolic_mode(on):
 
 
 def batched(plugin):
-    """Whether a plugin makes batched acdf calls (and so renders in evaluated mode)."""
+    """Whether a plugin makes batched acdf calls (and so renders in evaluated mode). A symbolic render
+    records every live plugin of its class, and a batched one cannot be recorded: its row keeps its
+    median time, and the plugin goes before the next row renders."""
     return "Batched" in type(plugin).__name__
+
+
+def timed_acdf_calls(plugin, attribute):
+    """A batched plugin's acdf object (its `attribute`) replaced by one timing its calls, which is
+    returned; None for a native plugin, which makes none."""
+    if not batched(plugin):
+        return None
+    timed = TimedCalls(getattr(plugin, attribute), {"sample", "pdf", "eval"})
+    setattr(plugin, attribute, timed)
+    return timed
 
 
 def interleaved_ms_per_spp(scenes, args):
@@ -210,11 +222,14 @@ def compare_envmaps(args, acdf):
             scene = mi.load_dict(envmap_scene({"type": "acdf_envmap", "filename": path, "strategy": strategy}, args.res))
             emitter = scene.emitters()[0]
             symbolic_mode(not batched(emitter))
-            emitter.light = timed = TimedCalls(emitter.light, {"sample", "pdf", "eval"})
+            timed = timed_acdf_calls(emitter, "light")
             reference = render(scene, args.reference_spp, 1000)
             images, errors, ms, inside = measure(scene, reference, args, timed)
-            rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.light.bytes, ms, inside))
-            if not batched(emitter):
+            rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.bytes, ms, inside))
+            if batched(emitter):
+                del scene, emitter, timed  # before any symbolic render: see batched()
+                gc.collect()
+            else:
                 scenes.append((scene, len(rows) - 1))
         report_block(source, rows, scenes, args)
 
@@ -238,18 +253,14 @@ def compare_materials(args, acdf):
             scene = mi.load_dict(material_scene(bsdf, args.bsdf_map, args.res))
             plugin = next(s.bsdf() for s in scene.shapes() if "Acdf" in str(s.bsdf()))
             symbolic_mode(not batched(plugin))
-            timed = None
-            if batched(plugin):
-                plugin.sampler = timed = TimedCalls(plugin.sampler, {"sample", "pdf", "eval"})
+            timed = timed_acdf_calls(plugin, "sampler")
             images, errors, ms, inside = measure(scene, reference, args, timed)
             table = f"{plugin.bytes} (1/{warps / plugin.bytes:.1f})" if plugin.bytes else "0"
             if getattr(plugin, "table", None) is not None:  # the drjit copy a native plugin samples
                 table += f"; in drjit {plugin.table.bytes} (1/{warps / plugin.table.bytes:.1f})"
             rows.append((f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside))
             if batched(plugin):
-                # A symbolic render records every live BSDF of its class, and a batched one cannot be
-                # recorded: it keeps its median time and goes before the next row renders.
-                del scene, plugin
+                del scene, plugin, timed  # before any symbolic render: see batched()
                 gc.collect()
             else:
                 scenes.append((scene, len(rows) - 1))

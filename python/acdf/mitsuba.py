@@ -127,7 +127,8 @@ def _make_envmap_classes():
     """(AcdfEnvmap, BatchedEnvmap, NativeEnvmap) of the current variant."""
     mi = _mi()
     class AcdfEnvmap(mi.Emitter):
-        """What both implementations share: the parameters, the light, the scene's bounds."""
+        """What both implementations share: the parameters, the light (which the native one releases
+        once its arrays are in drjit), the scene's bounds."""
 
         def __init__(self, props):
             mi.Emitter.__init__(self, props)
@@ -169,11 +170,17 @@ def _make_envmap_classes():
             return mi.ScalarBoundingBox3f()
 
         def to_string(self):
-            return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.light.bytes}]"
+            return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.bytes}]"
 
     class BatchedEnvmap(AcdfEnvmap):
         """Every strategy, in every variant: one batched acdf call per wavefront (in JIT variants under
         evaluated mode: register())."""
+
+        @property
+        def bytes(self):
+            """Of acdf's sampling tables, those built so far (a local light builds a normal cell's when
+            a call first needs it)."""
+            return self.light.bytes
 
         def _to_map(self, world_dirs):
             """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
@@ -277,6 +284,10 @@ def _make_envmap_classes():
                 self.table = _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=self.incomplete), width, height)
                 self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height)
                                  if self.incomplete and self.local is None else self.table)
+            # Everything is in drjit arrays now: the C++ light (the map's pixels again, and every
+            # table) would double the plugin's memory for nothing.
+            self.bytes = light.bytes  # of acdf's sampling tables, all built for the export
+            del self.light
 
         def _to_world(self, d):
             return self.to_world @ d
