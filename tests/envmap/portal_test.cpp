@@ -57,8 +57,10 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
       for (bool incomplete : {false, true}) {
         const LightSampleContext context =
             light.atNormal({.allowIncompletePdf = incomplete, .position = position}, normalize({0.2, 1, -0.3}));
-        // The same point reached in place, with the portals found once (moveTo, a path tracer's).
+        // The same point reached in place from another vertex (moveTo, a path tracer's): nothing
+        // the other vertex found (its portals, its normal cell) may stay.
         LightSampleContext moved{.allowIncompletePdf = incomplete};
+        light.moveTo(moved, position + Vec3d{0.9, -0.4, 0.7}, normalize({-0.6, 0.2, 0.5}));
         light.moveTo(moved, position, normalize({0.2, 1, -0.3}));
         SCOPED_TRACE(std::string(toString(strategy)) + (incomplete ? ", incomplete" : ", complete"));
         Pcg32 rng(3);
