@@ -1,7 +1,9 @@
 """bench/peers/scene_conversion.py's pure conversions (no bpy; Mitsuba only to load the dict, skipped without
 it). The renders that check the conventions are bench/peers/test_conventions.py (`make bench-peers-check`)."""
+import json
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -117,7 +119,19 @@ def test_the_acdf_map_row_swaps_only_the_emitter_for_acdfs_plugin():
     scene = sc.read_scene(SPHERES)
     envmap = sc.mitsuba_scene_dict(scene, "multijitter", 4)["environment"]
     acdf_map = sc.mitsuba_scene_dict(scene, "multijitter", 4, acdf_map=True)["environment"]
-    assert acdf_map == dict(envmap, type="acdf_envmap", strategy="compensated")
+    assert acdf_map == dict(envmap, type="acdf_envmap", strategy=sc.ACDF_MAP_STRATEGY)
+
+
+def test_the_acdf_map_rows_strategy_is_acdf_renders_default(tmp_path):
+    program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
+    if not os.path.exists(program):
+        pytest.skip(f"no acdf program at {program}")
+    scene = sc.read_scene(SPHERES, (4, 3))
+    path = tmp_path / "spheres.json"
+    path.write_text(json.dumps(scene.data))
+    report = subprocess.run([program, "render", str(path), "-o", str(tmp_path / "x.exr"), "--no-png", "--spp", "1",
+                             "--json"], check=True, capture_output=True, text=True).stdout
+    assert json.loads(report)["env_sampling"] == sc.ACDF_MAP_STRATEGY
 
 
 def test_mitsuba_loads_the_dict():
