@@ -205,6 +205,16 @@ def report_block(source, rows, timed, args):
         baseline = baseline or row
 
 
+def plugin_parameters(row):
+    """'compensated' or 'adaptive:epsilon=5e-4,...': the strategy and the plugin's table options."""
+    strategy, _, options = row.partition(":")
+    parameters = {"strategy": strategy}
+    for option in filter(None, options.split(",")):
+        name, _, value = option.partition("=")
+        parameters[name] = float(value) if "." in value or "e" in value else int(value)
+    return parameters
+
+
 def compare_envmaps(args, acdf):
     print(f"\n## envmap vs acdf_envmap: {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
           f"references at {args.reference_spp} spp")
@@ -219,7 +229,8 @@ def compare_envmaps(args, acdf):
         rows = [("envmap", errors, None, hierarchical_bytes(path), ms, "-")]
         scenes = [(theirs, 0)]  # the symbolic rows' scenes and rows, timed interleaved
         for strategy in args.strategies:
-            scene = mi.load_dict(envmap_scene({"type": "acdf_envmap", "filename": path, "strategy": strategy}, args.res))
+            plugin = {"type": "acdf_envmap", "filename": path, **plugin_parameters(strategy)}
+            scene = mi.load_dict(envmap_scene(plugin, args.res))
             emitter = scene.emitters()[0]
             symbolic_mode(not batched(emitter))
             timed = timed_acdf_calls(emitter, "light")
@@ -270,7 +281,9 @@ def compare_materials(args, acdf):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--maps", nargs="*", default=[])
-    parser.add_argument("--strategies", nargs="+", default=["adaptive", "compensated"])
+    parser.add_argument("--strategies", nargs="+", default=["adaptive", "compensated"],
+                        help="acdf_envmap rows: a strategy, or strategy:option=value,... with the plugin's table "
+                        "options (e.g. adaptive:epsilon=5e-4)")
     parser.add_argument("--rgl", nargs="*", default=[])
     parser.add_argument("--samplings", nargs="+", default=["adaptive", "uniform", "rgl"])
     parser.add_argument("--bsdf-map", help="the envmap the measured materials are lit by")
