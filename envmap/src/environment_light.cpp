@@ -18,10 +18,6 @@ bool facing(const Portal& portal, const Vec3d& position) {
   return dot(position - portal.corner, cross(portal.edgeU, portal.edgeV)) > 0;
 }
 
-// Below this solid angle a portal is not sampled: SphericalRectangle's construction, a sum of four
-// angles minus 2π, has no correct digit left in double (a 1 m² window 30 km away).
-constexpr double kMinPortalSolidAngle = 1e-9;
-
 std::uint64_t newLightId() {
   static std::atomic<std::uint64_t> next{1};
   return next.fetch_add(1, std::memory_order_relaxed);

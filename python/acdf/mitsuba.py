@@ -9,7 +9,8 @@
 `acdf_envmap` takes Mitsuba's `envmap` parameters `filename`, `scale` (a number) and `to_world`
 (a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (a name of
 `acdf.environment_samplings()`; adaptive by default) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
-`normal_columns`, `block_size`). `compensated` (and `local-compensated`, per normal cell) is
+`normal_columns`, `block_size`), and portals: nested `rectangle` shapes (windows, doors) whose normal points into
+the room the map lights through them (acdf.EnvironmentLight's `portals`). `compensated` (and `local-compensated`, per normal cell) is
 Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
 BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
@@ -133,7 +134,9 @@ def _make_envmap_classes():
         def __init__(self, props):
             mi.Emitter.__init__(self, props)
             name = "acdf_envmap"
-            _refuse_unknown(name, props, ["filename", "scale", "to_world", "strategy", *_ENVMAP_TABLE_OPTIONS])
+            portal_names = [key for key in props.keys() if isinstance(props[key], mi.Shape)]
+            _refuse_unknown(name, props, ["filename", "scale", "to_world", "strategy", *_ENVMAP_TABLE_OPTIONS,
+                                          *portal_names])
             if "filename" not in props:
                 _refuse(name, "needs a filename")
             filename = str(props["filename"])
@@ -153,8 +156,12 @@ def _make_envmap_classes():
             self.strategy = strategy
             self.scale = float(scale)
             self.incomplete = strategy in ("compensated", "local-compensated")
+            self.portals = [_portal_of(mi, key, props[key]) for key in portal_names]  # world frame
+            # acdf's light works in the map's frame: its world is this plugin's map frame.
+            in_map = [{key: self.map_from_world @ vector for key, vector in portal.items()} for portal in self.portals]
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
-            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), **table)
+            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), portals=in_map,
+                                                    **table)
             self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
             self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
 
@@ -206,14 +213,25 @@ def _make_envmap_classes():
         def eval_direction(self, it, ds, active=True):
             return self._radiance(ds.d)
 
+        def _positions(self, it):
+            """Map-frame points lit, where the light has portals and the interaction a position."""
+            if not self.portals:
+                return None
+            p = _rows(it.p)
+            if p.size == 0:
+                return None
+            # A wavefront's inactive lanes may hold anything; their results are not used.
+            return np.where(np.isfinite(p).all(axis=1, keepdims=True), p, 0.0) @ self.map_from_world.T
+
         def pdf_direction(self, it, ds, active=True):
             ok, dirs = self._to_map(ds.d)
-            pdf = self.light.pdf(dirs, normal=self._normals(it), allow_incomplete_pdf=self.incomplete)
+            pdf = self.light.pdf(dirs, normal=self._normals(it), position=self._positions(it),
+                                 allow_incomplete_pdf=self.incomplete)
             return _float(mi, np.where(ok, pdf, 0.0))
 
         def sample_direction(self, it, sample, active=True):
             dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it),
-                                                   allow_incomplete_pdf=self.incomplete)
+                                                   position=self._positions(it), allow_incomplete_pdf=self.incomplete)
             world = dirs @ self.world_from_map.T
             p = _rows_like(it.p, len(pdf))
             # Beyond any scene: the shadow ray must reach past every occluder, and the scene's
@@ -284,6 +302,8 @@ def _make_envmap_classes():
                 self.table = _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=self.incomplete), width, height)
                 self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height)
                                  if self.incomplete and self.local is None else self.table)
+            self.portals_seen = (_DrjitPortals(mi, self.portals) if self.portals and not light.emits_nothing
+                                 else None)
             # Everything is in drjit arrays now: the C++ light (the map's pixels again, and every
             # table) would double the plugin's memory for nothing.
             self.bytes = light.bytes  # of acdf's sampling tables, all built for the export
@@ -336,21 +356,45 @@ def _make_envmap_classes():
         def eval_direction(self, it, ds, active=True):
             return self._radiance(ds.d, active)
 
-        def pdf_direction(self, it, ds, active=True):
+        def _strategy_pdf(self, row, column, cell, local, active):
+            """The strategy's density at a pixel: each lane's local table's (lanes `local`), else the table's."""
             if self.strategy == "uniform-sphere":
                 return mi.Float(dr.inv_four_pi)
             if self.table is None:
                 return mi.Float(0)
-            row, column = _pixel_of(mi, self._to_map(ds.d), self.width, self.height)
-            cell, local = self._normal_cell(it, active)
             if cell is None:
                 return self.table.pdf(row, column, active)
             return dr.select(local, self.local.pdf(cell, row, column, local),
                              self.table.pdf(row, column, active & ~local))
 
+        def _seen(self, it, active):
+            """The portals as seen from each lane's it.p (None without portals or positions)."""
+            if self.portals_seen is None or dr.width(it.p) == 0:
+                return None
+            return self.portals_seen.seen_from(it.p, active)
+
+        def pdf_direction(self, it, ds, active=True):
+            row, column = _pixel_of(mi, self._to_map(ds.d), self.width, self.height)
+            pdf = self._strategy_pdf(row, column, *self._normal_cell(it, active), active)
+            seen = self._seen(it, active)
+            return pdf if seen is None else self.portals_seen.mixture_pdf(seen, ds.d, pdf)
+
         def sample_direction(self, it, sample, active=True):
-            d_map, row, column, pdf = self._sample(self.table, sample, active, *self._normal_cell(it, active))
-            d = self._to_world(d_map)
+            cell, local = self._normal_cell(it, active)
+            seen = self._seen(it, active)
+            if seen is None:
+                d_map, row, column, pdf = self._sample(self.table, sample, active, cell, local)
+                d = self._to_world(d_map)
+            else:
+                # The lanes that go through a portal, and the others' variate rescaled for the table.
+                through, u = self.portals_seen.choose(seen, sample)
+                d_map, row, column, pdf = self._sample(self.table, u, active & ~through, cell,
+                                                       None if local is None else local & ~through)
+                d = dr.select(through, self.portals_seen.sample(seen, sample, through), self._to_world(d_map))
+                row_through, column_through = _pixel_of(mi, self._to_map(d), self.width, self.height)
+                row, column = dr.select(through, row_through, row), dr.select(through, column_through, column)
+                pdf = self.portals_seen.mixture_pdf(seen, d, dr.select(
+                    through, self._strategy_pdf(row, column, cell, local, active & through), pdf))
             ds = dr.zeros(mi.DirectionSample3f)
             ds.d = d
             ds.dist = mi.Float(_FAR)
@@ -656,6 +700,158 @@ _HALF_VECTOR_CELL_MARGIN = 1e-6
 _ROUND_TRIP_EXACT = 1e-3
 
 
+def _portal_of(mi, name, shape):
+    """A nested rectangle shape as an acdf portal (world frame). Mitsuba's rectangle spans [-1, 1]^2
+    of its local z = 0 plane; its normal (+z) points to the side the light passes to, into the room."""
+    if shape.shape_type() != int(mi.ShapeType.Rectangle):
+        _refuse("acdf_envmap", f"portal {name}: must be a rectangle")
+    transform = mi.traverse(shape)["to_world"]
+    matrix = np.asarray(transform.matrix, dtype=np.float64).reshape(4, 4)
+    normal = np.asarray(transform.inverse_transpose, dtype=np.float64).reshape(4, 4)[:3, 2]
+    linear = matrix[:3, :3]
+    portal = {"corner": matrix[:3, :3] @ [-1.0, -1.0, 0.0] + matrix[:3, 3],
+              "edge_u": linear @ [2.0, 0.0, 0.0], "edge_v": linear @ [0.0, 2.0, 0.0]}
+    if np.dot(np.cross(portal["edge_u"], portal["edge_v"]), normal) < 0:  # a mirroring to_world
+        portal["edge_u"], portal["edge_v"] = portal["edge_v"], portal["edge_u"]
+    problem = acdf.portal_problem(portal)
+    if problem:
+        _refuse("acdf_envmap", f"portal {name}: {problem}")
+    return portal
+
+
+class _PortalsSeen:
+    """What the portals are from each lane's point: its position, every portal's solid angle (0 where
+    the lane is not on its inner side), their sum, and the lanes that see one."""
+
+    def __init__(self, origin, solid_angles, active):
+        self.origin = origin
+        self.solid_angles = solid_angles
+        self.total = sum(solid_angles[1:], solid_angles[0])
+        self.lanes = active & (self.total > 0)
+
+
+class _DrjitPortals:
+    """acdf's portals (acdf.EnvironmentLight, envmap/environment_light.h) in drjit, in float64 as
+    acdf's C++: from a point on a portal's inner side, a share of the samples goes through the portals
+    seen, a portal chosen by its share of the solid angles, the direction uniform in its solid angle
+    (Urena, Fajardo & King 2013); pdf_direction is the mixture. Portals are few: every loop over
+    them is unrolled into the kernel."""
+
+    def __init__(self, mi, portals):
+        self.mi = mi
+        self.share = acdf.EnvironmentLight.portal_share
+        self.min_solid_angle = acdf.EnvironmentLight.min_portal_solid_angle
+        self.portals = []
+        for portal in portals:
+            u, v = np.asarray(portal["edge_u"], np.float64), np.asarray(portal["edge_v"], np.float64)
+            x, y = u / np.linalg.norm(u), v / np.linalg.norm(v)
+            vectors = {"corner": portal["corner"], "u": u, "v": v, "normal": np.cross(u, v), "x": x, "y": y,
+                       "z": np.cross(x, y)}
+            self.portals.append({**{key: mi.Vector3d(*(float(c) for c in value)) for key, value in vectors.items()},
+                                 "uu": float(u @ u), "vv": float(v @ v), "length_u": float(np.linalg.norm(u)),
+                                 "length_v": float(np.linalg.norm(v))})
+
+    def _solid_angle(self, portal, origin):
+        """Omega of the portal from origin, 0 unless origin is on its inner side and Omega is large enough
+        to sample (acdf's SphericalRectangle::solidAngleOf: two triangles, one atan2)."""
+        a = portal["corner"] - origin
+        b, d = a + portal["u"], a + portal["v"]
+        c = b + portal["v"]
+        height = dr.dot(a, portal["normal"])
+        volume = dr.abs(height)
+        la, lb, lc, ld, ac = dr.norm(a), dr.norm(b), dr.norm(c), dr.norm(d), dr.dot(a, c)
+        scale_b, scale_d = dr.rcp(la * lb * lc), dr.rcp(la * lc * ld)
+        re_b = (la * lb * lc + dr.dot(a, b) * lc + ac * lb + dr.dot(b, c) * la) * scale_b
+        re_d = (la * lc * ld + ac * ld + dr.dot(a, d) * lc + dr.dot(c, d) * la) * scale_d
+        im_b, im_d = volume * scale_b, volume * scale_d
+        omega = 2 * dr.atan2(re_b * im_d + im_b * re_d, re_b * re_d - im_b * im_d)
+        # On the inner side the corner lies behind the point along the normal.
+        return dr.select((height < 0) & (omega >= self.min_solid_angle), omega, 0.0)
+
+    def seen_from(self, p, active):
+        origin = self.mi.Vector3d(p)
+        return _PortalsSeen(origin, [self._solid_angle(portal, origin) for portal in self.portals], active)
+
+    def choose(self, seen, sample):
+        """The lanes whose sample goes through a portal (u0 below the share), and every lane's variates
+        for the table: u0 rescaled where the lane sees a portal, as acdf's rescaledVariate."""
+        u0 = self.mi.Float64(dr.clip(sample.x, 0.0, _ONE_MINUS_EPSILON))
+        through = seen.lanes & (u0 < self.share)
+        rescaled = self.mi.Float(dr.minimum((u0 - self.share) / (1 - self.share), _ONE_MINUS_EPSILON))
+        return through, self.mi.Point2f(dr.select(seen.lanes, rescaled, sample.x), sample.y)
+
+    def sample(self, seen, sample, active):
+        """World directions through the portal each lane's u0 chooses (the last one seen takes what
+        rounding leaves over), uniform in its solid angle."""
+        mi = self.mi
+        at = mi.Float64(dr.clip(sample.x, 0.0, _ONE_MINUS_EPSILON)) / self.share * seen.total
+        chosen, chosen_omega, done = mi.UInt32(0), mi.Float64(0), mi.Bool(False)
+        for i, omega in enumerate(seen.solid_angles):
+            take = ~done & (omega > 0)
+            at = dr.select(take, at - chosen_omega, at)
+            chosen = dr.select(take, i, chosen)
+            chosen_omega = dr.select(take, omega, chosen_omega)
+            done |= take & (at < omega)
+        v = dr.clip(at / chosen_omega, 0.0, 1.0)
+        w = mi.Vector3d(0)
+        for i, portal in enumerate(self.portals):
+            lanes = active & (chosen == i)
+            w = dr.select(lanes, self._through_rectangle(portal, seen.origin, v,
+                                                         mi.Float64(dr.clip(sample.y, 0.0, 1.0))), w)
+        return mi.Vector3f(w)
+
+    def _through_rectangle(self, portal, origin, u0, u1):
+        """acdf's SphericalRectangle::sample: the slice of the rectangle's solid angle holding u0's
+        share of it, then the height on that slice uniform in the sine of the elevation."""
+        x, y, z = portal["x"], portal["y"], portal["z"]
+        d = portal["corner"] - origin
+        z0 = dr.dot(d, z)
+        z = dr.select(z0 > 0, -z, z)
+        z0 = -dr.abs(z0)
+        x0, y0 = dr.dot(d, x), dr.dot(d, y)
+        x1, y1 = x0 + portal["length_u"], y0 + portal["length_v"]
+        Vector = self.mi.Vector3d
+        n0, n1 = dr.normalize(Vector(0, z0, -y0)), dr.normalize(Vector(-z0, 0, x1))
+        n2, n3 = dr.normalize(Vector(0, -z0, y1)), dr.normalize(Vector(z0, 0, -x0))
+
+        def inner_angle(n, m):
+            return dr.acos(dr.clip(-dr.dot(n, m), -1.0, 1.0))
+
+        g0, g1, g2, g3 = inner_angle(n0, n1), inner_angle(n1, n2), inner_angle(n2, n3), inner_angle(n3, n0)
+        b0, b1, k = n0.z, n2.z, 2 * dr.pi - g2 - g3
+        area = dr.maximum(0.0, g0 + g1 - k)
+        au = u0 * area + k
+        fu = (dr.cos(au) * b0 - b1) / dr.sin(au)
+        cu = dr.clip(dr.copysign(1.0, fu) / dr.sqrt(fu * fu + b0 * b0), -1.0, 1.0)
+        xu = -(cu * z0) / dr.sqrt(dr.maximum(0.0, 1.0 - cu * cu))
+        xu = dr.select(xu >= x0, dr.minimum(xu, x1), x0)  # NaN too
+        dist2 = xu * xu + z0 * z0
+        dist = dr.sqrt(dist2)
+        h0, h1 = y0 / dr.sqrt(dist2 + y0 * y0), y1 / dr.sqrt(dist2 + y1 * y1)
+        hv = h0 + u1 * (h1 - h0)
+        hv2 = hv * hv
+        yv = dr.select(hv2 < 1.0 - 1e-12, dr.clip(hv * dist / dr.sqrt(dr.maximum(1.0 - hv2, 1e-300)), y0, y1), y1)
+        return dr.normalize(x * xu + y * yv + z * z0)
+
+    def _passes_through(self, portal, origin, w):
+        """acdf's SphericalRectangle::passesThrough, its edges included with 1e-9 to spare."""
+        towards, height = dr.dot(w, portal["normal"]), dr.dot(portal["corner"] - origin, portal["normal"])
+        hit = origin + w * (height / towards) - portal["corner"]
+        s, t = dr.dot(hit, portal["u"]) / portal["uu"], dr.dot(hit, portal["v"]) / portal["vv"]
+        spare = 1e-9
+        return (towards * height > 0) & (s >= -spare) & (s <= 1 + spare) & (t >= -spare) & (t <= 1 + spare)
+
+    def mixture_pdf(self, seen, w, strategy_pdf):
+        """Where a lane sees a portal: the share times (the seen portals w passes through) / their
+        total solid angle, plus the rest times the strategy's pdf; elsewhere the strategy's."""
+        w = self.mi.Vector3d(w)
+        through = self.mi.Float64(0)
+        for portal, omega in zip(self.portals, seen.solid_angles):
+            through += dr.select((omega > 0) & self._passes_through(portal, seen.origin, w), 1.0, 0.0)
+        mixture = self.share * (through / seen.total) + (1 - self.share) * self.mi.Float64(strategy_pdf)
+        return dr.select(seen.lanes, self.mi.Float(mixture), strategy_pdf)
+
+
 def _polar_angle(d):
     return dr.atan2(dr.sqrt(d.x * d.x + d.y * d.y), d.z)
 
@@ -849,6 +1045,7 @@ class _DrjitHalfVectorTable:
 
 
 _FAR = 1e15
+_ONE_MINUS_EPSILON = 1 - 2**-24  # the largest float below 1, as acdf clamps variates (clampUnit)
 _envmap_classes = []  # AcdfEnvmap of each variant register() was called in
 
 _SAMPLINGS = ("adaptive", "uniform", "rgl", "cosine")

@@ -47,10 +47,44 @@ struct LocalGrid {
   uint32_t normalRows, normalColumns, blockSize;
 };
 
+// One coordinate triple of a portal: three finite or not numbers (validate() judges them).
+Vec3d portalVector(const py::handle& portal, const char* key, std::size_t i) {
+  const std::string where = "portals[" + std::to_string(i) + "]." + key;
+  try {
+    const auto v = py::cast<std::array<double, 3>>(portal[key]);
+    return {v[0], v[1], v[2]};
+  } catch (const py::error_already_set& e) {
+    if (!e.matches(PyExc_KeyError)) throw;
+    throw py::value_error("portals[" + std::to_string(i) + "]: needs corner, edge_u and edge_v");
+  } catch (const py::cast_error&) {
+    throw py::value_error(where + ": expected 3 numbers");
+  }
+}
+
+// Portals as scene files write them: a list of {"corner": [x, y, z], "edge_u": [...], "edge_v":
+// [...]}, world frame; whether they can be used is validate()'s to say.
+std::vector<Portal> portalsOf(const std::optional<py::sequence>& portals) {
+  std::vector<Portal> out;
+  if (!portals) return out;
+  for (std::size_t i = 0; i < portals->size(); ++i) {
+    const py::object portal = (*portals)[i];
+    if (!py::isinstance<py::dict>(portal))
+      throw py::value_error("portals[" + std::to_string(i) + "]: expected a dict with corner, edge_u and edge_v");
+    for (const auto& [key, value] : py::cast<py::dict>(portal))
+      if (const auto name = py::cast<std::string>(py::str(key)); name != "corner" && name != "edge_u" && name != "edge_v")
+        throw py::value_error("portals[" + std::to_string(i) + "]: unknown key " + name);
+    out.push_back({portalVector(portal, "corner", i), portalVector(portal, "edge_u", i),
+                   portalVector(portal, "edge_v", i)});
+  }
+  return out;
+}
+
 EnvironmentLight makeLight(std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale,
                            double rotationDegrees, std::optional<double> epsilon,
-                           const std::optional<SimplifyOptions>& simplify, const LocalGrid& grid) {
+                           const std::optional<SimplifyOptions>& simplify, const LocalGrid& grid,
+                           std::vector<Portal> portals) {
   EnvironmentLightOptions options;
+  options.portals = std::move(portals);
   options.local = {grid.normalRows, grid.normalColumns, grid.blockSize};
   options.strategy = parseEnvironmentSampling(strategy);
   options.simplify = simplifyOptions(options.simplify, simplify, epsilon);
@@ -62,23 +96,37 @@ EnvironmentLight makeLight(std::shared_ptr<EnvironmentMap> map, const std::strin
   return EnvironmentLight(std::move(map), options);
 }
 
-// The context of row i: the normal of that row (or the only one), if any.
+// The context of row i: the normal and the position of that row (or the only one), if any.
 struct Contexts {
   bool allowIncomplete;
   std::optional<Directions> normals;
+  std::optional<Batch<double>> positions;
   LightSampleContext operator()(std::size_t i) const {
     LightSampleContext c{.allowIncompletePdf = allowIncomplete};
     if (normals) c.normal = (*normals)[i];
+    if (positions) c.position = vec3At(positions->data, positions->rows, i);
     return c;
   }
 };
 
-Contexts contextsOf(bool allowIncomplete, const std::optional<ArrayArg>& normal, std::size_t n) {
-  Contexts c{allowIncomplete, std::nullopt};
+// One row, or one per sample.
+void requireRowsFor(std::size_t rows, std::size_t n, const std::string& name) {
+  pairedRows(n, rows, (name + " and the samples").c_str());
+  if (rows != 1 && rows != n) throw py::value_error(name + ": one row or one per sample");
+}
+
+Contexts contextsOf(bool allowIncomplete, const std::optional<ArrayArg>& normal, const std::optional<ArrayArg>& position,
+                    std::size_t n) {
+  Contexts c{allowIncomplete, std::nullopt, std::nullopt};
   if (normal) {
     c.normals = directions(*normal, "normal");
-    pairedRows(n, c.normals->rows(), "normal and the samples");
-    if (c.normals->rows() != 1 && c.normals->rows() != n) throw py::value_error("normal: one row or one per sample");
+    requireRowsFor(c.normals->rows(), n, "normal");
+  }
+  if (position) {
+    c.positions = batch<double>(*position, 3, "position", true);
+    requireRowsFor(c.positions->rows, n, "position");
+    for (std::size_t i = 0; i < 3 * c.positions->rows; ++i)
+      if (!std::isfinite(c.positions->data[i])) throw py::value_error("position: must be finite");
   }
   return c;
 }
@@ -86,7 +134,7 @@ Contexts contextsOf(bool allowIncomplete, const std::optional<ArrayArg>& normal,
 const char* kLightDoc = R"(An environment map placed in the world and sampled by one strategy.
 
 EnvironmentLight(map, strategy="adaptive", scale=1.0, rotation=0.0, epsilon=None, simplify=None,
-                 normal_rows=32, normal_columns=64, block_size=16)
+                 normal_rows=32, normal_columns=64, block_size=16, portals=None)
 EnvironmentLight.load(path, ...the same keywords)
 
 map: an acdf.EnvironmentMap. strategy: a name of acdf.environment_samplings(), which says what each
@@ -100,7 +148,12 @@ allow_incomplete_pdf=True: the caller also samples the BSDF and combines the two
 compensated light may leave directions dimmer than the map's mean to it (pdf 0 there).
 strategy="local" samples L(w) max(0, n.w) for the shading normal n each call gives (normal=...),
 from a grid of normal_rows x normal_columns normal cells over blocks of block_size^2 pixels (Lawrence
-et al. 2005; a normal cell's table is built when a normal in it is first used).)";
+et al. 2005; a normal cell's table is built when a normal in it is first used).
+portals: windows or doors the map is seen through, as scene files declare them: a list of
+{"corner": [x, y, z], "edge_u": [...], "edge_v": [...]} (world frame, edges perpendicular), each
+letting light through towards the side edge_u x edge_v points to. From a point on that side
+(position=...) half the samples go uniformly through the portals by solid angle; pdf() is the
+mixture. Calls without a position sample as without portals.)";
 
 void bindLight(py::module_& m) {
   m.def(
@@ -112,40 +165,51 @@ void bindLight(py::module_& m) {
         return strategies;
       },
       "Every strategy of EnvironmentLight: a list of dicts with its name and a one-line description.");
+  m.def(
+      "portal_problem",
+      [](const py::dict& portal) -> std::optional<std::string> {
+        py::list one;
+        one.append(portal);
+        return portalProblem(portalsOf(one).front());
+      },
+      "portal"_a,
+      "Why a portal ({\"corner\", \"edge_u\", \"edge_v\"}, as EnvironmentLight takes them) cannot be used, or\n"
+      "None: the check EnvironmentLight and scene files make.");
   py::class_<EnvironmentLight> c(m, "EnvironmentLight", kLightDoc);
   const LocalEnvironmentOptions d;
   c.def(py::init([](std::shared_ptr<EnvironmentMap> map, const std::string& strategy, float scale, double rotation,
                     std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify, uint32_t normalRows,
-                    uint32_t normalColumns, uint32_t blockSize) {
+                    uint32_t normalColumns, uint32_t blockSize, const std::optional<py::sequence>& portals) {
           return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify,
-                           {normalRows, normalColumns, blockSize});
+                           {normalRows, normalColumns, blockSize}, portalsOf(portals));
         }),
         "map"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0, "epsilon"_a = py::none(),
         "simplify"_a = py::none(), "normal_rows"_a = d.normalRows, "normal_columns"_a = d.normalColumns,
-        "block_size"_a = d.blockSize);
+        "block_size"_a = d.blockSize, "portals"_a = py::none());
   c.def_static(
       "load",
       [](const std::string& path, const std::string& strategy, float scale, double rotation,
          std::optional<double> epsilon, const std::optional<SimplifyOptions>& simplify, uint32_t normalRows,
-         uint32_t normalColumns, uint32_t blockSize) {
+         uint32_t normalColumns, uint32_t blockSize, const std::optional<py::sequence>& portals) {
+        std::vector<Portal> portalList = portalsOf(portals);
         std::shared_ptr<EnvironmentMap> map;
         {
           py::gil_scoped_release release;
           map = std::make_shared<EnvironmentMap>(EnvironmentMap::load(path));
         }
         return makeLight(std::move(map), strategy, scale, rotation, epsilon, simplify,
-                         {normalRows, normalColumns, blockSize});
+                         {normalRows, normalColumns, blockSize}, std::move(portalList));
       },
       "path"_a, "strategy"_a = "adaptive", "scale"_a = 1.0f, "rotation"_a = 0.0, "epsilon"_a = py::none(),
       "simplify"_a = py::none(), "normal_rows"_a = d.normalRows, "normal_columns"_a = d.normalColumns,
-      "block_size"_a = d.blockSize, "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
+      "block_size"_a = d.blockSize, "portals"_a = py::none(), "Reads a lat-long image (OpenEXR, HDR, ...; acdf.FileError if it cannot).");
   c.def(
       "sample",
       [](const EnvironmentLight& light, const ArrayArg& u, const std::optional<ArrayArg>& normal,
-         bool allowIncomplete) {
+         const std::optional<ArrayArg>& position, bool allowIncomplete) {
         const Batch<float> variates = batch<float>(u, 2, "u");
         const std::size_t n = variates.rows;
-        const Contexts context = contextsOf(allowIncomplete, normal, n);
+        const Contexts context = contextsOf(allowIncomplete, normal, position, n);
         auto dirs = output<double>(n, 3), pdf = output<double>(n);
         auto radiance = output<float>(n, 3);
         const float* in = variates.data;
@@ -159,24 +223,27 @@ void bindLight(py::module_& m) {
         });
         return py::make_tuple(dirs, radiance, pdf);
       },
-      "u"_a, "normal"_a = py::none(), "allow_incomplete_pdf"_a = false,
+      "u"_a, "normal"_a = py::none(), "position"_a = py::none(), "allow_incomplete_pdf"_a = false,
       "Samples for variates u of shape (n, 2): (dirs (n, 3), radiance (n, 3), pdf (n,)). pdf is 0 only\n"
       "for a light that emits nothing (then there is no sample). normal: the shading normals (world\n"
       "frame, (n, 3) or one (3,)) the local strategy samples L(w) max(0, n.w) for; without them a local\n"
-      "light samples its adaptive table. pdf() must be given the same normals.");
+      "light samples its adaptive table. position: the points lit (world frame, (n, 3) or one (3,)),\n"
+      "which the portals are seen from; without them no portal is used. pdf() must be given the same\n"
+      "normals and positions.");
   c.def(
       "pdf",
       [](const EnvironmentLight& light, const ArrayArg& dirs, const std::optional<ArrayArg>& normal,
-         bool allowIncomplete) {
+         const std::optional<ArrayArg>& position, bool allowIncomplete) {
         const Directions w = directions(dirs, "dirs");
-        const Contexts context = contextsOf(allowIncomplete, normal, w.rows());
+        const Contexts context = contextsOf(allowIncomplete, normal, position, w.rows());
         auto pdf = output<double>(w.rows());
         double* ps = pdf.mutable_data();
         forEachRow(w.rows(), [&](std::size_t i) { ps[i] = light.pdf(context(i), w[i]); });
         return pdf;
       },
-      "dirs"_a, "normal"_a = py::none(), "allow_incomplete_pdf"_a = false,
-      "Density per steradian of sample() at each direction, shape (n,) (with the same normals).");
+      "dirs"_a, "normal"_a = py::none(), "position"_a = py::none(), "allow_incomplete_pdf"_a = false,
+      "Density per steradian of sample() at each direction, shape (n,) (with the same normals and\n"
+      "positions).");
   c.def(
       "eval",
       [](const EnvironmentLight& light, const ArrayArg& dirs) {
@@ -241,6 +308,8 @@ void bindLight(py::module_& m) {
       "pixel_distributions[b] over its rows, then its columns. The density per steradian is the product of\n"
       "the two tables' (each as cascade_arrays says) over blocks x block_height x block_width x the row's\n"
       "pixel solid angle.");
+  c.attr("portal_share") = EnvironmentLight::kPortalShare;
+  c.attr("min_portal_solid_angle") = EnvironmentLight::kMinPortalSolidAngle;
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");

@@ -89,6 +89,38 @@ def test_every_environment_sampling_is_listed_described_and_accepted():
         acdf.EnvironmentLight(world, strategy="no-such-strategy")
 
 
+def test_portals_let_the_map_through_from_inside_and_bad_ones_are_refused():
+    """A constant map of radiance 1 seen through a window: from a point inside, the mixture's samples
+    weigh 1 on average over the whole sphere (the light's power is unchanged); about half of them pass
+    through the window; behind the window, or without a position, the light samples as it does
+    without portals. Portals acdf cannot use are refused naming the portal and the problem."""
+    window = {"corner": [-0.5, 0.2, 1.0], "edge_u": [0.0, 0.6, 0.0], "edge_v": [1.0, 0.0, 0.0]}
+    world = acdf.EnvironmentMap(np.ones((16, 32, 3), np.float32))
+    light = acdf.EnvironmentLight(world, portals=[window])
+    plain = acdf.EnvironmentLight(world)
+    u = np.random.default_rng(5).random((200_000, 2), dtype=np.float32)
+    inside = np.array([0.1, 0.5, 0.0])
+    d, radiance, pdf = light.sample(u, position=inside)
+    np.testing.assert_allclose(light.pdf(d, position=inside), pdf, rtol=1e-12)
+    weights = radiance[:, 0] / pdf
+    assert abs(weights.mean() - 4 * np.pi) < 5 * weights.std() / np.sqrt(len(u))
+    hits = (1.0 - inside[2]) / d[:, 2]
+    x, y = inside[0] + hits * d[:, 0], inside[1] + hits * d[:, 1]
+    through = (hits > 0) & (np.abs(x) <= 0.5) & (y >= 0.2) & (y <= 0.8)
+    assert 0.5 < through.mean() < 0.6
+    for position in ([0.1, 0.5, 1.5], None):
+        np.testing.assert_array_equal(light.sample(u[:100], position=position)[0], plain.sample(u[:100])[0])
+    assert acdf.portal_problem(window) is None
+    bad = [({**window, "edge_v": [1.0, 0.1, 0.0]}, "portals \\[0\\]: edge_u and edge_v must be perpendicular"),
+           ({**window, "edge_u": [0.0, 0.0, 0.0]}, "portals \\[0\\]: its edges must not be zero"),
+           ({"corner": [0, 0, 0], "edge_u": [1, 0, 0]}, "portals\\[0\\]: needs corner, edge_u and edge_v"),
+           ({**window, "corner": [0, 0]}, "portals\\[0\\].corner: expected 3 numbers"),
+           ({**window, "normal": [0, 0, 1]}, "portals\\[0\\]: unknown key normal")]
+    for portal, message in bad:
+        with pytest.raises(ValueError, match=message):
+            acdf.EnvironmentLight(world, portals=[portal])
+
+
 def test_help_states_the_conventions():
     assert "per steradian" in acdf.__doc__ and "lat-long" in acdf.__doc__
     for name in ["Cascade", "EnvironmentLight", "BrdfSampler", "TabulatedBrdfSampler", "SimplifyOptions"]:

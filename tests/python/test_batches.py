@@ -94,6 +94,14 @@ def cases(rng):
                  {"allow_incomplete_pdf": True}),
             Case("EnvironmentLight|normal.pdf", local.pdf, {"dirs": towards, "normal": normals},
                  {"allow_incomplete_pdf": True})]
+    # Points inside a room around the origin, lit through a window in the plane z = 1, and a few behind it.
+    window = {"corner": [-0.5, 0.2, 1.0], "edge_u": [0.0, 0.6, 0.0], "edge_v": [1.0, 0.0, 0.0]}
+    portal = acdf.EnvironmentLight(sky(rng), strategy="compensated", portals=[window])
+    points = Arg(rng.uniform([-1.0, 0.0, -1.0], [1.0, 1.0, 1.3], (n, 3)), F64)
+    out += [Case("EnvironmentLight|position.sample", portal.sample, {"u": u2, "position": points},
+                 {"allow_incomplete_pdf": True}),
+            Case("EnvironmentLight|position.pdf", portal.pdf, {"dirs": dirs(), "position": points},
+                 {"allow_incomplete_pdf": True})]
 
     gold = acdf.AnalyticBrdf.preset("gold")
     tabulated = acdf.TabulatedBrdfSampler(gold, layout="isotropic", theta_out=4, theta_half=16, phi_half=8)
@@ -207,6 +215,7 @@ NOT_BATCHED = {
     "chi_square_test": "whole arrays; test_arrays_in_any_layout",
     "sidak_alpha": "no array",
     "environment_samplings": "no array",
+    "portal_problem": "no array; test_api",
     "table_options": "no array",
 }
 # BrdfSampler's methods are one binding each, shared by its subclasses, which cases() call.

@@ -154,6 +154,9 @@ class EnvironmentLight {
   // of a shading point.
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
   static constexpr double kPortalShare = 0.5;
+  // Below this solid angle a portal is not sampled: SphericalRectangle's construction, a sum of
+  // four angles minus 2π, has no correct digit left in double (a 1 m² window 30 km away).
+  static constexpr double kMinPortalSolidAngle = 1e-9;
   // Density per steradian of sample(context, ·) at the world direction w (non-zero).
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
   // `context` at the shading normal `normal` (world frame, non-zero), with its local table cell
