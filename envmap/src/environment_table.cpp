@@ -152,6 +152,8 @@ class PixelDistribution {
   // What the table cache saves (empty: not worth saving, rebuilt in O(pixels)).
   virtual std::vector<std::byte> serialize() const { return {}; }
   virtual const Cascade* cascade() const { return nullptr; }
+  virtual const PixelAlias* alias() const { return nullptr; }
+  virtual const HierarchicalWarp2D* hierarchical() const { return nullptr; }
 };
 
 namespace {
@@ -192,6 +194,7 @@ class AliasPixels final : public PixelDistribution {
   double density(PixelIndex p) const override { return alias_.probability(p) * pixels_; }
   std::size_t bytes() const override { return alias_.bytes(); }
   std::vector<double> pixelProbabilities() const override { return alias_.pixelProbabilities(); }
+  const PixelAlias* alias() const override { return &alias_; }
 
  private:
   PixelAlias alias_;
@@ -210,6 +213,7 @@ class HierarchicalPixels final : public PixelDistribution {
   double density(PixelIndex p) const override { return warp_.probability(p.row, p.column) * pixels_; }
   std::size_t bytes() const override { return warp_.bytes(); }
   std::vector<double> pixelProbabilities() const override { return warp_.cellProbabilities(); }
+  const HierarchicalWarp2D* hierarchical() const override { return &warp_; }
 
  private:
   HierarchicalWarp2D warp_;
@@ -301,6 +305,10 @@ double EnvironmentTable::pdf(PixelIndex p) const {
 }
 
 const Cascade* EnvironmentTable::cascade() const { return pixels_ ? pixels_->cascade() : nullptr; }
+
+const PixelAlias* EnvironmentTable::alias() const { return pixels_ ? pixels_->alias() : nullptr; }
+
+const HierarchicalWarp2D* EnvironmentTable::hierarchical() const { return pixels_ ? pixels_->hierarchical() : nullptr; }
 
 std::size_t EnvironmentTable::bytes() const { return pixels_ ? pixels_->bytes() : 0; }
 

@@ -29,15 +29,15 @@ uniform, rgl, cosine) and, for the tables, every table option of `acdf.Tabulated
 them). Any other parameter is refused, by either plugin. Mitsuba's si.wi (towards the viewer) is acdf's wo and Mitsuba's wo (towards
 the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 
-In the JIT variants `acdf_envmap` with a table that is a cascade over the pixels (uniform, adaptive,
-compensated), one per normal cell over blocks of pixels (local, local-compensated: each lane's from
-it.n) or none (uniform-sphere) samples and evaluates it with drjit operations over the tables'
-arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured` with adaptive,
-uniform or cosine sampling (NativeMeasured), whose BRDF values are, for an RGL file, those of
-Mitsuba's `measured` plugin loaded from the same file, for a MERL file its table's in drjit. The
-other strategies and rgl sampling make one batched acdf call per wavefront, which reads the arrays
-into numpy: they
-need drjit's evaluated mode, which `register()` turns on in the thread that calls it (drjit's flags
+In the JIT variants `acdf_envmap`, whatever its strategy, samples and evaluates its table (a cascade
+over the pixels: uniform, adaptive, compensated; alias tables over the rows and the row's columns:
+alias; a mip pyramid of the pixels: hierarchical; one per normal cell over blocks of pixels: local,
+local-compensated, each lane's from it.n; or none: uniform-sphere) with drjit operations over the
+tables' arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured` with
+adaptive, uniform or cosine sampling (NativeMeasured), whose BRDF values are, for an RGL file, those
+of Mitsuba's `measured` plugin loaded from the same file, for a MERL file its table's in drjit. rgl
+sampling makes one batched acdf call per wavefront, which reads the arrays into numpy: it
+needs drjit's evaluated mode, which `register()` turns on in the thread that calls it (drjit's flags
 are per thread, and Mitsuba may build plugins on others). `register(batched_plugins=False)` leaves
 drjit's symbolic modes as they are, for renders 4-6x faster, and refuses the batched plugins.
 """
@@ -299,8 +299,8 @@ def _make_envmap_classes():
             if self.strategy == "uniform-sphere" or light.emits_nothing:
                 self.table = self.complete = None
             else:
-                self.table = _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=self.incomplete), width, height)
-                self.complete = (_DrjitTable(mi, light.cascade_arrays(), width, height)
+                self.table = _drjit_pixel_table(mi, light, self.incomplete)
+                self.complete = (_drjit_pixel_table(mi, light, False)
                                  if self.incomplete and self.local is None else self.table)
             self.portals_seen = (_DrjitPortals(mi, self.portals) if self.portals and not light.emits_nothing
                                  else None)
@@ -427,9 +427,10 @@ def _make_envmap_classes():
     return AcdfEnvmap, BatchedEnvmap, NativeEnvmap
 
 
-# The strategies NativeEnvmap samples: a table that is a cascade over the pixels, none, or one per
-# normal cell over blocks of pixels (local).
-_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "adaptive", "compensated", "local", "local-compensated")
+# The strategies NativeEnvmap samples: a table of the pixels (a cascade, alias tables or a mip pyramid),
+# none, or one per normal cell over blocks of pixels (local).
+_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local",
+                      "local-compensated")
 # How far from a pixel's edges (a fraction of the pixel) NativeEnvmap places its samples: a float32
 # direction's pixel, found again by pdf_direction, is then the pixel it was drawn in (float32 angles
 # err by a few 1e-7 rad, 1e-3 of a pixel of a 8192 x 4096 map). The radiance and the pdf are
@@ -602,6 +603,125 @@ class _DrjitTable:
         below, row_density = self.rows.lookup(0, row, active, self.mi.Float)
         column_density = self.columns.lookup(below, column, active, self.mi.Float)[1]
         return self._density(row, row_density, column_density, active)
+
+
+class _DrjitPixelChoice:
+    """What the alias and hierarchical tables share: they give a pixel's probability, which per steradian
+    is P(pixel) W H times 1 / (W H x the row's pixel solid angle), in double as acdf's EnvironmentTable
+    has it. pdf() answers it for map pixel (row, column) from the table's _probability (float64)."""
+
+    def __init__(self, mi, width, height):
+        self.mi = mi
+        self.width, self.height = width, height
+        self.pixels = float(width) * height
+        self.pdf_scale = mi.Float64(1.0 / (self.pixels * _pixel_solid_angles(width, height)[1]))
+
+    def pdf(self, row, column, active):
+        """Density per steradian of sample() on map pixel (row, column)."""
+        mi = self.mi
+        density = self._probability(row, column, active) * self.pixels
+        return mi.Float(density * dr.gather(mi.Float64, self.pdf_scale, row, active))
+
+
+class _DrjitAliasTable(_DrjitPixelChoice):
+    """An acdf alias table of a map's pixels (PixelAlias, envmap/pixel_alias.h;
+    EnvironmentLight.alias_arrays) in a JIT variant's arrays: an alias table of the rows, then one of
+    the row's columns, each variate split in double as acdf's AliasTable splits it, so that the same
+    variates give the same pixel and the same position in it."""
+
+    def __init__(self, mi, arrays, width, height):
+        super().__init__(mi, width, height)
+        kinds = {"acceptance": mi.Float, "alias": mi.UInt32, "probability": mi.Float}
+        self.rows, self.columns = ({name: kind(arrays[level][name]) for name, kind in kinds.items()}
+                                   for level in ("rows", "columns"))
+
+    def _draw(self, table, first, slots, u, active):
+        """Variate u (float32 in [0, 1)) through the alias table of `slots` slots from `first` in
+        `table`: the cell drawn and u's fraction left, remapped to [0, 1) (float32)."""
+        mi = self.mi
+        scaled = mi.Float64(u) * slots
+        slot = dr.minimum(mi.UInt32(scaled), slots - 1)
+        fraction = scaled - mi.Float64(slot)
+        acceptance = mi.Float64(dr.gather(mi.Float, table["acceptance"], first + slot, active))
+        kept = fraction < acceptance
+        cell = dr.select(kept, slot, dr.gather(mi.UInt32, table["alias"], first + slot, active))
+        remapped = dr.select(kept, fraction / acceptance, (fraction - acceptance) / (1 - acceptance))
+        return cell, dr.minimum(mi.Float(remapped), _below(1))
+
+    def _probability(self, row, column, active):
+        mi = self.mi
+        row_probability = dr.gather(mi.Float, self.rows["probability"], row, active)
+        column_probability = dr.gather(mi.Float, self.columns["probability"], row * self.width + column, active)
+        return mi.Float64(row_probability) * mi.Float64(column_probability)
+
+    def sample(self, u, active):
+        """The pixel (row, column) drawn, where in it (down, right: fractions) and the pdf per steradian."""
+        u0, u1 = _unit_variates(u)
+        row, down = self._draw(self.rows, 0, self.height, u0, active)
+        column, right = self._draw(self.columns, row * self.width, self.width, u1, active)
+        return row, column, down, right, self.pdf(row, column, active)
+
+
+class _DrjitHierarchicalTable(_DrjitPixelChoice):
+    """An acdf hierarchical table of a map's pixels (HierarchicalWarp2D,
+    sampling/hierarchical_warp_2d.h; EnvironmentLight.hierarchical_arrays) in a JIT variant's arrays:
+    its mip pyramid descended from the top by splitting the variates, in double as acdf's C++
+    descends it, so that the same variates give the same pixel and the same position in it."""
+
+    def __init__(self, mi, levels, width, height):
+        super().__init__(mi, width, height)
+        blocks = [np.asarray(level["blocks"], dtype=np.float32) for level in levels]
+        # Every level's blocks end to end, the pixels' first; per level the index of its first node
+        # (of the level above) and the nodes per row there.
+        self.blocks = mi.Float(np.concatenate(blocks))
+        self.first_node = [int(n) for n in np.cumsum([0] + [len(b) // 4 for b in blocks[:-1]])]
+        self.parent_columns = [int(level["parent_columns"]) for level in levels]
+
+    def _children(self, level, row, column, active):
+        """The masses (float64) of the four children on `level` of node (row, column) of the level above."""
+        mi = self.mi
+        node = self.first_node[level] + row * self.parent_columns[level] + column
+        return [mi.Float64(dr.gather(mi.Float, self.blocks, 4 * node + k, active)) for k in range(4)]
+
+    @staticmethod
+    def _choose(u, first, second):
+        """One binary choice of the descent (hierarchical_warp_2d.cpp's choose): whether u takes the
+        second branch, and u rescaled to [0, 1) inside the branch taken."""
+        total = first + second
+        p = first / total
+        taken = ~(u < p)
+        u = dr.select(taken, (u - p) / (second / total), u / p)
+        return taken, dr.minimum(u, float(np.nextafter(1.0, 0.0)))
+
+    def _probability(self, row, column, active):
+        node = (row >> 1) * self.parent_columns[0] + (column >> 1)
+        slot = 4 * node + 2 * (row & 1) + (column & 1)
+        return self.mi.Float64(dr.gather(self.mi.Float, self.blocks, slot, active))
+
+    def sample(self, u, active):
+        """The pixel (row, column) drawn, where in it (down, right: float64 fractions) and the pdf per
+        steradian."""
+        mi = self.mi
+        u0, u1 = (mi.Float64(v) for v in _unit_variates(u))
+        row = column = mi.UInt32(0)
+        for level in reversed(range(len(self.parent_columns))):
+            top_left, top_right, bottom_left, bottom_right = self._children(level, row, column, active)
+            down, u0 = self._choose(u0, top_left + top_right, bottom_left + bottom_right)
+            left_mass, right_mass = dr.select(down, bottom_left, top_left), dr.select(down, bottom_right, top_right)
+            right, u1 = self._choose(u1, left_mass, right_mass)
+            row = dr.select(down, 2 * row + 1, 2 * row)
+            column = dr.select(right, 2 * column + 1, 2 * column)
+        return row, column, u0, u1, self.pdf(row, column, active)
+
+
+def _drjit_pixel_table(mi, light, allow_incomplete_pdf):
+    """The drjit sampler of a light's table of pixels: its alias tables, its pyramid or its cascade."""
+    width, height = light.map.width, light.map.height
+    if light.strategy == "alias":
+        return _DrjitAliasTable(mi, light.alias_arrays(), width, height)
+    if light.strategy == "hierarchical":
+        return _DrjitHierarchicalTable(mi, light.hierarchical_arrays(), width, height)
+    return _DrjitTable(mi, light.cascade_arrays(allow_incomplete_pdf=allow_incomplete_pdf), width, height)
 
 
 class _DrjitLocalTable:
@@ -1259,7 +1379,7 @@ def register(batched_plugins=True):
     mi.set_variant, in the thread that renders).
 
     In JIT variants, batched_plugins=True turns on the evaluated mode the batched plugins need
-    (acdf_measured with rgl sampling, acdf_envmap with alias or hierarchical). False leaves drjit's
+    (acdf_measured with rgl sampling). False leaves drjit's
     symbolic modes as they are, so that Mitsuba records the plugins' drjit sampling into its kernels
     with the rest of the path (4-6x faster renders); the batched plugins are then refused, naming
     this option."""

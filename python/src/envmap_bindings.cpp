@@ -8,6 +8,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,24 @@ struct Contexts {
     return c;
   }
 };
+
+// Alias tables of one size laid end to end (table t's slot j at t x size + j), as alias_arrays documents.
+py::dict aliasArrays(std::span<const AliasTable* const> tables) {
+  const std::size_t slots = tables.front()->size();
+  auto acceptance = output<float>(tables.size() * slots), probability = output<float>(tables.size() * slots);
+  auto alias = output<uint32_t>(tables.size() * slots);
+  float *as = acceptance.mutable_data(), *ps = probability.mutable_data();
+  uint32_t* is = alias.mutable_data();
+  for (std::size_t t = 0; t < tables.size(); ++t) {
+    for (uint32_t j = 0; j < slots; ++j) {
+      const std::size_t at = t * slots + j;
+      as[at] = tables[t]->acceptance(j);
+      is[at] = tables[t]->alias(j);
+      ps[at] = tables[t]->probability(j);
+    }
+  }
+  return py::dict("acceptance"_a = acceptance, "alias"_a = alias, "probability"_a = probability);
+}
 
 // One row, or one per sample.
 void requireRowsFor(std::size_t rows, std::size_t n, const std::string& name) {
@@ -279,6 +298,52 @@ void bindLight(py::module_& m) {
       "is the product over axes of (value step) / (vertex step / cells); per steradian, divide by\n"
       "width x height x the row's pixel solid angle.");
   c.def(
+      "alias_arrays",
+      [](const EnvironmentLight& light) -> py::object {
+        const PixelAlias* alias = light.table({}).alias();
+        if (!alias) return py::none();
+        const AliasTable* rows[] = {&alias->rows()};
+        std::vector<const AliasTable*> columns(alias->rows().size());
+        for (uint32_t r = 0; r < columns.size(); ++r) columns[r] = &alias->columns(r);
+        return py::dict("rows"_a = aliasArrays(rows), "columns"_a = aliasArrays(columns));
+      },
+      "The alias tables of an alias light (None for other strategies and a black map), for sampling them in\n"
+      "other arithmetic (acdf.mitsuba's drjit arrays): rows, the table of the map's rows, and columns, every\n"
+      "row's table of its columns end to end (row r's slot j at r x width + j); each a dict of per-slot arrays\n"
+      "acceptance (float32), alias (uint32) and probability (float32, of the slot's own cell). A table of n\n"
+      "slots takes a variate u in [0, 1) to slot i = min(floor(u n), n - 1) with fraction f = u n - i (in\n"
+      "double) and keeps cell i if f < acceptance[i], remapping f to f / acceptance[i], else takes cell\n"
+      "alias[i], remapping f to (f - acceptance[i]) / (1 - acceptance[i]); the remapped fraction is rounded to\n"
+      "float32, at most the largest float below 1. u0 draws the row, u1 a column of that row; the two remapped\n"
+      "fractions are the position in the pixel (down, right). A pixel's probability is the product of its\n"
+      "row's and its column's, in double; per steradian, divide by the row's pixel solid angle.");
+  c.def(
+      "hierarchical_arrays",
+      [](const EnvironmentLight& light) -> py::object {
+        const HierarchicalWarp2D* warp = light.table({}).hierarchical();
+        if (!warp) return py::none();
+        py::list levels;
+        for (std::size_t k = 0; k < warp->levels(); ++k) {
+          const std::span<const float> blocks = warp->blocks(k);
+          auto masses = output<float>(blocks.size());
+          std::copy(blocks.begin(), blocks.end(), masses.mutable_data());
+          levels.append(py::dict("parent_columns"_a = warp->parentColumns(k), "blocks"_a = masses));
+        }
+        return levels;
+      },
+      "The mip pyramid of a hierarchical light (None for other strategies and a black map), for sampling it\n"
+      "in other arithmetic (acdf.mitsuba's drjit arrays): its levels from the map's pixels (level 0) up to the\n"
+      "four children of the 1 x 1 top, each a dict of parent_columns (nodes per row of the level above) and\n"
+      "blocks (float32): the masses of each node's four children (top-left, top-right, bottom-left,\n"
+      "bottom-right; 0 for one past the grid's edge), node (r, c) of the level above at 4 (r parent_columns +\n"
+      "c). The descent starts at the top's node (0, 0) with the variates u0, u1 in double. At a node whose\n"
+      "children have masses a b / c d it takes the bottom row if u0 >= p = (a + b) / (a + b + c + d), the sums\n"
+      "in double, and rescales u0 to u0 / p, else to (u0 - p) / ((c + d) / (a + b + c + d)); then u1 chooses\n"
+      "the right column of that row the same way from its two masses; each rescaled variate is at most the\n"
+      "largest double below 1. The child taken, (2 r + bottom, 2 c + right), is the node on the level below.\n"
+      "At level 0 the variates left are the position in the pixel (down, right) and the pixel's probability\n"
+      "is its mass there; per steradian, divide by the row's pixel solid angle.");
+  c.def(
       "local_arrays",
       [](const EnvironmentLight& light) -> py::object {
         const LocalEnvironmentTable* local = light.localTable();
@@ -348,10 +413,9 @@ EnvironmentMap.load(path): OpenEXR, or any image OpenImageIO reads where acdf is
       [](const EnvironmentMap& map) -> py::object {
         const auto& c = map.declaredChromaticities();
         if (!c) return py::none();
-        return py::dict("red"_a = py::make_tuple(c->red[0], c->red[1]),
-                        "green"_a = py::make_tuple(c->green[0], c->green[1]),
-                        "blue"_a = py::make_tuple(c->blue[0], c->blue[1]),
-                        "white"_a = py::make_tuple(c->white[0], c->white[1]));
+        return py::dict(
+            "red"_a = py::make_tuple(c->red[0], c->red[1]), "green"_a = py::make_tuple(c->green[0], c->green[1]),
+            "blue"_a = py::make_tuple(c->blue[0], c->blue[1]), "white"_a = py::make_tuple(c->white[0], c->white[1]));
       },
       "The CIE xy of the primaries and white the file declared (OpenEXR's chromaticities), as a dict, or\n"
       "None. rgb is linear Rec. 709 / D65 either way: declared pixels were converted through XYZ without\n"

@@ -203,6 +203,8 @@ NOT_BATCHED = {
     "EnvironmentLight.pixel_probabilities": "an output; test_returned_arrays",
     "EnvironmentLight.cascade_arrays": "an output; test_returned_arrays",
     "EnvironmentLight.local_arrays": "an output; test_returned_arrays",
+    "EnvironmentLight.alias_arrays": "an output; test_returned_arrays",
+    "EnvironmentLight.hierarchical_arrays": "an output; test_returned_arrays",
     "EnvironmentMap.load": "a file",
     "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
     "MerlBrdf.load": "a file",
@@ -304,6 +306,36 @@ def test_returned_arrays(rng):
         np.testing.assert_allclose(probabilities_of_cascade(light.cascade_arrays(incomplete), 8, 16),
                                    light.pixel_probabilities(incomplete), rtol=1e-5, atol=1e-7)
     assert acdf.EnvironmentLight(world, strategy="alias").cascade_arrays() is None
+    # An alias light's tables: each gives every cell what its slots hand it (acceptance to the slot's own
+    # cell, the rest to its alias), the cell's stored probability; a pixel's is its row's times its column's.
+    alias = acdf.EnvironmentLight(world, strategy="alias")
+    arrays = alias.alias_arrays()
+    for table, tables, slots in ((arrays["rows"], 1, 8), (arrays["columns"], 8, 16)):
+        acceptance = table["acceptance"].astype(F64).reshape(tables, slots)
+        law = np.zeros((tables, slots))
+        for t in range(tables):
+            np.add.at(law[t], np.arange(slots), acceptance[t] / slots)
+            np.add.at(law[t], table["alias"].reshape(tables, slots)[t], (1 - acceptance[t]) / slots)
+        np.testing.assert_allclose(law, table["probability"].reshape(tables, slots), rtol=1e-5, atol=1e-7)
+    pixels = arrays["rows"]["probability"].astype(F64)[:, None] * arrays["columns"]["probability"].reshape(8, 16)
+    np.testing.assert_array_equal(pixels, alias.pixel_probabilities())
+    # A hierarchical light's pyramid: its pixels' masses are their probabilities, and each node's mass
+    # on a level is the float sum of its four children's below.
+    hierarchical = acdf.EnvironmentLight(world, strategy="hierarchical")
+    levels = hierarchical.hierarchical_arrays()
+    assert [level["parent_columns"] for level in levels] == [8, 4, 2, 1]
+
+    def nodes(level):
+        """A level's blocks as its (padded) grid of masses, and the sums of each block, per node above."""
+        blocks = level["blocks"].reshape(-1, level["parent_columns"], 2, 2)
+        grid = blocks.transpose(0, 2, 1, 3).reshape(2 * blocks.shape[0], -1)
+        return grid, blocks.astype(F64).sum((2, 3)).astype(F32)
+
+    np.testing.assert_array_equal(nodes(levels[0])[0], hierarchical.pixel_probabilities())
+    for below, level in zip(levels, levels[1:]):
+        sums = nodes(below)[1]
+        np.testing.assert_array_equal(nodes(level)[0][:sums.shape[0], :sums.shape[1]], sums)
+    assert alias.hierarchical_arrays() is None and hierarchical.alias_arrays() is None
     # A local light's tables: its normal cell's block probabilities times each block's pixel ones
     # are the probabilities of its pdf at that normal.
     normal = np.array([0.3, 0.8, 0.5])

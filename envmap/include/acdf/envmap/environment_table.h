@@ -168,6 +168,9 @@ class EnvironmentTable {
   // own arithmetic (its grid cells are the pixels: axis 0 the rows, axis 1 the columns); null for
   // the other strategies and a map that emits nothing.
   const Cascade* cascade() const;
+  // The same for an Alias and a Hierarchical table.
+  const PixelAlias* alias() const;
+  const HierarchicalWarp2D* hierarchical() const;
   // Bytes of the table (0 without one).
   std::size_t bytes() const;
   // Probability the table gives each pixel, row-major (empty without a table). Exact.

@@ -41,6 +41,10 @@ class PixelAlias {
   std::size_t bytes() const;
   std::vector<double> pixelProbabilities() const;  // row-major
 
+  // The tables, for callers that sample them in other arithmetic.
+  const AliasTable& rows() const { return rows_; }
+  const AliasTable& columns(uint32_t row) const { return columns_[row]; }
+
  private:
   AliasTable rows_;
   std::vector<AliasTable> columns_;  // one per row; rows without mass are never chosen

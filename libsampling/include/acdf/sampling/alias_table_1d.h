@@ -49,6 +49,9 @@ class AliasTable {
   Discrete sample(float uCell, float uAccept) const;
   float cellFraction(float uCell) const;
   float probability(uint32_t index) const { return cells_[index].probability; }
+  // Slot `slot`'s acceptance probability and alias, for callers that sample it in other arithmetic.
+  float acceptance(uint32_t slot) const { return cells_[slot].accept; }
+  uint32_t alias(uint32_t slot) const { return cells_[slot].alias; }
 
   std::size_t size() const { return cells_.size(); }
   double integral() const { return integral_; }  // Σ weights (double)

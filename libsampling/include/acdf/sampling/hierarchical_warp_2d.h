@@ -78,6 +78,10 @@ class HierarchicalWarp2D {
   uint32_t rows() const { return axes_[0].cells(); }
   uint32_t columns() const { return axes_[1].cells(); }
   std::size_t levels() const { return levels_.size(); }  // stored levels (the 1 × 1 top is not)
+  // Stored level k (0 = the grid), for callers that descend it in other arithmetic: the four child
+  // masses of each node of the level above, row-major nodes, `parentColumns(k)` nodes per row.
+  std::span<const float> blocks(std::size_t k) const { return levels_[k].blocks; }
+  uint32_t parentColumns(std::size_t k) const { return levels_[k].parentColumns; }
   bool isUniformFallback() const { return uniformFallback_; }
   std::size_t bytes() const;
   std::vector<double> cellProbabilities() const;  // row-major
