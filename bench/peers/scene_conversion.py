@@ -12,7 +12,8 @@ The conventions (each checked by bench/peers/test_conventions.py on a tiny scene
   (GGX, alpha, `material` none).
 - Shapes are two-sided in all three; the pixel filter is a one-pixel box.
 - `environment.portals`: Cycles' portals (rectangular area lights marked as portals, lighting into the room);
-  Mitsuba 3 has none, so its rows render the scene without them. Portals change the noise, not the image.
+  Mitsuba 3 has none, so its rows with `envmap` render the scene without them; with acdf's map plugin
+  (`acdf_envmap`), nested rectangles whose normal points into the room. Portals change the noise, not the image.
 - Cycles: adaptive sampling, denoising, clamping, the light threshold and "Filter Glossy" off (each makes it
   estimate something else); the map looked up at the nearest pixel, as acdf does (Mitsuba's `envmap` is
   bilinear, with no option); spheres are one-point point clouds, which Cycles intersects as true spheres.
@@ -256,6 +257,13 @@ def mitsuba_look_at(camera):
 ACDF_MAP_STRATEGY = "compensated"
 
 
+def mitsuba_rectangle(corner, u, v):
+    """The to_world of Mitsuba's rectangle ([-1, 1]^2 of its local xy plane, normal +Z) spanning
+    corner + s u + t v, s, t in [0, 1], its normal along u x v."""
+    centre = _add(corner, _scaled(_add(u, v), 0.5))
+    return _columns_matrix([_scaled(u, 0.5), _scaled(v, 0.5), _normalized(_cross(u, v))], centre)
+
+
 def mitsuba_scene_dict(scene, sampler, spp, acdf_map=False):
     """The Mitsuba 3 scene dict of `scene` (transforms as nested lists: load_mitsuba_scene wraps them); with
     acdf_map, a map is acdf's plugin (acdf.mitsuba.register() first) instead of Mitsuba's `envmap`."""
@@ -277,6 +285,10 @@ def mitsuba_scene_dict(scene, sampler, spp, acdf_map=False):
                                  "to_world": axis_rotation((0, 1, 0), environment.get("rotation", 0.0))}
         if acdf_map:
             result["environment"].update(type="acdf_envmap", strategy=ACDF_MAP_STRATEGY)
+            for index, portal in enumerate(environment.get("portals", [])):
+                # acdf_envmap's portal: its normal (+Z) is the inner side edge_u x edge_v.
+                result["environment"][f"portal-{index}"] = {
+                    "type": "rectangle", "to_world": mitsuba_rectangle(portal["corner"], portal["edge_u"], portal["edge_v"])}
     else:
         result["environment"] = {"type": "constant",
                                  "radiance": {"type": "rgb", "value": _color(environment["radiance"])}}
@@ -292,11 +304,8 @@ def mitsuba_scene_dict(scene, sampler, spp, acdf_map=False):
             entry = {"type": "sphere", "center": shape["center"], "radius": shape["radius"]}
         elif shape["type"] == "quad":
             corner, plus_u, _, plus_v = quad_corners(shape)
-            u, v = _sub(plus_u, corner), _sub(plus_v, corner)
-            centre = _add(corner, _scaled(_add(u, v), 0.5))
-            # Mitsuba's rectangle is [-1, 1]^2 in its local xy plane
             entry = {"type": "rectangle",
-                     "to_world": _columns_matrix([_scaled(u, 0.5), _scaled(v, 0.5), _normalized(_cross(u, v))], centre)}
+                     "to_world": mitsuba_rectangle(corner, _sub(plus_u, corner), _sub(plus_v, corner))}
         else:  # mesh: flat shading, as acdf shades with the geometric normal
             entry = {"type": "obj", "filename": shape["file"], "face_normals": True,
                      "to_world": shape_transform(shape.get("transform"))}

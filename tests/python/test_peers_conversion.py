@@ -151,3 +151,27 @@ def test_a_portal_becomes_a_cycles_area_light_lighting_into_the_room():
     # The window is in the wall z = 2 and lights towards -z (acdf), +y in Blender: the light's -Z.
     assert np.allclose(frame[:, 2], [0, -1, 0]) and (size_x, size_y) == pytest.approx((1.4, 1.1))
     assert np.allclose(np.array(matrix)[:3, 3], sc.blender_from_acdf((0.0, 1.45, 2.0)))
+
+
+def test_a_portal_becomes_acdf_envmaps_rectangle_and_acdf_samples_it_as_declared():
+    """With acdf's map plugin, a portal is a rectangle nested in the emitter on the window, its normal
+    into the room; Mitsuba's envmap row has none. acdf_envmap reads it back as the declared portal."""
+    scene = sc.read_scene(scene_file("room-portal"))
+    portal = scene.data["environment"]["portals"][0]
+    assert not any(key.startswith("portal") for key in sc.mitsuba_scene_dict(scene, "multijitter", 4)["environment"])
+    environment = sc.mitsuba_scene_dict(scene, "multijitter", 4, acdf_map=True)["environment"]
+    rectangle = environment["portal-0"]
+    assert rectangle["type"] == "rectangle"
+    matrix = rectangle["to_world"]
+    assert np.allclose(sc.apply_matrix(matrix, (-1, -1, 0)), portal["corner"])
+    assert np.allclose(linear(matrix) @ [0, 0, 1], sc._normalized(sc._cross(portal["edge_u"], portal["edge_v"])))
+    mi = pytest.importorskip("mitsuba", reason="mitsuba is not importable (run with the project's venv)")
+    pytest.importorskip("acdf.mitsuba", reason="acdf is not importable (build/python on PYTHONPATH)")
+    import acdf.mitsuba
+
+    mi.set_variant("scalar_rgb")
+    acdf.mitsuba.register()
+    emitter = sc.load_mitsuba_scene({"type": "scene", "sky": environment}).emitters()[0]
+    (read,) = emitter.portals
+    for key in ("corner", "edge_u", "edge_v"):
+        assert np.allclose(read[key], portal[key], atol=1e-6), key
