@@ -512,13 +512,21 @@ def test_llvm_portals_sample_as_acdfs_light_in_drjit(block_map, strategy):
 
 
 def test_portals_are_rectangles_that_acdf_can_use(variant, block_map):
-    """A portal that is not a rectangle, or a degenerate one, is refused naming it; in the scalar variant
-    (batched calls) the samples are acdf's light's from the interaction's point."""
+    """A portal that is not a rectangle, or a degenerate one, is refused naming it; one declared in an XML
+    scene is read, and is not geometry; in the scalar variant (batched calls) the samples are acdf's
+    light's from the interaction's point."""
     path = block_map[0]
     for child, problem in [({"type": "sphere"}, "must be a rectangle"),
                            ({"type": "rectangle", "to_world": mi.ScalarTransform4f().scale([1, 0, 1])}, "edges")]:
         with pytest.raises(RuntimeError, match=f"acdf_envmap: portal door: .*{problem}"):
             mi.load_dict({"type": "acdf_envmap", "filename": path, "door": child})
+    scene = mi.load_string(f"""<scene version="3.0.0"><shape type="sphere"/>
+        <emitter type="acdf_envmap"><string name="filename" value="{path}"/>
+            <shape type="rectangle" name="window"><transform name="to_world"><scale x="0.7" y="0.55"/>
+                <rotate y="1" angle="180"/><translate x="0" y="1.45" z="2"/></transform></shape></emitter></scene>""")
+    (portal,) = scene.emitters()[0].portals
+    assert len(scene.shapes()) == 1  # a portal is not geometry
+    assert np.allclose(portal["corner"], [0.7, 0.9, 2.0]) and np.allclose(portal["edge_v"], [0, 1.1, 0])
     if not variant.startswith("scalar"):
         return
     emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": "compensated", "window": window()})
