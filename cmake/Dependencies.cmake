@@ -23,9 +23,10 @@ find_package(nlohmann_json CONFIG REQUIRED)
 find_package(Imath CONFIG REQUIRED)
 find_package(OpenEXR CONFIG REQUIRED)
 find_package(ZLIB REQUIRED)
-# ACDF_WITH_OPENIMAGEIO: OpenImageIO reads the image formats other than OpenEXR (HDR, PNG, TIFF...).
-# Off, acdf reads OpenEXR files only and needs none of the about 250 shared libraries OpenImageIO links: the
-# portable wheel's build (pyproject.toml).
+# ACDF_WITH_OPENIMAGEIO: OpenImageIO reads the image formats other than OpenEXR (HDR, PNG, TIFF...), from a
+# module acdf loads on the first such image (envmap/src/openimageio_module.h), so that only programs that read
+# one load the about 250 shared libraries OpenImageIO links. Off, acdf reads OpenEXR files only: the portable
+# wheel's build (pyproject.toml).
 option(ACDF_WITH_OPENIMAGEIO "Read image formats other than OpenEXR through OpenImageIO" ON)
 # The tests write their images of every format with it, whatever acdf reads.
 if(ACDF_WITH_OPENIMAGEIO OR BUILD_TESTING)

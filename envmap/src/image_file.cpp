@@ -18,12 +18,15 @@
 #include <fmt/ranges.h>
 #include <zlib.h>
 #if ACDF_WITH_OPENIMAGEIO
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
+
+#include <mutex>
 #endif
 
 #include "acdf/envmap/color_space.h"
 #include "acdf/sampling/regular_file.h"
 #include "acdf/sampling/write_atomically.h"
+#include "openimageio_module.h"
 
 namespace acdf {
 
@@ -42,14 +45,12 @@ std::string withDetail(const std::string& what, const std::string& detail) {
 // on a 1-bit palette PNG gives 99000:1. 2^18 leaves a margin of 2.6 above that.
 constexpr double kMaxDecodedBytesPerFileByte = 1 << 18;
 
-// OpenImageIO 2.4 converts pixels to float through a buffer of whole scanlines in the file's own
-// format, at least 256 of them even for a shorter image (ImageInput::read_scanlines), or one row
-// of tiles: a 557-byte EXR claiming 16777218 × 1 pixels made it allocate 8.6 GB (found by
-// fuzz_image). That buffer is kept under 1 GiB: 256 scanlines of 65536 pixels × 16 float
-// channels fit. OpenEXR files are refused by the same rule, so a file is accepted or refused
-// alike whichever library reads it.
+// OpenImageIO converts pixels to float through a buffer of kScanlinesPerConversion scanlines in
+// the file's own format (openimageio_module.h): a 557-byte EXR claiming 16777218 × 1 pixels made
+// it allocate 8.6 GB (found by fuzz_image). That buffer is kept under 1 GiB: 256 scanlines of
+// 65536 pixels × 16 float channels fit. OpenEXR files are refused by the same rule, so a file is
+// accepted or refused alike whichever library reads it.
 constexpr double kMaxConversionBufferBytes = double(1 << 30);
-constexpr int kScanlinesPerConversion = 256;
 
 // What a header claims, checked the same way for every format before any pixel is decoded.
 struct HeaderClaims {
@@ -208,43 +209,57 @@ Image readOpenExr(const std::string& path) {
 }
 
 #if ACDF_WITH_OPENIMAGEIO
-// OpenImageIO keeps unretrieved error messages (per thread) and prints them at exit: always
-// collect them, also when they are not used.
-std::string takeGlobalError() { return oneLine(OIIO::geterror()); }
+// The OpenImageIO module, loaded once, from the build tree or where it is installed; null with the
+// loader's reason when neither is there.
+AcdfReadWithOpenImageIO openImageIoModule(std::string& problem) {
+  static std::once_flag loaded;
+  static AcdfReadWithOpenImageIO entry = nullptr;
+  static std::string failure;
+  std::call_once(loaded, [] {
+    for (const char* path : {ACDF_OPENIMAGEIO_MODULE_BUILT, ACDF_OPENIMAGEIO_MODULE_INSTALLED}) {
+      if (void* module = dlopen(path, RTLD_NOW | RTLD_LOCAL)) {
+        entry = reinterpret_cast<AcdfReadWithOpenImageIO>(dlsym(module, kAcdfReadWithOpenImageIO));
+        if (entry) return;
+      }
+      const char* error = dlerror();
+      failure = error ? oneLine(error) : std::string(path) + ": no entry point";
+    }
+  });
+  problem = failure;
+  return entry;
+}
 
-// Any other format OpenImageIO reads: subimage 0, MIP level 0, every pixel converted to float;
-// three or more channels are RGB (the first three), one or two gray (channel 0).
+// Any other format OpenImageIO reads, through the module.
 Image readWithOpenImageIO(const std::string& path) {
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) throw FileError(path, withDetail("not an image OpenImageIO can read", takeGlobalError()));
-  // Errors from here on are attached to `input`; fetch them before it is destroyed.
-  auto fail = [&](const std::string& what) {
-    std::string detail = oneLine(input->geterror());
-    const std::string global = takeGlobalError();
-    if (detail.empty()) detail = global;
-    input->close();
-    throw FileError(path, withDetail(what, detail));
+  std::string problem;
+  const AcdfReadWithOpenImageIO read = openImageIoModule(problem);
+  if (!read)
+    throw FileError(path, withDetail("not an OpenEXR file, and acdf's OpenImageIO module cannot be loaded", problem));
+  struct Target {
+    Image image;
+    const std::string& path;
+  } target{Image{}, path};
+  AcdfImageRead request{};
+  request.image = &target;
+  request.prepare = [](void* opaque, const AcdfImageClaims* c, char* reason, std::size_t size) -> float* {
+    auto& [image, file] = *static_cast<Target*>(opaque);
+    std::string why;
+    try {
+      const HeaderClaims claims{c->width, c->height, c->depth, c->fileChannels, c->channelsRead, c->bytesPerRow,
+                                c->bufferedRows};
+      if (const auto found = prepareImage(image, claims, file)) why = *found;
+    } catch (const std::exception& e) {
+      why = oneLine(e.what());
+    }
+    if (why.empty()) return image.pixels.data();
+    const std::size_t n = std::min(why.size(), size - 1);
+    std::copy_n(why.data(), n, reason);
+    reason[n] = '\0';
+    return nullptr;
   };
-
-  if (!input->seek_subimage(0, 0)) fail("cannot read subimage 0, MIP level 0");
-  const OIIO::ImageSpec spec = input->spec();
-  Image image;
-  image.format = input->format_name();
-  HeaderClaims claims;
-  claims.width = spec.width;
-  claims.height = spec.height;
-  claims.depth = spec.depth;
-  claims.fileChannels = spec.nchannels;
-  claims.channelsRead = spec.nchannels >= 3 ? 3 : 1;
-  claims.bytesPerRow = static_cast<double>(spec.scanline_bytes(true));
-  if (spec.tile_width > 0) claims.bufferedRows = spec.tile_height;
-  if (const auto problem = prepareImage(image, claims, path)) fail(*problem);
-  if (!input->read_image(0, 0, 0, static_cast<int>(image.channels), OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    fail("cannot read the pixels");
-  input->close();
-  (void)input->geterror();
-  (void)takeGlobalError();
-  return image;
+  if (!read(path.c_str(), &request)) throw FileError(path, withDetail(request.what, oneLine(request.detail)));
+  target.image.format = request.format;
+  return std::move(target.image);
 }
 #endif
 

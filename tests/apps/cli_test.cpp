@@ -286,6 +286,25 @@ TEST_F(Cli, OneChannelImage) {
   EXPECT_EQ(j["negative_values_clamped"], 0);
 }
 
+// OpenImageIO and the about 250 libraries it links are loaded only for an image that is not
+// OpenEXR: glibc's loader, asked to list what it loads (LD_DEBUG=libs), names none of them for a
+// run on an EXR file, and acdf's OpenImageIO module for a run on a PNG.
+TEST_F(Cli, LoadsOpenImageIoOnlyForAnImageThatIsNotOpenExr) {
+  const std::vector<float> rgb(32 * 16 * 3, 0.5f);
+  writeImage(path("map.exr"), 32, 16, 3, rgb);
+  writeImage(path("map.png"), 32, 16, 3, rgb);
+  ASSERT_EQ(setenv("LD_DEBUG", "libs", 1), 0);
+  const RunResult exr = run({"cdf-stats", path("map.exr"), "--samples", "0"});
+  const RunResult png = run({"cdf-stats", path("map.png"), "--samples", "0"});
+  unsetenv("LD_DEBUG");
+  ASSERT_EQ(exr.exitCode, 0) << describe(exr);
+  ASSERT_EQ(png.exitCode, 0) << describe(png);
+  EXPECT_EQ(exr.err.find("OpenImageIO"), std::string::npos) << exr.err;
+  EXPECT_EQ(exr.err.find("acdf_openimageio"), std::string::npos) << exr.err;
+  EXPECT_NE(png.err.find("acdf_openimageio"), std::string::npos) << png.err;
+  EXPECT_NE(png.err.find("libOpenImageIO"), std::string::npos) << png.err;
+}
+
 TEST_F(Cli, BundledSunsetEnvironmentMap) {
   const std::string file = sourceDir() + "/data/envmaps/sunset_1024x512.exr";
   if (!fs::exists(file)) GTEST_SKIP() << file << " is not in the source tree";
