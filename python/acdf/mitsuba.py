@@ -33,13 +33,14 @@ In the JIT variants `acdf_envmap`, whatever its strategy, samples and evaluates 
 over the pixels: uniform, adaptive, compensated; alias tables over the rows and the row's columns:
 alias; a mip pyramid of the pixels: hierarchical; one per normal cell over blocks of pixels: local,
 local-compensated, each lane's from it.n; or none: uniform-sphere) with drjit operations over the
-tables' arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured` with
-adaptive, uniform or cosine sampling (NativeMeasured), whose BRDF values are, for an RGL file, those
-of Mitsuba's `measured` plugin loaded from the same file, for a MERL file its table's in drjit. rgl
-sampling makes one batched acdf call per wavefront, which reads the arrays into numpy: it
-needs drjit's evaluated mode, which `register()` turns on in the thread that calls it (drjit's flags
-are per thread, and Mitsuba may build plugins on others). `register(batched_plugins=False)` leaves
-drjit's symbolic modes as they are, for renders 4-6x faster, and refuses the batched plugins.
+tables' arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured`,
+whatever its sampling (acdf's half-vector table, the RGL file's own warps or cosine-weighted:
+NativeMeasured), whose BRDF values are, for an RGL file, those of Mitsuba's `measured` plugin loaded
+from the same file, for a MERL file its table's in drjit. The scalar variants' plugins make batched
+acdf calls. A batched call in a JIT variant reads the arrays into numpy, which needs drjit's evaluated
+mode: `register()` turns it on in the thread that calls it (drjit's flags are per thread, and Mitsuba
+may build plugins on others); `register(batched_plugins=False)` leaves drjit's symbolic modes as they
+are, for renders 4-6x faster, and refuses batched plugins.
 """
 
 import drjit as dr  # Mitsuba's array library, installed with it
@@ -1046,6 +1047,16 @@ class _DrjitAxis:
         return dr.reinterpret_array(mi.Float, bits)
 
 
+def _half_vector(wo, wi, active):
+    """The half vector of a reflection (upper hemisphere), |wo . h| and the lanes where both exist."""
+    h = wi + wo
+    length = dr.norm(h)
+    h = h / length
+    h = dr.select(h.z < 0, -h, h)
+    cos_out = dr.abs(dr.dot(wo, h))
+    return h, cos_out, active & (length > 0) & (cos_out > 0) & (h.z > 0)
+
+
 class _DrjitHalfVectorTable:
     """An acdf.TabulatedBrdfSampler's table (brdf/tabulated_brdf_sampler.h) in a JIT variant's arrays,
     sampled and evaluated as its C++ sampler does: omega_o's slice of the outgoing cells, a cascade
@@ -1099,12 +1110,7 @@ class _DrjitHalfVectorTable:
         """Density of omega_i (float64 unit vectors) given omega_o above the horizon, per steradian."""
         mi = self.mi
         w = self.cosine_weight
-        h = wi + wo
-        length = dr.norm(h)
-        h = h / length
-        h = dr.select(h.z < 0, -h, h)
-        cos_out = dr.abs(dr.dot(wo, h))
-        valid = active & (length > 0) & (cos_out > 0) & (h.z > 0)
+        h, cos_out, valid = _half_vector(wo, wi, active)
         cells = self.s_axis.cells
         s_cell = mi.UInt32(dr.minimum(dr.sqrt(_polar_angle(h) / (np.pi / 2)) * cells, cells - 1))
         phi = _azimuth(h)
@@ -1162,6 +1168,312 @@ class _DrjitHalfVectorTable:
         again = active & (cosine | (cos_out < _ROUND_TRIP_EXACT))
         found = self.pdf(wo, wi, again)
         return wi, dr.select(again & (cosine | (found > 0)), found, along_path)
+
+
+def _clamp_density(mi, density):
+    """A float64 density as the float32 acdf returns (clampDensity, sampling/sample.h): 0 where not
+    positive, else held inside float32's positive finite range."""
+    finfo = np.finfo(np.float32)
+    clamped = mi.Float(dr.clip(density, float(finfo.smallest_subnormal), float(finfo.max)))
+    return dr.select(density > 0, clamped, 0)
+
+
+def _next_float_up(mi, x):
+    """The float32 just above x, for x >= 0 (std::nextafter(x, 1.0f))."""
+    return dr.reinterpret_array(mi.Float, dr.reinterpret_array(mi.UInt32, x) + 1)
+
+
+def _sample_linear_segment(f, a, b):
+    """acdf's sampleLinearSegment (sampling/linear_segment.h), in float64: the t in [0, 1] whose
+    share of the linear density from a to b is f, by the cancellation-free root."""
+    positive = f > 0  # false for NaN, which gives 0 as in C++
+    f = dr.minimum(f, 1)
+    scale = dr.maximum(a, b)
+    a, b = a / scale, b / scale
+    t = dr.minimum(f * (a + b) / (a + dr.sqrt((1 - f) * a * a + f * b * b)), 1)
+    return dr.select(positive, dr.select(scale > 0, t, f), 0)
+
+
+def _linear_segment_cdf(t, a, b):
+    """acdf's linearSegmentCdf, the inverse of _sample_linear_segment, in float64."""
+    positive = t > 0  # false for NaN, which gives 0 as in C++
+    t = dr.minimum(t, 1)
+    total = a + b
+    cdf = dr.minimum(t * (2 * a * (1 - t) + total * t) / total, 1)
+    return dr.select(positive, dr.select(total > 0, cdf, t), 0)
+
+
+def _find_interval(mi, size, target, value):
+    """The largest i in [0, size - 2] with value(i) <= target, for value non-decreasing in i with
+    value(0) <= target (findInterval, bilinear_2d.cpp): a binary search of fixed depth."""
+    lo, hi = mi.UInt32(0), mi.UInt32(size - 1)
+    for _ in range(int(np.ceil(np.log2(max(size - 1, 1))))):
+        mid = lo + (hi - lo) // 2
+        searching = hi - lo > 1
+        below = value(mid) <= target
+        lo = dr.select(searching & below, mid, lo)
+        hi = dr.select(searching & ~below, mid, hi)
+    return lo
+
+
+class _DrjitStrip:
+    """Bilinear2D::Strip: the conditional over columns on the line at fraction `down` of row strip
+    `row`, blended over the corners' slices, in float64 and in the C++ order of its sums."""
+
+    def __init__(self, warp, corners, row, down, active):
+        self.warp, self.active = warp, active
+        gather = warp.gather
+        rows, columns = warp.rows, warp.columns
+        self.lines = []  # per corner: the offsets of vertex rows row and row + 1, and their weights
+        for slice_, weight in corners:
+            line0 = (slice_ * rows + row) * columns
+            near, far = weight * (1 - down), weight * down
+            cdf_near = near * gather(warp.row_mass, slice_ * rows + row, active)
+            cdf_far = far * gather(warp.row_mass, slice_ * rows + row + 1, active)
+            self.lines.append((line0, line0 + columns, near, far, cdf_near, cdf_far))
+        mass = warp.strip_mass(corners, row, active)
+        r0, r1 = warp.row_mass_of(corners, row, active), warp.row_mass_of(corners, row + 1, active)
+        across = ((mass / warp.marginal(corners, rows - 1, active)) * ((1 - down) * r0 + down * r1)
+                  / (0.5 * (r0 + r1) * warp.row_axis.width))
+        self.across_rows = dr.select(mass > 0, across, 0)
+        self.total = self.cdf(columns - 1)
+
+    def _blend(self, array, column, weights):
+        """Sum over the corners' two vertex rows of their weights (a slice of a line) x array at `column`."""
+        gather = self.warp.gather
+        total = 0
+        for line in self.lines:
+            near, far = line[weights]
+            total += near * gather(array, line[0] + column, self.active) + far * gather(array, line[1] + column,
+                                                                                        self.active)
+        return total
+
+    def cdf(self, column):
+        """The blended conditional CDF at vertex `column`, unnormalised."""
+        return self._blend(self.warp.row_cdf, column, slice(4, 6))
+
+    def cell_mass(self, column):
+        """The mass of cell [column, column + 1]: the sum of the rows' steps, positive wherever one is."""
+        gather, cdfs = self.warp.gather, self.warp.row_cdf
+        total = 0
+        for line0, line1, _, _, cdf_near, cdf_far in self.lines:
+            step0 = gather(cdfs, line0 + column + 1, self.active) - gather(cdfs, line0 + column, self.active)
+            step1 = gather(cdfs, line1 + column + 1, self.active) - gather(cdfs, line1 + column, self.active)
+            total += cdf_near * step0 + cdf_far * step1
+        return total
+
+    def value(self, column):
+        """The blended density at vertex `column` of the line."""
+        return self._blend(self.warp.density, column, slice(2, 4))
+
+    def density(self, column, right):
+        """The sampled law's density at fraction `right` of cell `column` on the line; 0 without mass."""
+        mass = self.cell_mass(column)
+        c0, c1 = self.value(column), self.value(column + 1)
+        density = (self.across_rows * (mass / self.total) * ((1 - right) * c0 + right * c1)
+                   / (0.5 * (c0 + c1) * self.warp.column_axis.width))
+        return dr.select((self.across_rows > 0) & (mass > 0), density, 0)
+
+
+class _DrjitBilinear2D:
+    """An acdf Bilinear2D warp conditioned on RGL's two parameters (sampling/bilinear_2d.h; the arrays
+    of acdf.RglBrdfSampler.warp_arrays) in a JIT variant's arrays, sampled, evaluated and inverted as
+    its C++ does: the 2^2 neighbouring slices blended, every query in float64, coordinates and
+    densities rounded to float32. Points are (x0, x1): x0 along the rows."""
+
+    def __init__(self, mi, arrays):
+        self.mi = mi
+        _, self.rows, self.columns = arrays["density"].shape
+        self.parameter_values = [np.asarray(v, dtype=np.float32) for v in arrays["parameter_values"]]
+        # Slices between consecutive values of a parameter: row-major, the last parameter fastest.
+        self.strides = [int(np.prod([len(v) for v in self.parameter_values[p + 1:]]))
+                        for p in range(len(self.parameter_values))]
+        self.values = [mi.Float(v) for v in self.parameter_values]
+        self.density, self.row_cdf = mi.Float(arrays["density"].ravel()), mi.Float(arrays["row_cdf"].ravel())
+        self.row_mass, self.marginal_cdf = mi.Float(arrays["row_mass"].ravel()), mi.Float(arrays["marginal"].ravel())
+        self.row_axis, self.column_axis = _DrjitAxis((0, 1), self.rows - 1), _DrjitAxis((0, 1), self.columns - 1)
+
+    @property
+    def bytes(self):
+        """Of its arrays."""
+        arrays = [self.density, self.row_cdf, self.row_mass, self.marginal_cdf, *self.values]
+        return 4 * sum(dr.width(a) for a in arrays)
+
+    def gather(self, array, index, active):
+        return self.mi.Float64(dr.gather(self.mi.Float, array, index, active))
+
+    def _blend(self, params, active):
+        """The slices the parameter point (float32 per parameter) reads, as (slice, weight) corners in
+        Bilinear2D::blend's order. A parameter on one of its values still splits its corners, the
+        second with weight 0 (its slice kept in range), so every lane has 2^parameters corners."""
+        mi = self.mi
+        corners = [(mi.UInt32(0), mi.Float64(1))]
+        for values, array, stride, x in zip(self.parameter_values, self.values, self.strides, params):
+            n = len(values)
+            if n == 1:
+                continue
+            at_most = sum(dr.select(x >= float(v), mi.UInt32(1), mi.UInt32(0)) for v in values)  # std::upper_bound
+            interior = x > float(values[0])  # NaN and the first value take the first interval
+            at_end = x >= float(values[-1])
+            first = dr.select(interior, dr.select(at_end, n - 2, at_most - 1), 0)
+            lower = mi.Float64(dr.gather(mi.Float, array, first, active))
+            upper = mi.Float64(dr.gather(mi.Float, array, first + 1, active))
+            alpha = dr.select(interior, dr.select(at_end, 1, (mi.Float64(x) - lower) / (upper - lower)), 0)
+            first = dr.select(alpha == 1, first + 1, first)
+            alpha = dr.select(alpha == 1, 0, alpha)
+            second = dr.minimum(first + 1, n - 1)
+            corners = ([(s + first * stride, w * (1 - alpha)) for s, w in corners]
+                       + [(s + second * stride, w * alpha) for s, w in corners])
+        return corners
+
+    def _sum(self, corners, array, offset, active):
+        """Sum over the corners of weight x array[slice x rows + offset]."""
+        total = 0
+        for slice_, weight in corners:
+            total += weight * self.gather(array, slice_ * self.rows + offset, active)
+        return total
+
+    def marginal(self, corners, row, active):
+        return self._sum(corners, self.marginal_cdf, row, active)
+
+    def row_mass_of(self, corners, row, active):
+        return self._sum(corners, self.row_mass, row, active)
+
+    def strip_mass(self, corners, row, active):
+        """The strip's mass: the sum of the slices' steps of the marginal CDF."""
+        total = 0
+        for slice_, weight in corners:
+            at = slice_ * self.rows + row
+            total += weight * (self.gather(self.marginal_cdf, at + 1, active) - self.gather(self.marginal_cdf, at,
+                                                                                           active))
+        return total
+
+    def _fraction(self, axis, x, cell):
+        """The position of float32 x inside its cell, in float64 (fraction, bilinear_2d.cpp)."""
+        return dr.clip(axis.grid_coordinate(self.mi, x), 0, axis.cells) - self.mi.Float64(cell)
+
+    def sample(self, params, u0, u1, active):
+        """x0, x1 (float32) and their density (float32) for variates u0, u1 in [0, 1) (float32)."""
+        mi = self.mi
+        corners = self._blend(params, active)
+        rows, columns = self.rows, self.columns
+        row_target = mi.Float64(u0) * self.marginal(corners, rows - 1, active)
+        row = _find_interval(mi, rows, row_target, lambda r: self.marginal(corners, r, active))
+        down = _sample_linear_segment((row_target - self.marginal(corners, row, active))
+                                      / self.strip_mass(corners, row, active),
+                                      self.row_mass_of(corners, row, active),
+                                      self.row_mass_of(corners, row + 1, active))
+        x0 = self.row_axis.place(mi, mi.Float64(row) + down, row, row + 1)
+        # The columns are sampled on the float coordinate's line; a line through a vertex row of no
+        # mass has none: one float inwards.
+        empty = _DrjitStrip(self, corners, row, self._fraction(self.row_axis, x0, row), active).total <= 0
+        x0 = dr.select(empty, _next_float_up(mi, x0), x0)
+        strip = _DrjitStrip(self, corners, row, self._fraction(self.row_axis, x0, row), active)
+
+        column_target = mi.Float64(u1) * strip.total
+        column = _find_interval(mi, columns, column_target, strip.cdf)
+        c0 = strip.value(column)
+        right = _sample_linear_segment((column_target - strip.cdf(column)) / strip.cell_mass(column), c0,
+                                       strip.value(column + 1))
+        x1 = self.column_axis.place(mi, mi.Float64(column) + right, column, column + 1)
+        placed = self._fraction(self.column_axis, x1, column)
+        on_zero_vertex = (placed == 0) & (c0 == 0)
+        x1 = dr.select(on_zero_vertex, _next_float_up(mi, x1), x1)
+        placed = dr.select(on_zero_vertex, self._fraction(self.column_axis, x1, column), placed)
+        return x0, x1, _clamp_density(mi, strip.density(column, placed))
+
+    def pdf(self, params, x0, x1, active):
+        """The density (float32) at the float32 point (x0, x1); 0 outside [0, 1)^2."""
+        mi = self.mi
+        corners = self._blend(params, active)
+        row, column = self.row_axis.cell_of(mi, x0), self.column_axis.cell_of(mi, x1)
+        strip = _DrjitStrip(self, corners, row, self._fraction(self.row_axis, x0, row), active)
+        density = _clamp_density(mi, strip.density(column, self._fraction(self.column_axis, x1, column)))
+        inside = (x0 >= 0) & (x0 < 1) & (x1 >= 0) & (x1 < 1)
+        return dr.select(inside, density, 0)
+
+    def invert(self, params, x0, x1, active):
+        """The variates (float32, in [0, 1)) sample() maps to (x0, x1), up to float rounding."""
+        mi = self.mi
+        corners = self._blend(params, active)
+        row, column = self.row_axis.cell_of(mi, x0), self.column_axis.cell_of(mi, x1)
+        down, right = self._fraction(self.row_axis, x0, row), self._fraction(self.column_axis, x1, column)
+        u0 = ((self.marginal(corners, row, active) + self.strip_mass(corners, row, active)
+               * _linear_segment_cdf(down, self.row_mass_of(corners, row, active),
+                                     self.row_mass_of(corners, row + 1, active)))
+              / self.marginal(corners, self.rows - 1, active))
+        strip = _DrjitStrip(self, corners, row, down, active)
+        u1 = (strip.cdf(column) + strip.cell_mass(column) * _linear_segment_cdf(right, strip.value(column),
+                                                                               strip.value(column + 1))) / strip.total
+        u1 = dr.select(strip.total > 0, u1, 0)
+        return (dr.clip(mi.Float(u0), 0, _below(1)), dr.clip(mi.Float(u1), 0, _below(1)))
+
+
+def _elevation(d):
+    """theta of a unit vector as acdf's RglBrdf::elevation: 2 asin(|d - z| / 2), exact near the normal."""
+    distance = dr.sqrt(d.x * d.x + d.y * d.y + (d.z - 1) * (d.z - 1))
+    return 2 * dr.asin(dr.minimum(0.5 * distance, 1))
+
+
+class _DrjitRglWarps:
+    """An acdf.RglBrdfSampler (brdf/rgl_sampler.h: the RGL file's luminance warp, then its visible-NDF
+    warp, both conditioned on omega_o's (phi_o, theta_o) in float32) in a JIT variant's arrays: the
+    half vector's unit coordinates um = (v, u) at theta_m = u^2 pi / 2, phi_m = phi_o + (2 v - 1) pi,
+    omega_o reflected about it, p(omega_m) = p_lum(s) p_vndf(um) / (2 pi^2 u sin theta_m) per
+    steradian. A sample reports pdf() of its omega_i (where positive; C++ reports the density along
+    the path, which pdf() matches to float rounding), so that the two agree bit for bit."""
+
+    def __init__(self, mi, sampler):
+        self.mi = mi
+        arrays = sampler.warp_arrays
+        self.luminance = _DrjitBilinear2D(mi, arrays["luminance"])
+        self.vndf = _DrjitBilinear2D(mi, arrays["vndf"])
+
+    @property
+    def bytes(self):
+        """Of its arrays."""
+        return self.luminance.bytes + self.vndf.bytes
+
+    def _parameters(self, wo):
+        """The warps' parameters of omega_o, float32 (RglBrdf::parameters)."""
+        return [self.mi.Float(dr.atan2(wo.y, wo.x)), self.mi.Float(_elevation(wo))]
+
+    @staticmethod
+    def _per_steradian(density, u, theta):
+        """A density of um on the unit square per steradian of omega_m (at the normal itself the
+        smallest positive Jacobian keeps it finite)."""
+        jacobian = 2 * np.pi * np.pi * u * dr.sin(theta)
+        return density / dr.maximum(jacobian, float(np.finfo(np.float64).tiny))
+
+    def pdf(self, wo, wi, active):
+        """Density of omega_i (float64 unit vectors) given omega_o above the horizon, per steradian."""
+        mi = self.mi
+        h, cos_out, valid = _half_vector(wo, wi, active)
+        params = self._parameters(wo)
+        theta = _elevation(h)
+        v = (dr.atan2(h.y, h.x) - mi.Float64(params[0]) + np.pi) / (2 * np.pi)
+        um = (mi.Float(v - dr.floor(v)), mi.Float(dr.sqrt(dr.maximum(theta, 0) * (2 / np.pi))))
+        s = self.vndf.invert(params, *um, valid)
+        density = mi.Float64(self.luminance.pdf(params, *s, valid)) * mi.Float64(self.vndf.pdf(params, *um, valid))
+        return dr.select(valid, self._per_steradian(density, mi.Float64(um[1]), theta) / (4 * cos_out), 0)
+
+    def sample(self, wo, u, active):
+        """omega_i and its density for omega_o (float64, above the horizon) and variates u (Point2f)."""
+        mi = self.mi
+        params = self._parameters(wo)
+        s0, s1, s_density = self.luminance.sample(params, *_unit_variates(u), active)
+        v, u_m, um_density = self.vndf.sample(params, s0, s1, active)
+        u_m = mi.Float64(u_m)
+        theta = u_m * u_m * (np.pi / 2)
+        sin_theta = dr.sin(theta)
+        sin_phi, cos_phi = dr.sincos((2 * mi.Float64(v) - 1) * np.pi + mi.Float64(params[0]))
+        wm = mi.Vector3d(sin_theta * cos_phi, sin_theta * sin_phi, dr.cos(theta))
+        cos_out = dr.dot(wo, wm)
+        wi = dr.normalize(wm * (2 * cos_out) - wo)
+        density = self._per_steradian(mi.Float64(s_density) * mi.Float64(um_density), u_m, theta)
+        along_path = density / (4 * dr.abs(cos_out))
+        found = self.pdf(wo, wi, active)
+        return wi, dr.select(found > 0, found, along_path)
 
 
 _FAR = 1e15
@@ -1280,8 +1592,8 @@ def _make_measured_classes():
             return f"AcdfMeasured[sampling={self.sampling}, bytes={self.bytes}]"
 
     class BatchedMeasured(AcdfMeasured):
-        """Every file and sampling, in every variant: one batched acdf call per wavefront (in JIT
-        variants under evaluated mode: register())."""
+        """Every file and sampling, in the scalar variants: one batched acdf call per wavefront (the JIT
+        variants' acdf_measured is NativeMeasured)."""
 
         # Mitsuba's si.wi points to the viewer and its wo to the light; acdf's wo is the viewer
         # and wi the light. Mitsuba's eval includes the cosine of the light direction; acdf's does not.
@@ -1322,9 +1634,9 @@ def _make_measured_classes():
             return bs, _color(mi, np.where(ok[:, None], weight, 0.0))
 
     class NativeMeasured(AcdfMeasured):
-        """JIT variants, sampled by acdf's tables or cosine-weighted: acdf's table as arrays of the
-        variant, sampled and its pdf answered by drjit operations that Mitsuba records into its
-        kernels (_DrjitHalfVectorTable). The BRDF's value: of an RGL file, Mitsuba's own measured
+        """JIT variants, every sampling: acdf's table (_DrjitHalfVectorTable) or the RGL file's warps
+        (_DrjitRglWarps) as arrays of the variant, or cosine-weighted, sampled and the pdf answered by
+        drjit operations that Mitsuba records into its kernels. The BRDF's value: of an RGL file, Mitsuba's own measured
         plugin loaded from the same file, which acdf's RglBrdf equals (tests/python/test_mitsuba.py),
         clamped at 0 as acdf's is; of a MERL file, its table in drjit (_DrjitMerl). No Python or acdf
         call per wavefront; drjit's symbolic modes stay as they are."""
@@ -1334,7 +1646,8 @@ def _make_measured_classes():
             model = self.model
             self.reflectance = (_DrjitMerl(mi, model) if isinstance(model, acdf.MerlBrdf)
                                 else mi.load_dict({"type": "measured", "filename": self.filename}))
-            self.table = None if self.sampling == "cosine" else _DrjitHalfVectorTable(mi, self.sampler)
+            tables = {"cosine": lambda mi, sampler: None, "rgl": _DrjitRglWarps}
+            self.table = tables.get(self.sampling, _DrjitHalfVectorTable)(mi, self.sampler)
             # The arrays are all it samples and evaluates with: acdf's model and C++ table go.
             del self.sampler, self.model
 
@@ -1378,11 +1691,11 @@ def register(batched_plugins=True):
     """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
     mi.set_variant, in the thread that renders).
 
-    In JIT variants, batched_plugins=True turns on the evaluated mode the batched plugins need
-    (acdf_measured with rgl sampling). False leaves drjit's
-    symbolic modes as they are, so that Mitsuba records the plugins' drjit sampling into its kernels
-    with the rest of the path (4-6x faster renders); the batched plugins are then refused, naming
-    this option."""
+    In JIT variants, batched_plugins=True turns on the evaluated mode batched plugins need (acdf_envmap
+    with a strategy outside _NATIVE_STRATEGIES; acdf_measured samples in drjit with every sampling).
+    False leaves drjit's symbolic modes as they are, so that Mitsuba records the plugins' drjit
+    sampling into its kernels with the rest of the path (4-6x faster renders); the batched plugins are
+    then refused, naming this option."""
     mi = _mi()
     base, batched, native = _make_envmap_classes()
     _envmap_classes.append(base)
@@ -1403,9 +1716,7 @@ def register(batched_plugins=True):
     batched_envmap = allowed("acdf_envmap", batched, lambda props: f"strategy {_strategy_of(props)!r}")
     mi.register_emitter("acdf_envmap", lambda props: native(props) if jit and _strategy_of(props) in _NATIVE_STRATEGIES
                         else batched_envmap(props))
-    measured = allowed("acdf_measured", batched_measured, lambda props: "sampling 'rgl'")
-    mi.register_bsdf("acdf_measured", lambda props: native_measured(props) if jit and _sampling_of(props) != "rgl"
-                     else measured(props))
+    mi.register_bsdf("acdf_measured", native_measured if jit else batched_measured)
 
 
 def _with_bounds(scene):

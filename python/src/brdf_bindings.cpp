@@ -32,6 +32,31 @@ using namespace pybind11::literals;
 
 namespace {
 
+// A Bilinear2D's stored tables as RglBrdfSampler.warp_arrays documents them.
+py::dict bilinearArrays(const Bilinear2D& warp) {
+  const std::size_t slices = warp.slices(), rows = warp.rows(), columns = warp.columns();
+  const std::span<const float> table = warp.table();
+  // The per-slice run of `perSlice` floats at `offset`, as an array of `shape` (slices first).
+  const auto gather = [&](std::size_t offset, std::size_t perSlice, std::vector<py::ssize_t> shape) {
+    py::array_t<float> out(shape);
+    float* data = out.mutable_data();
+    for (std::size_t s = 0; s < slices; ++s)
+      std::copy_n(table.data() + s * warp.sliceFloats() + offset, perSlice, data + s * perSlice);
+    return out;
+  };
+  const auto n = [](std::size_t count) { return static_cast<py::ssize_t>(count); };
+  py::list parameterValues;
+  for (std::size_t p = 0; p < warp.parameters(); ++p) {
+    const std::vector<float>& v = warp.parameterValues(p);
+    parameterValues.append(py::array_t<float>(v.size(), v.data()));
+  }
+  return py::dict("parameter_values"_a = parameterValues,
+                  "density"_a = gather(0, rows * columns, {n(slices), n(rows), n(columns)}),
+                  "row_cdf"_a = gather(warp.rowCdfOffset(), rows * columns, {n(slices), n(rows), n(columns)}),
+                  "row_mass"_a = gather(warp.rowMassOffset(), rows, {n(slices), n(rows)}),
+                  "marginal"_a = gather(warp.marginalOffset(), rows, {n(slices), n(rows)}));
+}
+
 // f(wo, wi) for batches of directions in the local frame; either may be one row (broadcast).
 template <class Evaluator>
 py::array_t<float> evalBatch(const Evaluator& f, const ArrayArg& wo, const ArrayArg& wi) {
@@ -266,7 +291,23 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
 
   py::class_<RglBrdfSampler, BrdfSampler, std::shared_ptr<RglBrdfSampler>>(
       m, "RglBrdfSampler", "The RGL file's own warps (Dupuy & Jakob 2018), as pbrt-v4 and Mitsuba 3 sample it.")
-      .def(py::init([](std::shared_ptr<RglBrdf> model) { return std::make_shared<RglBrdfSampler>(model); }), "model"_a);
+      .def(py::init([](std::shared_ptr<RglBrdf> model) { return std::make_shared<RglBrdfSampler>(model); }), "model"_a)
+      .def_property_readonly(
+          "warp_arrays",
+          [](const RglBrdfSampler& sampler) {
+            const auto& rgl = static_cast<const RglBrdf&>(sampler.model());
+            return py::dict("luminance"_a = bilinearArrays(rgl.luminanceWarp()),
+                            "vndf"_a = bilinearArrays(rgl.vndfWarp()));
+          },
+          "The two warps it samples (luminance, then vndf), for sampling them in other arithmetic (acdf.mitsuba's\n"
+          "drjit arrays). Each is a dict: parameter_values, a list of two float32 arrays, the values of phi_o and\n"
+          "of theta_o its slices are conditioned on (at omega_o, float32(atan2(y, x)) and float32(theta), rgl.h);\n"
+          "density (slices, rows, columns), the slices' normalised vertex densities; row_cdf (slices, rows,\n"
+          "columns), each vertex row's normalised CDF over its columns, 0 to 1; row_mass (slices, rows), each\n"
+          "vertex row's mass; marginal (slices, rows), the normalised CDF over the row strips, 0 to 1; all float32\n"
+          "as stored. Slices are row-major over the parameters' values (theta_o's fastest); vertex (r, c) lies at\n"
+          "x = (r / (rows - 1), c / (columns - 1)), x[0] along the rows. Sampling, density and inversion blend the\n"
+          "2 x 2 slices around omega_o's parameters as libsampling's bilinear_2d.h says.");
 }
 
 }  // namespace

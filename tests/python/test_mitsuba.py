@@ -619,24 +619,6 @@ def test_llvm_local_envmap_samples_each_normals_table_in_drjit(block_map, strate
     assert chi2.sf(statistic, dof) > alpha, f"chi-square {statistic:.1f} with {dof} degrees of freedom"
 
 
-class CountedCalls:
-    """An acdf object whose calls are counted by name, with the number of rows each was given."""
-
-    def __init__(self, inner):
-        self.inner, self.calls = inner, []
-
-    def __getattr__(self, name):
-        value = getattr(self.inner, name)
-        if not callable(value):
-            return value
-
-        def counted(*args, **kwargs):
-            self.calls.append((name, len(args[0]) if args and hasattr(args[0], "__len__") else 1))
-            return value(*args, **kwargs)
-
-        return counted
-
-
 def test_unknown_parameters_are_refused_and_table_options_reach_acdf(variant, block_map, rgl_files):
     path, _ = block_map
     with pytest.raises(Exception, match="acdf_envmap: unsupported parameter.*mis_compensation"):
@@ -672,13 +654,12 @@ def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
 
 @pytest.mark.parametrize("strategy,batched", [("adaptive", False), ("local", False), ("local-compensated", False),
                                               ("alias", False), ("hierarchical", False), ("adaptive", True)])
-def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map, strategy, batched):
-    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp (4096 lanes): registered with
-    batched_plugins=False, acdf_envmap, whose every strategy drjit samples, renders with drjit's symbolic
-    modes on and makes no acdf call at all, nor does acdf_measured sampling an RGL file with acdf's table
-    (on the sphere), and the batched plugin (acdf_measured with rgl sampling) is refused; by default,
-    acdf_measured with the file's own warps (rgl) calls acdf a few times per bounce, each call with
-    every lane still active (thousands of rows), never once per lane, while acdf_envmap makes none."""
+def test_llvm_renders_make_no_acdf_call(tmp_path, block_map, strategy, batched):
+    """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp makes no acdf call at all: acdf_envmap,
+    whatever its strategy, and acdf_measured, whatever its sampling (here the file's own warps, rgl,
+    on the sphere and acdf's table on the floor), hold only drjit arrays, which drjit samples. With
+    batched_plugins=False the render runs with drjit's symbolic modes on; by default register() turns
+    on the evaluated mode batched plugins would need, which none of the JIT variants' plugins is."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
@@ -693,39 +674,24 @@ def test_llvm_renders_call_acdf_per_wavefront_or_not_at_all(tmp_path, block_map,
               "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
               "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
               "sampler": {"type": "independent", "sample_count": 4}}
-    light = {"type": "acdf_envmap", "filename": path, "strategy": strategy}
-    if not batched:
-        scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
-                              "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material}},
-                              "floor": {"type": "rectangle", "bsdf": {"type": "roughconductor"},
-                                        "to_world": mi.ScalarTransform4f().translate([0, 0, -1]).scale(3)},
-                              "light": light})
-        assert dr.flag(dr.JitFlag.SymbolicLoops) and dr.flag(dr.JitFlag.SymbolicCalls)
-        emitter = scene.emitters()[0]
-        bsdf = next(shape.bsdf() for shape in scene.shapes() if "Acdf" in str(shape.bsdf()))
-        # Neither holds an acdf object to call (nor its memory), only drjit arrays.
-        assert not hasattr(bsdf, "sampler") and not hasattr(emitter, "light")
-        assert f"bytes={emitter.bytes}" in str(emitter) and emitter.bytes > 0
-        image = np.asarray(mi.render(scene))
-        assert np.all(np.isfinite(image)) and image.mean() > 0
-        # A batched plugin would need evaluated mode: refused, naming the option.
-        with pytest.raises(Exception, match="batched_plugins=False"):
-            mi.load_dict({"type": "acdf_measured", "filename": material, "sampling": "rgl"})
-        acdf.mitsuba.register()  # back to the default for the tests that follow
-        return
     scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3}, "sensor": sensor,
                           "ball": {"type": "sphere", "bsdf": {"type": "acdf_measured", "filename": material,
                                                              "sampling": "rgl"}},
-                          "light": light})
-    assert not dr.flag(dr.JitFlag.SymbolicLoops)  # register() turned on the evaluated mode it needs
-    assert not hasattr(scene.emitters()[0], "light")
-    bsdf = scene.shapes()[0].bsdf()
-    bsdf.sampler = CountedCalls(bsdf.sampler)
-    mi.render(scene)
-    calls = bsdf.sampler.calls
-    lanes = 32 * 32 * 4
-    assert 0 < len(calls) <= 40, calls
-    assert max(rows for _, rows in calls) > lanes // 4, calls
+                          "floor": {"type": "rectangle", "bsdf": {"type": "acdf_measured", "filename": material},
+                                    "to_world": mi.ScalarTransform4f().translate([0, 0, -1]).scale(3)},
+                          "light": {"type": "acdf_envmap", "filename": path, "strategy": strategy}})
+    # register() turned on the evaluated mode only when asked to.
+    assert dr.flag(dr.JitFlag.SymbolicLoops) == (not batched) and dr.flag(dr.JitFlag.SymbolicCalls) == (not batched)
+    emitter = scene.emitters()[0]
+    bsdfs = [shape.bsdf() for shape in scene.shapes()]
+    assert [type(bsdf).__name__ for bsdf in bsdfs] == ["NativeMeasured", "NativeMeasured"]
+    # None holds an acdf object to call (nor its memory), only drjit arrays.
+    assert not any(hasattr(bsdf, "sampler") or hasattr(bsdf, "model") for bsdf in bsdfs)
+    assert not hasattr(emitter, "light")
+    assert f"bytes={emitter.bytes}" in str(emitter) and emitter.bytes > 0
+    image = np.asarray(mi.render(scene))
+    assert np.all(np.isfinite(image)) and image.mean() > 0
+    acdf.mitsuba.register()  # back to the default for the tests that follow
 
 
 def test_shadow_rays_reach_past_a_large_scene(variant, block_map):
@@ -924,7 +890,7 @@ def test_measured_samples_agree_with_pdf(variant, rgl_files, sampling):
 
 SHARED_RGL = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")), "rgl")
 # (file, sampling, table options): the generated GGX file under each table the plugin lays out in drjit,
-# the shared measured files and a generated MERL file under the default table.
+# the shared measured files and a generated MERL file under the default table, and the RGL files' own warps.
 NATIVE_MEASURED_CASES = [
     ("nickel", "adaptive", {}),
     ("rough-aluminium", "adaptive", {}),
@@ -935,8 +901,38 @@ NATIVE_MEASURED_CASES = [
     ("rough-aluminium", "cosine", {}),
     ("paper_white_rgb", "adaptive", {}),
     ("vch_golden_yellow_rgb", "adaptive", {}),
+    ("rough-aluminium", "rgl", {}),
+    ("paper_white_rgb", "rgl", {}),
+    ("vch_golden_yellow_rgb", "rgl", {}),
 ]
 VIEWERS = [(0.3, 0.4), (1.0, 2.5), (1.45, 5.0)]  # (theta, phi) of the directions towards the viewer
+
+
+def warp_cells(viewer, light, sampler, cells=32, sub=8):
+    """The counts of the pairs' half vectors on cells x cells cells of the RGL warps' unit coordinates
+    (v = (phi_h - phi_o + pi) / 2 pi, u = sqrt(theta_h / (pi / 2))), and each cell's probability under
+    acdf's C++ pdf (the midpoint rule on sub x sub points per cell; the density of (v, u) is p(omega_i)
+    4 |omega_o.omega_h| 2 pi^2 u sin theta_h)."""
+    h = viewer + light
+    h /= np.linalg.norm(h, axis=1, keepdims=True)
+    h = np.where(h[:, 2:] < 0, -h, h)  # the sampled half vector, not its opposite (omega_o.omega_h < 0)
+    phi_o = np.arctan2(viewer[1], viewer[0])
+    v = np.mod((np.arctan2(h[:, 1], h[:, 0]) - phi_o + np.pi) / (2 * np.pi), 1)
+    u = np.sqrt(np.arctan2(np.hypot(h[:, 0], h[:, 1]), h[:, 2]) / (np.pi / 2))
+    index = np.minimum((u * cells).astype(np.int64), cells - 1) * cells + np.minimum((v * cells).astype(np.int64),
+                                                                                      cells - 1)
+    observed = np.bincount(index, minlength=cells * cells).astype(np.float64)
+    at = (np.arange(cells * sub) + 0.5) / (cells * sub)
+    u, v = [g.ravel() for g in np.meshgrid(at, at, indexing="ij")]
+    theta, phi = u * u * (np.pi / 2), (2 * v - 1) * np.pi + phi_o
+    wh = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], axis=1)
+    cos_out = wh @ viewer
+    wi = wh * (2 * cos_out[:, None]) - viewer
+    jacobian = 4 * np.abs(cos_out) * 2 * np.pi**2 * u * np.sin(theta)
+    density = sampler.pdf(np.broadcast_to(viewer, wi.shape), wi) * jacobian
+    probabilities = density.reshape(cells, sub, cells, sub).sum((1, 3)).ravel() / (cells * sub) ** 2
+    assert abs(probabilities.sum() - 1) < 1e-3, probabilities.sum()
+    return observed, probabilities
 
 
 def half_vector_cells(viewer, light, table, options):
@@ -963,13 +959,15 @@ def half_vector_cells(viewer, light, table, options):
                          ids=[f"{n}-{s}-{'-'.join(map(str, o.values())) or 'default'}"
                               for n, s, o in NATIVE_MEASURED_CASES])
 def test_llvm_measured_samples_acdfs_table_in_drjit(rgl_files, merl_file, name, sampling, options):
-    """In llvm_ad_rgb acdf_measured samples acdf's own half-vector table with drjit operations.
-    10^6 samples at each of three viewer directions: in float64, the table's pdf of each sample is
-    its returned pdf (to 1e-9) and positive and finite even at the extreme variates; through
+    """In llvm_ad_rgb acdf_measured samples acdf's own half-vector table, or the RGL file's warps, with
+    drjit operations. 10^6 samples at each of three viewer directions: in float64, the table's pdf of
+    each sample is its returned pdf (to 1e-9; the warps' bit for bit) and positive and finite even at
+    the extreme variates; through
     Mitsuba's float32 directions to 1e-5, all but a few in 10^5 (half vectors rounded across a cell
     edge); the direction, pdf and weight are those of acdf's C++ sampler for the same variates; and
     the half vectors' cells fit the table's exact cell probabilities (the cosine-weighted share of
-    the samples, 1 - z^2 and phi, uniform), chi-square with cells pooled to an expected count >= 5,
+    the samples, 1 - z^2 and phi, uniform; the warps' half vectors, 32 x 32 cells of their unit
+    coordinates, the C++ pdf integrated over each), chi-square with cells pooled to an expected count >= 5,
     alpha 0.01 Sidak-corrected over cases, viewers and the two parts."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
@@ -986,8 +984,10 @@ def test_llvm_measured_samples_acdfs_table_in_drjit(rgl_files, merl_file, name, 
     table = bsdf.table
     # acdf's C++ sampler of the same parameters (its tables do not depend on the thread count).
     model = acdf.MerlBrdf.load(path) if path.endswith(".binary") else acdf.RglBrdf.load(path)
-    sampler = (acdf.CosineBrdfSampler(model) if sampling == "cosine"
-               else acdf.TabulatedBrdfSampler(model, method=sampling, **{"layout": "isotropic", **options}))
+    if sampling in ("cosine", "rgl"):
+        sampler = {"cosine": acdf.CosineBrdfSampler, "rgl": acdf.RglBrdfSampler}[sampling](model)
+    else:
+        sampler = acdf.TabulatedBrdfSampler(model, method=sampling, **{"layout": "isotropic", **options})
     if "slice_grouping" in options:  # slices that share a distribution (Cascade.distributions)
         assert sampler.table.distinct_slices < sampler.table.slices
     n = 1_000_000
@@ -1016,18 +1016,25 @@ def test_llvm_measured_samples_acdfs_table_in_drjit(rgl_files, merl_file, name, 
         off = up & (np.abs(pdf - c_pdf) > 1e-5 * c_pdf)
         assert np.count_nonzero(off) <= len(u) * 1e-5, f"{np.count_nonzero(off)} pdfs differ from acdf's"
         # An RGL file's values are Mitsuba's measured in float32 against acdf's RglBrdf in double,
-        # which part by up to 1.5e-3 at the grazing viewer (3e-5 elsewhere); a MERL file's are
-        # acdf's cells, in drjit and in C++ (test_llvm_merl_values_are_acdfs).
+        # which part by up to 1.5e-3 at the grazing viewer (3e-5 elsewhere), and by up to 7e-2 inside
+        # the golden-yellow film's specular spike at the grazing viewer, which the file's own warps
+        # sample densely (there the pdfs agree to 1e-7); a MERL file's are acdf's cells, in drjit and
+        # in C++ (test_llvm_merl_values_are_acdfs).
         np.testing.assert_allclose(weight.mean(0), c_weight.astype(np.float64).mean(0), rtol=3e-5)
         apart = np.abs(weight - c_weight).max(1) / np.maximum(c_weight.max(1), 1e-3)
         assert np.count_nonzero(apart > 1e-4) <= len(u) * 1e-3, np.sort(apart)[-10:]
-        assert path.endswith(".binary") or apart.max() < 5e-3, np.sort(apart)[-10:]
+        assert path.endswith(".binary") or apart.max() < (0.1 if sampling == "rgl" else 5e-3), np.sort(apart)[-10:]
 
         # pdf() of the float32 directions Mitsuba passes back: the sample's density to float32
-        # rounding, but where the rounding moved the half vector across a cell edge.
+        # rounding, but where the rounding moved the half vector across a cell edge. The warps'
+        # density varies inside their cells: there the rounding shows as that slope times 1e-7 (at
+        # the grazing viewer, in the golden-yellow film's specular spike, up to 2e-3; a few percent
+        # at the extreme variates, whose half vectors lie by the normal, where the density per
+        # steradian has its 1 / theta_m spike).
         again = np.asarray(bsdf.pdf(ctx, si, bs.wo), dtype=np.float64)
         crossed = up & (np.abs(again - pdf) > 1e-5 * pdf)
-        assert np.count_nonzero(crossed) <= len(u) * 3e-5, f"{np.count_nonzero(crossed)} pdfs differ"
+        share = 1e-4 if sampling == "rgl" else 3e-5
+        assert np.count_nonzero(crossed) <= len(u) * share, f"{np.count_nonzero(crossed)} pdfs differ"
         if table is None:
             continue
 
@@ -1037,7 +1044,17 @@ def test_llvm_measured_samples_acdfs_table_in_drjit(rgl_files, merl_file, name, 
         wi, density = table.sample(v, mi.Point2f(u[:, 0], u[:, 1]), mi.Bool(True))
         density = np.asarray(density)
         assert np.all(np.isfinite(density)) and np.all(density > 0)
-        np.testing.assert_allclose(np.asarray(table.pdf(v, wi, mi.Bool(True))), density, rtol=1e-9)
+        found = np.asarray(table.pdf(v, wi, mi.Bool(True)))
+        if sampling == "rgl":
+            # A sample reports pdf() of its omega_i, but where inverting the warp in float32 lands
+            # in a cell of no luminance density (pdf() 0): the density along its path.
+            assert np.count_nonzero(found == 0) <= len(u) * 1e-5, np.count_nonzero(found == 0)
+            np.testing.assert_array_equal(found[found > 0], density[found > 0])
+            observed, probabilities = warp_cells(viewer64[0], rows_of(wi), sampler)
+            statistic, dof = pooled_chi_square(observed, probabilities * len(u))
+            assert chi2.sf(statistic, dof) > alpha, f"warps: chi-square {statistic:.1f}, {dof} degrees of freedom"
+            continue
+        np.testing.assert_allclose(found, density, rtol=1e-9)
 
         # Chi-square of each part of the mixture.
         drawn = u[:, 0] >= table.cosine_weight

@@ -109,6 +109,15 @@ class Bilinear2D {
   bool isUniformFallback(std::size_t slice) const { return uniformFallback_[slice] != 0; }
   std::size_t uniformFallbackSlices() const;
   std::size_t bytes() const;
+  // The stored tables (Storage above), for sampling them in other arithmetic: slice s (row-major
+  // over the parameters' values, the last varying fastest) at s × sliceFloats(); inside it the
+  // densities at 0, the rows' column CDFs at rowCdfOffset(), the row masses at rowMassOffset()
+  // and the marginal CDF at marginalOffset().
+  std::span<const float> table() const { return table_; }
+  std::size_t sliceFloats() const { return sliceFloats_; }
+  std::size_t rowCdfOffset() const { return rowCdfOffset_; }
+  std::size_t rowMassOffset() const { return rowMassOffset_; }
+  std::size_t marginalOffset() const { return marginalOffset_; }
 
  private:
   struct Blend;  // the slices a parameter point reads, with their weights
