@@ -19,6 +19,8 @@ import acdf.mitsuba  # noqa: E402
 VARIANTS = ["scalar_rgb", "llvm_ad_rgb"]
 BLOCK = 8
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SHARED_DATA = os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data"))
+SHARED_RGL = os.path.join(SHARED_DATA, "rgl")
 
 
 @pytest.fixture(params=VARIANTS)
@@ -362,12 +364,16 @@ def test_sample_ray_carries_the_lights_power(variant, block_map):
 NATIVE_STRATEGIES = ["uniform", "alias", "adaptive", "compensated", "hierarchical"]
 
 
+def sunset_or(block_map):
+    """The shared sunset map, else the block map."""
+    shared = os.path.join(SHARED_DATA, "envmaps", "sunset_1024x512.exr")
+    return shared if os.path.exists(shared) else block_map[0]
+
+
 def native_envmap(block_map, strategy):
     """acdf_envmap of the shared sunset map (else the block map) turned by rotation(), sampled in drjit, and
     acdf's C++ light of the same file and strategy (the plugin keeps only its drjit arrays)."""
-    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
-                          "envmaps", "sunset_1024x512.exr")
-    path = shared if os.path.exists(shared) else block_map[0]
+    path = sunset_or(block_map)
     emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation()})
     assert "Native" in type(emitter).__name__
     return emitter, acdf.EnvironmentLight.load(path, strategy=strategy)
@@ -451,9 +457,7 @@ def test_llvm_portals_sample_as_acdfs_light_in_drjit(block_map, strategy):
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
     acdf.mitsuba.register()
-    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")),
-                          "envmaps", "sunset_1024x512.exr")
-    path = shared if os.path.exists(shared) else block_map[0]
+    path = sunset_or(block_map)
     emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy, "to_world": rotation(),
                             "window": window()})
     assert "Native" in type(emitter).__name__ and len(emitter.portals) == 1
@@ -809,8 +813,7 @@ def rgl_files(tmp_path_factory):
     program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
     path = str(tmp_path_factory.mktemp("rgl") / "rough-aluminium.bsdf")
     subprocess.run([program, "rgl-gen", "--preset", "rough-aluminium", "-o", path], check=True, capture_output=True)
-    shared = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")), "rgl")
-    measured = sorted(glob.glob(os.path.join(shared, "*.bsdf")))
+    measured = sorted(glob.glob(os.path.join(SHARED_RGL, "*.bsdf")))
     return [path] + measured
 
 
@@ -888,7 +891,6 @@ def test_measured_samples_agree_with_pdf(variant, rgl_files, sampling):
     np.testing.assert_allclose(weight[up], f[up] / pdf[up, None], rtol=1e-3, atol=1e-6)
 
 
-SHARED_RGL = os.path.join(os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data")), "rgl")
 # (file, sampling, table options): the generated GGX file under each table the plugin lays out in drjit,
 # the shared measured files and a generated MERL file under the default table, and the RGL files' own warps.
 NATIVE_MEASURED_CASES = [
