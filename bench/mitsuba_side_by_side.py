@@ -20,15 +20,12 @@ heavy-tailed); the largest |z| of the image means against Mitsuba's plugin, over
 4 x 4 blocks per channel, with the Sidak bound at alpha 0.01 (means and variances from the seeds'
 images); table bytes (acdf's C++ table's, and of the drjit arrays a plugin samples in drjit);
 wall time per spp of the median mi.render after a warm-up render (kernels compiled and cached;
-with --timing-renders N, for the rows in symbolic mode the fastest of N renders interleaved with
-the map's or file's other such rows), and how much of it was spent inside acdf's batched calls; efficiency at
-equal time against the Mitsuba plugin of the block, (relMSE x time per spp) of Mitsuba's over the
-row's: above 1, the row reaches a given error sooner. Each row renders in the mode a user of it
-gets: drjit's symbolic loops and calls on, unless the row's plugin makes batched acdf calls, which
-need evaluated mode (acdf.mitsuba.evaluated_mode(); docs/python.md).
+with --timing-renders N, the fastest of N renders interleaved with the map's or file's other rows);
+efficiency at equal time against the Mitsuba plugin of the block, (relMSE x time per spp) of
+Mitsuba's over the row's: above 1, the row reaches a given error sooner. Every row renders with
+drjit's symbolic loops and calls on, as a user's render does: acdf's plugins sample in drjit.
 """
 import argparse
-import gc
 import time
 
 import mitsuba as mi
@@ -36,27 +33,6 @@ import numpy as np
 from scipy.stats import norm
 
 BLOCKS = 4
-
-
-class TimedCalls:
-    """An acdf object whose batched calls are timed: the plugin's time inside acdf."""
-
-    def __init__(self, inner, names):
-        self.inner, self.names, self.seconds = inner, names, 0.0
-
-    def __getattr__(self, name):
-        value = getattr(self.inner, name)
-        if name not in self.names:
-            return value
-
-        def timed(*args, **kwargs):
-            start = time.perf_counter()
-            try:
-                return value(*args, **kwargs)
-            finally:
-                self.seconds += time.perf_counter() - start
-
-        return timed
 
 
 def envmap_scene(emitter, res):
@@ -94,35 +70,10 @@ def floor():
             "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(20)}
 
 
-def symbolic_mode(on):
-    import drjit as dr
-
-    for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
-        dr.set_flag(flag, on)
-
-
-def batched(plugin):
-    """Whether a plugin makes batched acdf calls (and so renders in evaluated mode). A symbolic render
-    records every live plugin of its class, and a batched one cannot be recorded: its row keeps its
-    median time, and the plugin goes before the next row renders."""
-    return "Batched" in type(plugin).__name__
-
-
-def timed_acdf_calls(plugin, attribute):
-    """A batched plugin's acdf object (its `attribute`) replaced by one timing its calls, which is
-    returned; None for a native plugin, which makes none."""
-    if not batched(plugin):
-        return None
-    timed = TimedCalls(getattr(plugin, attribute), {"sample", "pdf", "eval"})
-    setattr(plugin, attribute, timed)
-    return timed
-
-
 def interleaved_ms_per_spp(scenes, args):
-    """ms per spp of each scene, rendered in drjit's symbolic mode after measure()'s warm-up: the
-    fastest of --timing-renders renders at --spp, the scenes taking turns so that load from other
-    work on a shared machine falls on all of them alike."""
-    symbolic_mode(True)
+    """ms per spp of each scene after measure()'s warm-up: the fastest of --timing-renders renders at
+    --spp, the scenes taking turns so that load from other work on a shared machine falls on all of
+    them alike."""
     best = [float("inf")] * len(scenes)
     for turn in range(args.timing_renders):
         for i, scene in enumerate(scenes):
@@ -157,10 +108,8 @@ def max_z(images, baseline):
     return float(z.max()), float(norm.ppf(1 - (1 - (1 - 0.01) ** (1 / tests)) / 2)), "RGB"[int(z.argmax()) % 3]
 
 
-def measure(scene, reference, args, timed=None):
+def measure(scene, reference, args):
     render(scene, args.spp, 999)  # warm-up: kernels compiled and cached
-    if timed is not None:
-        timed.seconds = 0.0
     images, seconds = [], []
     for seed in range(args.seeds):
         start = time.perf_counter()
@@ -169,17 +118,16 @@ def measure(scene, reference, args, timed=None):
     errors = np.array([rel_mse(image, reference) for image in images])
     # The median render: a spike of load on a shared machine moves one render, not the figure.
     ms_per_spp = 1000.0 * float(np.median(seconds)) / args.spp
-    inside = f"{timed.seconds * 1000.0 / (args.seeds * args.spp):.2f}" if timed is not None else "-"
-    return np.stack(images), errors, f"{ms_per_spp:.2f}", inside
+    return np.stack(images), errors, f"{ms_per_spp:.2f}"
 
 
-def report(source, name, errors, z, table, ms, inside, baseline):
+def report(source, name, errors, z, table, ms, baseline):
     """One row; baseline: (mean relMSE, ms per spp) of the block's Mitsuba plugin (None for that row)."""
     mean, se = errors.mean(), errors.std(ddof=1) / np.sqrt(len(errors))
     z = "-" if z is None else f"{z[0]:.2f} {z[2]} (bound {z[1]:.2f})"
     efficiency = "1" if baseline is None else f"{baseline[0] * baseline[1] / (mean * float(ms)):.2f}"
     print(f"{source} | {name} | {mean:.5f} ± {se:.5f} | {np.median(errors):.5f} | {z} "
-          f"| {table} | {ms} | {inside} | {efficiency}", flush=True)
+          f"| {table} | {ms} | {efficiency}", flush=True)
     return mean, float(ms)
 
 
@@ -192,16 +140,15 @@ def hierarchical_bytes(path):
     return f"~{int(4 * finest * 4 / 3)}"
 
 
-def report_block(source, rows, timed, args):
+def report_block(source, rows, scenes, args):
     """Reports one map's or file's rows, the first Mitsuba's own plugin (each other row's efficiency is
-    against it); with --timing-renders the rows of the scenes in `timed` ((scene, row index), the
-    symbolic ones) take the fastest of their interleaved renders as their time."""
+    against it); with --timing-renders the rows take the fastest of their scenes' interleaved renders
+    as their time."""
     if args.timing_renders:
-        for (_, row), ms in zip(timed, interleaved_ms_per_spp([scene for scene, _ in timed], args)):
-            rows[row] = rows[row][:4] + (ms,) + rows[row][5:]
+        rows = [row[:4] + (ms,) for row, ms in zip(rows, interleaved_ms_per_spp(scenes, args))]
     baseline = None
-    for name, errors, z, table, ms, inside in rows:
-        row = report(source, name, errors, z, table, ms, inside, baseline)
+    for name, errors, z, table, ms in rows:
+        row = report(source, name, errors, z, table, ms, baseline)
         baseline = baseline or row
 
 
@@ -218,63 +165,49 @@ def plugin_parameters(row):
 def compare_envmaps(args, acdf):
     print(f"\n## envmap vs acdf_envmap: {args.res}x{args.res}, {args.spp} spp x {args.seeds} seeds, "
           f"references at {args.reference_spp} spp")
-    print("map | emitter | relMSE mean ± se | median | max |z| of means vs envmap | table bytes | ms/spp | in acdf "
+    print("map | emitter | relMSE mean ± se | median | max |z| of means vs envmap | table bytes | ms/spp "
           "| efficiency vs envmap")
     for path in args.maps:
         source = path.split("/")[-1]
-        symbolic_mode(True)
         theirs = mi.load_dict(envmap_scene({"type": "envmap", "filename": path}, args.res))
         reference = render(theirs, args.reference_spp, 1000)
-        baseline, errors, ms, _ = measure(theirs, reference, args)
-        rows = [("envmap", errors, None, hierarchical_bytes(path), ms, "-")]
-        scenes = [(theirs, 0)]  # the symbolic rows' scenes and rows, timed interleaved
+        baseline, errors, ms = measure(theirs, reference, args)
+        rows = [("envmap", errors, None, hierarchical_bytes(path), ms)]
+        scenes = [theirs]  # each row's, timed interleaved
         for strategy in args.strategies:
             plugin = {"type": "acdf_envmap", "filename": path, **plugin_parameters(strategy)}
             scene = mi.load_dict(envmap_scene(plugin, args.res))
             emitter = scene.emitters()[0]
-            symbolic_mode(not batched(emitter))
-            timed = timed_acdf_calls(emitter, "light")
             reference = render(scene, args.reference_spp, 1000)
-            images, errors, ms, inside = measure(scene, reference, args, timed)
-            rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.bytes, ms, inside))
-            if batched(emitter):
-                del scene, emitter, timed  # before any symbolic render: see batched()
-                gc.collect()
-            else:
-                scenes.append((scene, len(rows) - 1))
+            images, errors, ms = measure(scene, reference, args)
+            rows.append((f"acdf_envmap {strategy}", errors, max_z(images, baseline), emitter.bytes, ms))
+            scenes.append(scene)
         report_block(source, rows, scenes, args)
 
 
 def compare_materials(args, acdf):
     print(f"\n## measured vs acdf_measured under {args.bsdf_map.split('/')[-1]}: {args.res}x{args.res}, "
           f"{args.spp} spp x {args.seeds} seeds, all against measured at {args.reference_spp} spp")
-    print("file | bsdf | relMSE mean ± se | median | max |z| of means vs measured | table bytes | ms/spp | in acdf "
+    print("file | bsdf | relMSE mean ± se | median | max |z| of means vs measured | table bytes | ms/spp "
           "| efficiency vs measured")
     for path in args.rgl:
         source = path.split("/")[-1]
-        symbolic_mode(True)
         theirs = mi.load_dict(material_scene({"type": "measured", "filename": path}, args.bsdf_map, args.res))
         reference = render(theirs, args.reference_spp, 1000)
-        baseline, errors, ms, _ = measure(theirs, reference, args)
+        baseline, errors, ms = measure(theirs, reference, args)
         warps = acdf.RglBrdfSampler(acdf.RglBrdf.load(path)).bytes
-        rows = [("measured", errors, None, f"{warps} (its warps)", ms, "-")]
-        scenes = [(theirs, 0)]  # the symbolic rows' scenes and rows, timed interleaved
+        rows = [("measured", errors, None, f"{warps} (its warps)", ms)]
+        scenes = [theirs]  # each row's, timed interleaved
         for sampling in args.samplings:
             bsdf = {"type": "acdf_measured", "filename": path, "sampling": sampling}
             scene = mi.load_dict(material_scene(bsdf, args.bsdf_map, args.res))
             plugin = next(s.bsdf() for s in scene.shapes() if "Acdf" in str(s.bsdf()))
-            symbolic_mode(not batched(plugin))
-            timed = timed_acdf_calls(plugin, "sampler")
-            images, errors, ms, inside = measure(scene, reference, args, timed)
+            images, errors, ms = measure(scene, reference, args)
             table = f"{plugin.bytes} (1/{warps / plugin.bytes:.1f})" if plugin.bytes else "0"
-            if getattr(plugin, "table", None) is not None:  # the drjit copy a native plugin samples
+            if plugin.table is not None:  # the drjit copy the plugin samples (cosine sampling has none)
                 table += f"; in drjit {plugin.table.bytes} (1/{warps / plugin.table.bytes:.1f})"
-            rows.append((f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms, inside))
-            if batched(plugin):
-                del scene, plugin, timed  # before any symbolic render: see batched()
-                gc.collect()
-            else:
-                scenes.append((scene, len(rows) - 1))
+            rows.append((f"acdf_measured {sampling}", errors, max_z(images, baseline), table, ms))
+            scenes.append(scene)
         report_block(source, rows, scenes, args)
 
 
@@ -292,9 +225,8 @@ def main():
     parser.add_argument("--reference-spp", type=int, default=1024)
     parser.add_argument("--res", type=int, default=256)
     parser.add_argument("--timing-renders", type=int, default=0,
-                        help="time each row in symbolic mode as the fastest of this many renders at --spp, "
-                        "interleaved with its map's or file's other such rows (0, and batched rows: the median of "
-                        "the seeds' renders)")
+                        help="time each row as the fastest of this many renders at --spp, "
+                        "interleaved with its map's or file's other rows (0: the median of the seeds' renders)")
     args = parser.parse_args()
     if args.rgl and not args.bsdf_map:
         parser.error("--rgl needs --bsdf-map")

@@ -86,7 +86,7 @@ class MitsubaRenderer:
         dr.set_thread_count(threads)
         if acdf_map:
             import acdf.mitsuba
-            acdf.mitsuba.register(batched_plugins=False)  # the map's tables in drjit: no Python per wavefront
+            acdf.mitsuba.register()  # the map's tables in drjit: no Python per wavefront
         scene_dict = scene_conversion.mitsuba_scene_dict(scene, sampler, 1, acdf_map)
         self.scene = scene_conversion.load_mitsuba_scene(scene_dict)
 

@@ -1,4 +1,5 @@
-"""acdf's environment light and BRDF samplers as Mitsuba 3 plugins, over the batched module.
+"""acdf's environment light and BRDF samplers as Mitsuba 3 plugins: in drjit in the JIT variants,
+over the batched module in the scalar ones.
 
     import mitsuba as mi
     mi.set_variant("scalar_rgb")          # or "llvm_ad_rgb", see below
@@ -33,14 +34,11 @@ In the JIT variants `acdf_envmap`, whatever its strategy, samples and evaluates 
 over the pixels: uniform, adaptive, compensated; alias tables over the rows and the row's columns:
 alias; a mip pyramid of the pixels: hierarchical; one per normal cell over blocks of pixels: local,
 local-compensated, each lane's from it.n; or none: uniform-sphere) with drjit operations over the
-tables' arrays, which Mitsuba traces into its kernels (NativeEnvmap); so does `acdf_measured`,
-whatever its sampling (acdf's half-vector table, the RGL file's own warps or cosine-weighted:
-NativeMeasured), whose BRDF values are, for an RGL file, those of Mitsuba's `measured` plugin loaded
-from the same file, for a MERL file its table's in drjit. The scalar variants' plugins make batched
-acdf calls. A batched call in a JIT variant reads the arrays into numpy, which needs drjit's evaluated
-mode: `register()` turns it on in the thread that calls it (drjit's flags are per thread, and Mitsuba
-may build plugins on others); `register(batched_plugins=False)` leaves drjit's symbolic modes as they
-are, for renders 4-6x faster, and refuses batched plugins.
+tables' arrays, which Mitsuba traces into its kernels with drjit's symbolic modes on (NativeEnvmap);
+so does `acdf_measured`, whatever its sampling (acdf's half-vector table, the RGL file's own warps or
+cosine-weighted: NativeMeasured), whose BRDF values are, for an RGL file, those of Mitsuba's
+`measured` plugin loaded from the same file, for a MERL file its table's in drjit. The scalar
+variants' plugins (BatchedEnvmap, BatchedMeasured) call acdf's batched methods with one row per lane.
 """
 
 import drjit as dr  # Mitsuba's array library, installed with it
@@ -57,47 +55,26 @@ def _mi():
     return mi
 
 
-def evaluated_mode():
-    """Lets Python plugins read their arguments: drjit loops and virtual calls are evaluated
-    wavefront by wavefront instead of recorded as symbolic kernels (JIT variants only)."""
-    dr.set_flag(dr.JitFlag.SymbolicLoops, False)
-    dr.set_flag(dr.JitFlag.SymbolicCalls, False)
-    dr.set_flag(dr.JitFlag.SymbolicConditionals, False)
-
-
+# The batched classes run in the scalar variants only: each call is one lane, one row of acdf's batches.
 def _rows(vector):
-    """A drjit 3-vector (scalar or wide) as a float64 (n, 3) numpy array."""
-    a = np.asarray(vector, dtype=np.float64)
-    return a.reshape(1, 3) if a.ndim == 1 else np.ascontiguousarray(a.T)
-
-
-def _rows_like(vector, n):
-    """_rows of a field of an interaction, broadcast to n rows (a default interaction's fields are
-    empty in JIT variants: those count as zero)."""
-    a = _rows(vector)
-    return np.zeros((n, 3)) if a.size == 0 else np.broadcast_to(a, (n, 3))
+    """A scalar variant's 3-vector as a float64 (1, 3) numpy array."""
+    return np.asarray(vector, dtype=np.float64).reshape(1, 3)
 
 
 def _variates(point):
-    a = np.asarray(point, dtype=np.float32)
-    return a.reshape(1, 2) if a.ndim == 1 else np.ascontiguousarray(a.T)
+    return np.asarray(point, dtype=np.float32).reshape(1, 2)
 
 
 def _vector(mi, rows):
-    if not mi.variant().startswith("scalar"):
-        return mi.Vector3f(rows[:, 0], rows[:, 1], rows[:, 2])
     return mi.Vector3f(*rows[0])
 
 
 def _float(mi, values):
-    return mi.Float(values) if not mi.variant().startswith("scalar") else mi.Float(values[0])
+    return mi.Float(values[0])
 
 
 def _color(mi, rows):
-    rows = np.asarray(rows, dtype=np.float32)
-    if not mi.variant().startswith("scalar"):
-        return mi.Color3f(rows[:, 0], rows[:, 1], rows[:, 2])
-    return mi.Color3f(*rows[0])
+    return mi.Color3f(*np.asarray(rows, dtype=np.float32)[0])
 
 
 def _refuse(plugin, problem):
@@ -181,8 +158,8 @@ def _make_envmap_classes():
             return f"AcdfEnvmap[strategy={self.strategy}, bytes={self.bytes}]"
 
     class BatchedEnvmap(AcdfEnvmap):
-        """Every strategy, in every variant: one batched acdf call per wavefront (in JIT variants under
-        evaluated mode: register())."""
+        """Every strategy, in the scalar variants: each call one acdf call on a batch of one row (the JIT
+        variants' acdf_envmap is NativeEnvmap)."""
 
         @property
         def bytes(self):
@@ -191,17 +168,14 @@ def _make_envmap_classes():
             return self.light.bytes
 
         def _to_map(self, world_dirs):
-            """Map-frame rows, and which of them are directions (a wavefront's inactive lanes may not be)."""
+            """Map-frame rows, and which of them are directions (an inactive lane's may not be)."""
             ok, rows = _usable(_rows(world_dirs))
             return ok, rows @ self.map_from_world.T
 
         def _normals(self, it):
             if not self.strategy.startswith("local"):
                 return None
-            n = _rows(it.n)
-            if n.size == 0:
-                return None
-            n = n @ self.map_from_world.T
+            n = _rows(it.n) @ self.map_from_world.T
             return n if np.all(np.isfinite(n)) and np.all(np.linalg.norm(n, axis=1) > 0.5) else None
 
         def _radiance(self, world_dirs):
@@ -219,9 +193,7 @@ def _make_envmap_classes():
             if not self.portals:
                 return None
             p = _rows(it.p)
-            if p.size == 0:
-                return None
-            # A wavefront's inactive lanes may hold anything; their results are not used.
+            # An inactive lane may hold anything; its results are not used.
             return np.where(np.isfinite(p).all(axis=1, keepdims=True), p, 0.0) @ self.map_from_world.T
 
         def pdf_direction(self, it, ds, active=True):
@@ -234,14 +206,13 @@ def _make_envmap_classes():
             dirs, radiance, pdf = self.light.sample(_variates(sample), normal=self._normals(it),
                                                    position=self._positions(it), allow_incomplete_pdf=self.incomplete)
             world = dirs @ self.world_from_map.T
-            p = _rows_like(it.p, len(pdf))
+            p = _rows(it.p)
             # Beyond any scene: the shadow ray must reach past every occluder, and the scene's
             # bounds are not known here (set_scene is not called on Python emitters). 1e15 keeps
             # |p - ds.p|^2 finite in single precision and the direction exact to rounding.
             dist = np.full(len(pdf), _FAR)
             weight = np.where(pdf[:, None] > 0, radiance / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
-            jit = dr.is_jit_v(mi.Float)
-            ds = dr.zeros(mi.DirectionSample3f, len(pdf)) if jit else mi.DirectionSample3f()
+            ds = mi.DirectionSample3f()
             d = _vector(mi, world)
             ds.d = d
             ds.dist = _float(mi, dist)
@@ -250,7 +221,7 @@ def _make_envmap_classes():
             ds.pdf = _float(mi, pdf)
             ds.time = it.time
             ds.delta = False
-            ds.emitter = mi.EmitterPtr(self) if jit else self
+            ds.emitter = self
             return ds, _color(mi, weight)
 
         def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
@@ -273,9 +244,10 @@ def _make_envmap_classes():
             return ray, _color(mi, weight)
 
     class NativeEnvmap(AcdfEnvmap):
-        """JIT variants, the strategies of _NATIVE_STRATEGIES: acdf's tables as arrays of the variant,
-        sampled and evaluated by drjit operations that Mitsuba records into its kernels with the rest
-        of the path (no Python or acdf call per wavefront; drjit's symbolic modes stay as they are).
+        """JIT variants, every strategy: acdf's tables as arrays of the variant (a table of the pixels:
+        a cascade, alias tables or a mip pyramid; one per normal cell over blocks of pixels: local; or
+        none: uniform-sphere), sampled and evaluated by drjit operations that Mitsuba records into its
+        kernels with the rest of the path (no Python or acdf call per wavefront).
         A local light samples each lane's normal cell's table, lanes without a normal its complete
         table, as acdf's EnvironmentLight does."""
 
@@ -428,10 +400,6 @@ def _make_envmap_classes():
     return AcdfEnvmap, BatchedEnvmap, NativeEnvmap
 
 
-# The strategies NativeEnvmap samples: a table of the pixels (a cascade, alias tables or a mip pyramid),
-# none, or one per normal cell over blocks of pixels (local).
-_NATIVE_STRATEGIES = ("uniform-sphere", "uniform", "alias", "adaptive", "compensated", "hierarchical", "local",
-                      "local-compensated")
 # How far from a pixel's edges (a fraction of the pixel) NativeEnvmap places its samples: a float32
 # direction's pixel, found again by pdf_direction, is then the pixel it was drawn in (float32 angles
 # err by a few 1e-7 rad, 1e-3 of a pixel of a 8192 x 4096 map). The radiance and the pdf are
@@ -1484,7 +1452,7 @@ _SAMPLINGS = ("adaptive", "uniform", "rgl", "cosine")
 
 
 def _usable(rows):
-    """Rows that are directions (finite, not zero: a wavefront's inactive lanes may be neither),
+    """Rows that are directions (finite, not zero: an inactive lane's may be neither),
     and the rows with the others replaced by +z so that acdf accepts them."""
     ok = np.all(np.isfinite(rows), axis=1) & (np.linalg.norm(rows, axis=1) > 0.5)
     return ok, np.where(ok[:, None], rows, [[0.0, 0.0, 1.0]])
@@ -1592,17 +1560,14 @@ def _make_measured_classes():
             return f"AcdfMeasured[sampling={self.sampling}, bytes={self.bytes}]"
 
     class BatchedMeasured(AcdfMeasured):
-        """Every file and sampling, in the scalar variants: one batched acdf call per wavefront (the JIT
-        variants' acdf_measured is NativeMeasured)."""
+        """Every file and sampling, in the scalar variants: each call one acdf call on a batch of one row
+        (the JIT variants' acdf_measured is NativeMeasured)."""
 
         # Mitsuba's si.wi points to the viewer and its wo to the light; acdf's wo is the viewer
         # and wi the light. Mitsuba's eval includes the cosine of the light direction; acdf's does not.
         def _pair(self, si, wo):
-            viewer, light = _rows(si.wi), _rows(wo)
-            n = max(len(viewer), len(light))
-            viewer, light = np.broadcast_to(viewer, (n, 3)), np.broadcast_to(light, (n, 3))
-            ok_v, viewer = _usable(viewer)
-            ok_l, light = _usable(light)
+            ok_v, viewer = _usable(_rows(si.wi))
+            ok_l, light = _usable(_rows(wo))
             up = ok_v & ok_l & (viewer[:, 2] > 0) & (light[:, 2] > 0)
             return up, viewer, light
 
@@ -1620,12 +1585,11 @@ def _make_measured_classes():
 
         def sample(self, ctx, si, sample1, sample2, active=True):
             u = _variates(sample2)
-            ok, viewer = _usable(np.broadcast_to(_rows(si.wi), (len(u), 3)))
+            ok, viewer = _usable(_rows(si.wi))
             ok &= viewer[:, 2] > 0
             light, weight, pdf = self.sampler.sample(viewer, u)
             ok &= (pdf > 0) & (light[:, 2] > 0)
-            jit = dr.is_jit_v(mi.Float)
-            bs = dr.zeros(mi.BSDFSample3f, len(u)) if jit else mi.BSDFSample3f()
+            bs = mi.BSDFSample3f()
             bs.wo = _vector(mi, light)
             bs.pdf = _float(mi, np.where(ok, pdf, 0.0))
             bs.eta = 1.0
@@ -1639,7 +1603,7 @@ def _make_measured_classes():
         drjit operations that Mitsuba records into its kernels. The BRDF's value: of an RGL file, Mitsuba's own measured
         plugin loaded from the same file, which acdf's RglBrdf equals (tests/python/test_mitsuba.py),
         clamped at 0 as acdf's is; of a MERL file, its table in drjit (_DrjitMerl). No Python or acdf
-        call per wavefront; drjit's symbolic modes stay as they are."""
+        call per wavefront."""
 
         def __init__(self, props):
             AcdfMeasured.__init__(self, props)
@@ -1687,35 +1651,17 @@ def _make_measured_classes():
     return BatchedMeasured, NativeMeasured
 
 
-def register(batched_plugins=True):
+def register():
     """Registers acdf_envmap and acdf_measured with Mitsuba for the current variant (call after
-    mi.set_variant, in the thread that renders).
-
-    In JIT variants, batched_plugins=True turns on the evaluated mode batched plugins need (acdf_envmap
-    with a strategy outside _NATIVE_STRATEGIES; acdf_measured samples in drjit with every sampling).
-    False leaves drjit's symbolic modes as they are, so that Mitsuba records the plugins' drjit
-    sampling into its kernels with the rest of the path (4-6x faster renders); the batched plugins are
-    then refused, naming this option."""
+    mi.set_variant): the native drjit classes in JIT variants, the batched ones in scalar variants.
+    drjit's flags are left as they are: Mitsuba traces the native classes into its kernels with the
+    symbolic loops and calls on, drjit's default."""
     mi = _mi()
     base, batched, native = _make_envmap_classes()
     _envmap_classes.append(base)
-    jit = not mi.variant().startswith("scalar")
-    if jit and batched_plugins:
-        evaluated_mode()
     batched_measured, native_measured = _make_measured_classes()
-
-    def allowed(plugin, cls, what):
-        def make(props):
-            if jit and not batched_plugins:
-                _refuse(plugin, f"{what(props)} makes batched acdf calls, which need drjit's evaluated mode: call "
-                        "acdf.mitsuba.register() without batched_plugins=False")
-            return cls(props)
-
-        return make
-
-    batched_envmap = allowed("acdf_envmap", batched, lambda props: f"strategy {_strategy_of(props)!r}")
-    mi.register_emitter("acdf_envmap", lambda props: native(props) if jit and _strategy_of(props) in _NATIVE_STRATEGIES
-                        else batched_envmap(props))
+    jit = dr.is_jit_v(mi.Float)
+    mi.register_emitter("acdf_envmap", native if jit else batched)
     mi.register_bsdf("acdf_measured", native_measured if jit else batched_measured)
 
 

@@ -361,7 +361,7 @@ def test_sample_ray_carries_the_lights_power(variant, block_map):
     assert np.all(np.abs(z) < bound), f"z = {z}, bound {bound:.2f}"
 
 
-NATIVE_STRATEGIES = ["uniform", "alias", "adaptive", "compensated", "hierarchical"]
+PIXEL_TABLE_STRATEGIES = ["uniform", "alias", "adaptive", "compensated", "hierarchical"]
 
 
 def sunset_or(block_map):
@@ -387,7 +387,7 @@ def map_pixels(d, width, height):
     return row * width + np.minimum((phi / (2 * np.pi) * width).astype(np.int64), width - 1)
 
 
-@pytest.mark.parametrize("strategy", NATIVE_STRATEGIES)
+@pytest.mark.parametrize("strategy", PIXEL_TABLE_STRATEGIES)
 def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     """In llvm_ad_rgb acdf_envmap samples acdf's own table with drjit operations. 10^6 samples of the
     shared sunset map (or the block map): pdf_direction of each sample is its returned pdf, bit for
@@ -432,7 +432,7 @@ def test_llvm_envmap_samples_acdfs_table_in_drjit(block_map, strategy):
     probabilities = light.pixel_probabilities(allow_incomplete_pdf=emitter.incomplete).reshape(-1)
     observed = np.bincount(ours, minlength=probabilities.size).astype(np.float64)
     statistic, dof = pooled_chi_square(observed, probabilities * n)
-    alpha = acdf.sidak_alpha(0.01, len(NATIVE_STRATEGIES))
+    alpha = acdf.sidak_alpha(0.01, len(PIXEL_TABLE_STRATEGIES))
     from scipy.stats import chi2
 
     assert chi2.sf(statistic, dof) > alpha, f"chi-square {statistic:.1f} with {dof} degrees of freedom"
@@ -656,20 +656,32 @@ def test_scenes_in_xml_name_the_plugins(variant, block_map, rgl_files):
     assert "AcdfMeasured[sampling=adaptive" in str(scene.shapes()[0].bsdf())
 
 
-@pytest.mark.parametrize("strategy,batched", [("adaptive", False), ("local", False), ("local-compensated", False),
-                                              ("alias", False), ("hierarchical", False), ("adaptive", True)])
-def test_llvm_renders_make_no_acdf_call(tmp_path, block_map, strategy, batched):
+def test_jit_variants_get_the_drjit_classes_and_scalar_ones_the_batched(variant, block_map, rgl_files):
+    """Whatever the strategy (every one of acdf.environment_samplings()) or the sampling, register()
+    gives JIT variants the plugins that sample in drjit and scalar variants the batched ones."""
+    kind = "Batched" if variant.startswith("scalar") else "Native"
+    path, _ = block_map
+    for strategy in (s["name"] for s in acdf.environment_samplings()):
+        emitter = mi.load_dict({"type": "acdf_envmap", "filename": path, "strategy": strategy})
+        assert type(emitter).__name__ == f"{kind}Envmap", strategy
+    for sampling in ("adaptive", "uniform", "rgl", "cosine"):
+        bsdf = mi.load_dict({"type": "acdf_measured", "filename": rgl_files[0], "sampling": sampling})
+        assert type(bsdf).__name__ == f"{kind}Measured", sampling
+
+
+@pytest.mark.parametrize("strategy", ["adaptive", "local", "local-compensated", "alias", "hierarchical"])
+def test_llvm_renders_make_no_acdf_call(tmp_path, block_map, strategy):
     """In llvm_ad_rgb a render of 32 x 32 pixels at 4 spp makes no acdf call at all: acdf_envmap,
     whatever its strategy, and acdf_measured, whatever its sampling (here the file's own warps, rgl,
-    on the sphere and acdf's table on the floor), hold only drjit arrays, which drjit samples. With
-    batched_plugins=False the render runs with drjit's symbolic modes on; by default register() turns
-    on the evaluated mode batched plugins would need, which none of the JIT variants' plugins is."""
+    on the sphere and acdf's table on the floor), hold only drjit arrays, which drjit samples. The
+    render runs with drjit's symbolic modes on: register() leaves them as they are."""
     if "llvm_ad_rgb" not in mi.variants():
         pytest.skip("mitsuba has no llvm_ad_rgb variant")
     mi.set_variant("llvm_ad_rgb")
-    for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals):
+    symbolic = (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls, dr.JitFlag.SymbolicConditionals)
+    for flag in symbolic:
         dr.set_flag(flag, True)
-    acdf.mitsuba.register(batched_plugins=batched)
+    acdf.mitsuba.register()
     path, _ = block_map
     program = os.environ.get("ACDF_PROGRAM", os.path.join(ROOT, "build", "bin", "acdf"))
     material = str(tmp_path / "aluminium.bsdf")
@@ -684,8 +696,7 @@ def test_llvm_renders_make_no_acdf_call(tmp_path, block_map, strategy, batched):
                           "floor": {"type": "rectangle", "bsdf": {"type": "acdf_measured", "filename": material},
                                     "to_world": mi.ScalarTransform4f().translate([0, 0, -1]).scale(3)},
                           "light": {"type": "acdf_envmap", "filename": path, "strategy": strategy}})
-    # register() turned on the evaluated mode only when asked to.
-    assert dr.flag(dr.JitFlag.SymbolicLoops) == (not batched) and dr.flag(dr.JitFlag.SymbolicCalls) == (not batched)
+    assert all(dr.flag(flag) for flag in symbolic)
     emitter = scene.emitters()[0]
     bsdfs = [shape.bsdf() for shape in scene.shapes()]
     assert [type(bsdf).__name__ for bsdf in bsdfs] == ["NativeMeasured", "NativeMeasured"]
@@ -695,7 +706,6 @@ def test_llvm_renders_make_no_acdf_call(tmp_path, block_map, strategy, batched):
     assert f"bytes={emitter.bytes}" in str(emitter) and emitter.bytes > 0
     image = np.asarray(mi.render(scene))
     assert np.all(np.isfinite(image)) and image.mean() > 0
-    acdf.mitsuba.register()  # back to the default for the tests that follow
 
 
 def test_shadow_rays_reach_past_a_large_scene(variant, block_map):
