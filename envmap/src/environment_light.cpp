@@ -8,16 +8,10 @@
 #include <utility>
 
 #include "acdf/sampling/sample.h"
-#include "acdf/sampling/spherical_rectangle.h"
 
 namespace acdf {
 
 namespace {
-// Whether `position` is on the side light passes a portal towards.
-bool facing(const Portal& portal, const Vec3d& position) {
-  return dot(position - portal.corner, cross(portal.edgeU, portal.edgeV)) > 0;
-}
-
 std::uint64_t newLightId() {
   static std::atomic<std::uint64_t> next{1};
   return next.fetch_add(1, std::memory_order_relaxed);
@@ -54,6 +48,8 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const EnvironmentMap> map, En
     : map_(std::move(map)), options_(std::move(options)), id_(newLightId()) {
   if (!map_) throw std::invalid_argument("EnvironmentLight: no map");
   validate(options_);
+  for (const Portal& portal : options_.portals)
+    portals_.push_back(std::make_shared<const PortalTable>(portal, *map_, options_.worldFromMap, options_.simplify));
   auto get = [&](EnvironmentTableStrategy strategy) {
     std::shared_ptr<const EnvironmentTable> table = tables(strategy, options_.simplify);
     if (!table || table->strategy() != strategy || table->map().width() != map_->width() ||
@@ -99,22 +95,20 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
     if (emitsNothing()) return {};
     const double u = clampUnit(u0);
     if (u < kPortalShare) {
-      // The seen portal whose share of Σ Ω_i holds u, and u rescaled into that share (the last
+      // The seen portal whose share of Σ P_i holds u, and u rescaled into that share (the last
       // seen one takes what rounding leaves over, at its far end).
       double at = u / kPortalShare * seen->total_;
       std::size_t chosen = 0;
-      double chosenSolidAngle = 0;
+      PortalTable::View view;
       for (std::size_t i = 0; i < options_.portals.size(); ++i) {
-        const double solidAngle = portalSolidAngle(*seen, i);
-        if (!(solidAngle > 0)) continue;
-        at -= chosenSolidAngle;  // past the one before
+        const PortalTable::View next = portalView(*seen, i);
+        if (!(next.power > 0)) continue;
+        at -= view.power;  // past the one before
         chosen = i;
-        chosenSolidAngle = solidAngle;
-        if (at < solidAngle) break;
+        view = next;
+        if (at < view.power) break;
       }
-      const Portal& portal = options_.portals[chosen];
-      const SphericalRectangle rectangle(*context.position, portal.corner, portal.edgeU, portal.edgeV);
-      const Vec3d w = rectangle.sample(std::clamp(at / chosenSolidAngle, 0.0, 1.0), clampUnit(u1)).direction;
+      const Vec3d w = portals_[chosen]->sample(view, std::clamp(at / view.power, 0.0, 1.0), clampUnit(u1));
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
       return {w, scaled(map_->radiance(p)), mixturePdf(context, seen, w, p)};
     }
@@ -127,25 +121,18 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
   return {w, scaled(map_->radiance(s.pixel)), seen ? mixturePdf(context, seen, w, s.pixel) : s.pdf};
 }
 
-double EnvironmentLight::portalSolidAngle(const Vec3d& position, std::size_t i) const {
-  const Portal& portal = options_.portals[i];
-  if (!facing(portal, position)) return 0.0;
-  const double solidAngle = SphericalRectangle::solidAngleOf(position, portal.corner, portal.edgeU, portal.edgeV);
-  return solidAngle >= kMinPortalSolidAngle ? solidAngle : 0.0;
-}
-
-double EnvironmentLight::portalSolidAngle(const PortalsSeen& seen, std::size_t i) const {
-  return i < PortalsSeen::kCapacity ? seen.solidAngles_[i] : portalSolidAngle(seen.from_, i);
+PortalTable::View EnvironmentLight::portalView(const PortalsSeen& seen, std::size_t i) const {
+  return i < PortalsSeen::kCapacity ? seen.views_[i] : portals_[i]->viewFrom(seen.from_);
 }
 
 PortalsSeen EnvironmentLight::portalsSeenFrom(const Vec3d& position) const {
   PortalsSeen seen;
   seen.from_ = position;
   seen.light_ = id_;
-  for (std::size_t i = 0; i < options_.portals.size(); ++i) {
-    const double solidAngle = portalSolidAngle(position, i);
-    if (i < PortalsSeen::kCapacity) seen.solidAngles_[i] = solidAngle;
-    seen.total_ += solidAngle;
+  for (std::size_t i = 0; i < portals_.size(); ++i) {
+    const PortalTable::View view = portals_[i]->viewFrom(position);
+    if (i < PortalsSeen::kCapacity) seen.views_[i] = view;
+    seen.total_ += view.power;
   }
   return seen;
 }
@@ -170,12 +157,11 @@ double EnvironmentLight::mixturePdf(const LightSampleContext& context, const Por
                                     PixelIndex p) const {
   const double strategy = strategyPdf(context, p);
   if (!seen) return strategy;
-  // p_portals(w): the seen portals w passes through, over Σ Ω_i.
-  int through = 0;
-  for (std::size_t i = 0; i < options_.portals.size(); ++i) {
-    const Portal& portal = options_.portals[i];
-    through += portalSolidAngle(*seen, i) > 0 &&
-               SphericalRectangle::passesThrough(seen->from_, portal.corner, portal.edgeU, portal.edgeV, w);
+  // p_portals(w): the seen portals' tables per steradian at w, where w passes through, over Σ P_i.
+  double through = 0;
+  for (std::size_t i = 0; i < portals_.size(); ++i) {
+    const PortalTable::View view = portalView(*seen, i);
+    if (view.power > 0) through += portals_[i]->densityThrough(view.window, w);
   }
   return kPortalShare * (through / seen->total_) + (1.0 - kPortalShare) * strategy;
 }
@@ -259,8 +245,10 @@ bool EnvironmentLight::emitsNothing() const {
 }
 
 std::size_t EnvironmentLight::tableBytes() const {
-  return (complete_ ? complete_->bytes() : 0) + (incomplete_ ? incomplete_->bytes() : 0) +
-         (local_ ? local_->bytes() : 0);
+  std::size_t bytes = (complete_ ? complete_->bytes() : 0) + (incomplete_ ? incomplete_->bytes() : 0) +
+                      (local_ ? local_->bytes() : 0);
+  for (const auto& portal : portals_) bytes += portal->table().bytes();
+  return bytes;
 }
 
 }  // namespace acdf

@@ -373,8 +373,38 @@ void bindLight(py::module_& m) {
       "pixel_distributions[b] over its rows, then its columns. The density per steradian is the product of\n"
       "the two tables' (each as cascade_arrays says) over blocks x block_height x block_width x the row's\n"
       "pixel solid angle.");
+  c.def(
+      "portal_arrays",
+      [](const EnvironmentLight& light) {
+        auto copied = [](auto values) {
+          auto out = output<typename decltype(values)::value_type>(values.size());
+          std::copy(values.begin(), values.end(), out.mutable_data());
+          return out;
+        };
+        auto vector = [](const Vec3d& v) { return py::make_tuple(v.x, v.y, v.z); };
+        py::list portals;
+        for (std::size_t i = 0; i < light.options().portals.size(); ++i) {
+          const PortalTable& portal = light.portalTable(i);
+          const WindowedTable2D& t = portal.table();
+          portals.append(py::dict(
+              "corner"_a = vector(portal.corner()), "axis_u"_a = vector(portal.axisU()),
+              "axis_v"_a = vector(portal.axisV()), "normal"_a = vector(portal.normal()),
+              "length_u"_a = portal.lengthU(), "length_v"_a = portal.lengthV(),
+              "column_vertices"_a = copied(t.columnVertices()), "row_vertices"_a = copied(t.rowVertices()),
+              "coarse_column_of_fine"_a = copied(t.coarseColumnOfFine()),
+              "coarse_row_of_fine"_a = copied(t.coarseRowOfFine()), "density"_a = copied(t.coarseDensity()),
+              "summed_area"_a = copied(t.summedArea()), "row_integral"_a = copied(t.rowIntegral())));
+        }
+        return portals;
+      },
+      "Per portal (world frame), its table over the square of directions leaving through it (acdf's\n"
+      "PortalTable, WindowedTable2D): the frame (corner, unit axis_u, axis_v, normal into the room, the\n"
+      "edges' lengths), the coarse grid's vertices along a and b, the coarse cell of each fine cell along\n"
+      "each axis, the coarse density (row-major, rows along b), the summed-area table at the vertices\n"
+      "((rows + 1) x (columns + 1)) and each row's running integral along a (rows x (columns + 1)). For\n"
+      "sampling the portals in other arithmetic (acdf.mitsuba's drjit arrays).");
   c.attr("portal_share") = EnvironmentLight::kPortalShare;
-  c.attr("min_portal_solid_angle") = EnvironmentLight::kMinPortalSolidAngle;
+  c.attr("min_portal_share") = PortalTable::kMinShare;
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");

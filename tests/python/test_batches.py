@@ -205,6 +205,7 @@ NOT_BATCHED = {
     "EnvironmentLight.local_arrays": "an output; test_returned_arrays",
     "EnvironmentLight.alias_arrays": "an output; test_returned_arrays",
     "EnvironmentLight.hierarchical_arrays": "an output; test_returned_arrays",
+    "EnvironmentLight.portal_arrays": "an output; test_returned_arrays",
     "EnvironmentMap.load": "a file",
     "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
     "MerlBrdf.load": "a file",
@@ -282,6 +283,54 @@ def probabilities_of_cascade(levels, height, width, distribution=0):
     return p
 
 
+def portal_arrays_give_the_lights_density(world):
+    """A portal's arrays (portal_arrays) are its table: the summed-area table and the rows' running
+    integrals integrate the coarse density, and from a point in the room the light's pdf of its
+    samples is the mixture of the table's density per steradian through the window (the window's
+    mass integrated cell by cell here) and the strategy's pdf."""
+    window = {"corner": [-0.5, 0.2, 1.0], "edge_u": [0.0, 0.6, 0.0], "edge_v": [1.0, 0.0, 0.0]}
+    light = acdf.EnvironmentLight(world, portals=[window])
+    (p,) = light.portal_arrays()
+    A, B = p["column_vertices"], p["row_vertices"]
+    columns, rows = len(A) - 1, len(B) - 1
+    density = p["density"].reshape(rows, columns)
+    running = np.concatenate([np.zeros((rows, 1)), np.cumsum(density * np.diff(A), axis=1)], axis=1)
+    np.testing.assert_allclose(p["row_integral"].reshape(rows, columns + 1), running, rtol=1e-12, atol=1e-300)
+    area = np.concatenate([np.zeros((1, columns + 1)), np.cumsum(running * np.diff(B)[:, None], axis=0)])
+    np.testing.assert_allclose(p["summed_area"].reshape(rows + 1, columns + 1), area, rtol=1e-12, atol=1e-300)
+    fine_columns = np.searchsorted(A, (np.arange(len(p["coarse_column_of_fine"])) + 0.5)
+                                   / len(p["coarse_column_of_fine"])) - 1
+    np.testing.assert_array_equal(p["coarse_column_of_fine"], fine_columns)
+    np.testing.assert_allclose(p["normal"], np.cross(p["axis_u"], p["axis_v"]), atol=1e-15)
+    np.testing.assert_allclose(np.multiply(p["axis_u"], p["length_u"]), window["edge_u"], atol=1e-15)
+
+    inside = np.array([0.1, 0.5, 0.0])
+    u = np.random.default_rng(2).random((2000, 2), dtype=np.float32)
+    u[:, 0] *= acdf.EnvironmentLight.portal_share  # every sample through the window
+    d, _, pdf = light.sample(u, position=inside)
+    to_corner = np.asarray(p["corner"]) - inside
+    h = -to_corner @ p["normal"]
+
+    def coordinate(x, height):
+        return 0.5 * (1 + x / np.sqrt(x * x + height * height))
+
+    u0, v0 = to_corner @ p["axis_u"], to_corner @ p["axis_v"]
+    a0, a1, b0, b1 = coordinate(u0, h), coordinate(u0 + p["length_u"], h), coordinate(v0, h), coordinate(
+        v0 + p["length_v"], h)
+    overlap_a = np.clip(np.minimum(A[1:], a1) - np.maximum(A[:-1], a0), 0, None)
+    overlap_b = np.clip(np.minimum(B[1:], b1) - np.maximum(B[:-1], b0), 0, None)
+    power = overlap_b @ density @ overlap_a
+    du, dv, dn = d @ p["axis_u"], d @ p["axis_v"], -(d @ p["normal"])
+    qu, qv = np.sqrt(du * du + dn * dn), np.sqrt(dv * dv + dn * dn)
+    a, b = 0.5 * (1 + du / qu), 0.5 * (1 + dv / qv)
+    fine = len(p["coarse_column_of_fine"])
+    cell = density[p["coarse_row_of_fine"][np.minimum((b * fine).astype(int), fine - 1)],
+                   p["coarse_column_of_fine"][np.minimum((a * fine).astype(int), fine - 1)]]
+    through = cell / (4 * qu**3 * qv**3 / dn**3) / power
+    share = acdf.EnvironmentLight.portal_share
+    np.testing.assert_allclose(pdf, share * through + (1 - share) * light.pdf(d), rtol=1e-9)
+
+
 def test_returned_arrays(rng):
     """Outputs hold what they say: a map's pixels, its power per pixel, exact cell probabilities
     and the kept breakpoints."""
@@ -324,6 +373,7 @@ def test_returned_arrays(rng):
     hierarchical = acdf.EnvironmentLight(world, strategy="hierarchical")
     levels = hierarchical.hierarchical_arrays()
     assert [level["parent_columns"] for level in levels] == [8, 4, 2, 1]
+    portal_arrays_give_the_lights_density(world)
 
     def nodes(level):
         """A level's blocks as its (padded) grid of masses, and the sums of each block, per node above."""

@@ -31,6 +31,7 @@
 #include "acdf/envmap/environment_map.h"
 #include "acdf/envmap/environment_table.h"
 #include "acdf/envmap/local_environment_table.h"
+#include "acdf/envmap/portal_table.h"
 #include "acdf/sampling/rgb.h"
 #include "acdf/sampling/transform.h"
 
@@ -60,22 +61,22 @@ struct EnvironmentLightOptions {
 void validate(const EnvironmentLightOptions& options);
 
 // The portals of one light as seen from one point, found once for the calls there by
-// EnvironmentLight::atPosition: each portal's solid angle Ω_i (0 for one whose inner side the
-// point is not on) and their sum. Only the light fills one, and a call uses it only from that
+// EnvironmentLight::atPosition: each portal's view (PortalTable::View: its window, and the light
+// through it, 0 for one whose inner side the point is not on) and the sum of that light. Only the light fills one, and a call uses it only from that
 // light and at the position it was found for: a context moved to another position or given to
-// another light has its portals found again by each call, never a stale solid angle.
+// another light has its portals found again by each call, never a stale view.
 class PortalsSeen {
  public:
-  // The portals whose Ω_i are kept, inline: scenes declare a few windows and doors. For a light
-  // with more, the sum still covers all, and the calls find the other Ω_i where they need them.
+  // The portals whose views are kept, inline: scenes declare a few windows and doors. For a light
+  // with more, the sum still covers all, and the calls find the other views where they need them.
   static constexpr std::size_t kCapacity = 8;
 
  private:
   friend class EnvironmentLight;
   Vec3d from_;                                   // the point they are seen from
   std::uint64_t light_ = 0;                      // the light's identity (EnvironmentLight::id_)
-  double total_ = 0;                             // Σ Ω_i
-  std::array<double, kCapacity> solidAngles_{};  // Ω_i of the first kCapacity portals
+  double total_ = 0;                                  // Σ of the portals' power
+  std::array<PortalTable::View, kCapacity> views_{};  // of the first kCapacity portals
 };
 
 // The local table's normal cell of one shading normal, found once for the calls there by
@@ -143,30 +144,27 @@ class EnvironmentLight {
   //
   // Portals. From a position on the inner side of at least one portal, sample() draws from the
   // one-sample mixture  p(ω) = c · p_portals(ω) + (1 − c) · p_table(ω), c = kPortalShare:
-  // p_portals picks a portal with probability proportional to the solid angle Ω_i it subtends,
-  // then a direction uniform in that solid angle (SphericalRectangle), so p_portals(ω) = (the
-  // number of facing portals ω passes through) / Σ Ω_i (a portal subtending less than 1e-9 sr is
-  // left out); p_table is the strategy's own density, which keeps finding what the portals'
-  // uniform density misses (the sun through a window). u0 chooses the technique (and the
-  // portal) and is rescaled for it. pdf() and evalWithPdf() return the mixture, so MIS against
+  // p_portals picks a portal with probability proportional to the map's light through it from
+  // the point (P_i, its view's power), then a direction through it with density ∝ luminance
+  // (PortalTable), so p_portals(ω) = Σ_i f_i(ω) / Σ P_i over the seen portals ω passes through,
+  // f_i the portal's table per steradian; p_table is the strategy's own density, which keeps the
+  // mixture complete where no portal is declared (an open door, a skylight left out). u0 chooses
+  // the technique (and the portal) and is rescaled for it. pdf() and evalWithPdf() return the mixture, so MIS against
   // BSDF sampling weighs it whole. Elsewhere (no position, behind every portal) the light
-  // samples as without portals. atPosition() finds the portals' solid angles once for the calls
-  // of a shading point.
+  // samples as without portals. atPosition() finds the portals' views once for the calls of a
+  // shading point.
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
-  static constexpr double kPortalShare = 0.5;
-  // Below this solid angle a portal is not sampled: SphericalRectangle's construction, a sum of
-  // four angles minus 2π, has no correct digit left in double (a 1 m² window 30 km away).
-  static constexpr double kMinPortalSolidAngle = 1e-9;
+  static constexpr double kPortalShare = 0.9;
   // Density per steradian of sample(context, ·) at the world direction w (non-zero).
   double pdf(const LightSampleContext& context, const Vec3d& w) const;
   // `context` at the shading normal `normal` (world frame, non-zero), with its local table cell
   // (Local only) found once for every call there.
   LightSampleContext atNormal(const LightSampleContext& context, const Vec3d& normal) const;
-  // `context` at the point `position` (world frame), with the solid angles its portals subtend
-  // found once for every call there.
+  // `context` at the point `position` (world frame), with its portals' views found once for every
+  // call there.
   LightSampleContext atPosition(const LightSampleContext& context, const Vec3d& position) const;
   // atPosition(atNormal(context, normal), position), in place: a path tracer moves one context
-  // from vertex to vertex, and copying it (with the portals' solid angles) twice per vertex costs
+  // from vertex to vertex, and copying it (with the portals' views) twice per vertex costs
   // more than finding what changed.
   void moveTo(LightSampleContext& context, const Vec3d& position, const Vec3d& normal) const;
   // Radiance arriving from the world direction w (non-zero): nearest pixel, times the scale.
@@ -184,8 +182,10 @@ class EnvironmentLight {
   const EnvironmentLightOptions& options() const { return options_; }
   // Local only (else null): the table of the calls with a normal.
   const LocalEnvironmentTable* localTable() const { return local_.get(); }
+  // Portal i's table (options().portals[i]).
+  const PortalTable& portalTable(std::size_t i) const { return *portals_[i]; }
   // Bytes of the tables the light holds (0 for uniform-sphere sampling; the local slices built so
-  // far).
+  // far; the portals').
   std::size_t tableBytes() const;
 
  private:
@@ -203,12 +203,9 @@ class EnvironmentLight {
   std::size_t localCell(const LightSampleContext& context) const;
   // The strategy's density at pixel p (the table's, or the local one's).
   double strategyPdf(const LightSampleContext& context, PixelIndex p) const;
-  // Ω_i of portal i from `position`: 0 unless the position is on its inner side and Ω_i is large
-  // enough for SphericalRectangle's sampling in double (kMinPortalSolidAngle).
-  double portalSolidAngle(const Vec3d& position, std::size_t i) const;
-  // The same as `seen` keeps it, or found now for a portal beyond its capacity.
-  double portalSolidAngle(const PortalsSeen& seen, std::size_t i) const;
-  // Every portal's Ω_i from `position`.
+  // Portal i's view as `seen` keeps it, or found now for a portal beyond its capacity.
+  PortalTable::View portalView(const PortalsSeen& seen, std::size_t i) const;
+  // Every portal's view from `position`.
   PortalsSeen portalsSeenFrom(const Vec3d& position) const;
   // The portals seen from the context's position: atPosition's when they are this light's at that
   // position, else found now into `found`; null without a position or a portal seen from it.
@@ -223,6 +220,7 @@ class EnvironmentLight {
   // that allow an incomplete one. Either may be null when no call will need it.
   std::shared_ptr<const EnvironmentTable> complete_, incomplete_;
   std::shared_ptr<const LocalEnvironmentTable> local_;
+  std::vector<std::shared_ptr<const PortalTable>> portals_;  // one per options_.portals
   // Distinct for every light constructed (a copy shares its portals and so its identity): what
   // PortalsSeen::light_ holds.
   std::uint64_t id_;
