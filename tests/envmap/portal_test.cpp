@@ -168,10 +168,10 @@ TEST(Portals, ASunThroughTheWindowTakesItsShareOfThePortalSamples) {
     const LightSample s = light.sample(context, u0, rng.nextFloat());
     hits += light.map().mapping().pixelOf(light.options().worldFromMap.applyInverse(s.direction)) == sun;
   }
-  // The table's cells do not follow the pixel's edges: at about a third of a pixel (PortalTable's
-  // fine cells, 64 × 32 here), the cells the sun's edges cut give 20 % of its samples to the sky
-  // beside it. Directions uniform in the window's solid angle would hit it 1 time in 20.
-  EXPECT_GT(static_cast<double>(hits) / n, 0.75 * share);
+  // The table's cells do not follow the pixel's edges: the cells the sun's edges cut give some of
+  // its samples to the sky beside it (PortalTable's fine cells are a sixth of this map's pixels).
+  // Directions uniform in the window's solid angle would hit it 1 time in 20.
+  EXPECT_GT(static_cast<double>(hits) / n, 0.8 * share);
   EXPECT_LE(static_cast<double>(hits) / n, share);
 }
 
