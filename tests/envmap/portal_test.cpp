@@ -100,13 +100,15 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
 
 TEST(Portals, ExpectationsEqualTheIntegralsTheyEstimate) {
   // E[g(ω) / p(ω)] = ∫ g over the support of p, for g = 1 (the whole sphere: 4π), g = the
-  // indicator of a window (its solid angle) and g = L's luminance (the map's power), at 10⁶
-  // samples: z-tests at alpha 0.01, Sidak-corrected over the 3 × 2 tests.
+  // indicator of a window (its solid angle), g = L's luminance (the map's power) and g = the
+  // window's indicator times cos θ to a normal facing it (the irradiance of a unit sky through the
+  // window, Lambert's formula), at 10⁶ samples: z-tests at alpha 0.01, Sidak-corrected over the
+  // 4 × 2 tests.
   const EnvironmentLight light = lightWith(EnvironmentSampling::Adaptive, {kWindow, kSideWindow});
   const std::vector<float> power = light.map().pixelPower();
   double mapPower = 0;
   for (float p : power) mapPower += p;
-  const double alpha = sidakAlpha(0.01, 6);
+  const double alpha = sidakAlpha(0.01, 8);
   // The two-sided normal quantile of alpha, by bisection on erfc.
   double lo = 0, hi = 10;
   for (int i = 0; i < 100; ++i) ((std::erfc((lo + hi) / 2 / std::sqrt(2.0)) > alpha) ? lo : hi) = (lo + hi) / 2;
@@ -116,19 +118,32 @@ TEST(Portals, ExpectationsEqualTheIntegralsTheyEstimate) {
     const SphericalRectangle window(position, kWindow.corner, kWindow.edgeU, kWindow.edgeV);
     Pcg32 rng(19);
     const int n = 1'000'000;
-    double sum[3] = {}, squares[3] = {};
+    const Vec3d facing = normalize({0.1, -0.2, 1.0});
+    double sum[4] = {}, squares[4] = {};
     for (int k = 0; k < n; ++k) {
       const LightSample s = light.sample(context, rng.nextFloat(), rng.nextFloat());
-      const double g[3] = {1.0, window.pdf(s.direction) > 0 ? 1.0 : 0.0,
-                           0.2126 * s.radiance.r + 0.7152 * s.radiance.g + 0.0722 * s.radiance.b};
-      for (int i = 0; i < 3; ++i) {
+      const double through = window.pdf(s.direction) > 0 ? 1.0 : 0.0;
+      const double g[4] = {1.0, through, 0.2126 * s.radiance.r + 0.7152 * s.radiance.g + 0.0722 * s.radiance.b,
+                           through * std::max(0.0, dot(facing, s.direction))};
+      for (int i = 0; i < 4; ++i) {
         sum[i] += g[i] / s.pdf;
         squares[i] += (g[i] / s.pdf) * (g[i] / s.pdf);
       }
     }
-    const double expected[3] = {4.0 * std::numbers::pi, window.solidAngle(), mapPower};
-    const char* what[3] = {"4 pi", "the window's solid angle", "the map's power"};
-    for (int i = 0; i < 3; ++i) {
+    // Lambert: ∫ cos θ dω over a polygon above the tangent plane = ½ Σ_edges γ_e n · (v_e × v_e+1)
+    // / |v_e × v_e+1|, the corners' unit directions v in order, γ_e the angle between them.
+    const Vec3d corners[4] = {kWindow.corner, kWindow.corner + kWindow.edgeU, kWindow.corner + kWindow.edgeU + kWindow.edgeV,
+                              kWindow.corner + kWindow.edgeV};
+    double irradiance = 0;
+    for (int e = 0; e < 4; ++e) {
+      const Vec3d v0 = normalize(corners[e] - position), v1 = normalize(corners[(e + 1) % 4] - position);
+      ASSERT_GT(dot(facing, v0), 0.0) << "the window is above the tangent plane";
+      const Vec3d c = cross(v0, v1);
+      irradiance += 0.5 * std::acos(std::clamp(dot(v0, v1), -1.0, 1.0)) * dot(facing, c) / length(c);
+    }
+    const double expected[4] = {4.0 * std::numbers::pi, window.solidAngle(), mapPower, std::abs(irradiance)};
+    const char* what[4] = {"4 pi", "the window's solid angle", "the map's power", "a unit sky's irradiance"};
+    for (int i = 0; i < 4; ++i) {
       const double mean = sum[i] / n, se = std::sqrt((squares[i] / n - mean * mean) / n);
       EXPECT_LT(std::abs(mean - expected[i]), z * se) << what[i] << ": " << mean << " against " << expected[i];
     }
