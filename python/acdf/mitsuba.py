@@ -33,7 +33,8 @@ the light) acdf's wi; Mitsuba's eval is f times the cosine of its wo.
 In the JIT variants `acdf_envmap`, whatever its strategy, samples and evaluates its table (a cascade
 over the pixels: uniform, adaptive, compensated; alias tables over the rows and the row's columns:
 alias; a mip pyramid of the pixels: hierarchical; one per normal cell over blocks of pixels: local,
-local-compensated, each lane's from it.n; or none: uniform-sphere) with drjit operations over the
+local-compensated, each lane's from it.n; or none: uniform-sphere), and its portals' tables
+(EnvironmentLight.portal_arrays, from each lane's it.p), with drjit operations over the
 tables' arrays, which Mitsuba traces into its kernels with drjit's symbolic modes on (NativeEnvmap);
 so does `acdf_measured`, whatever its sampling (acdf's half-vector table, the RGL file's own warps or
 cosine-weighted: NativeMeasured), whose BRDF values are, for an RGL file, those of Mitsuba's
@@ -275,8 +276,8 @@ def _make_envmap_classes():
                 self.table = _drjit_pixel_table(mi, light, self.incomplete)
                 self.complete = (_drjit_pixel_table(mi, light, False)
                                  if self.incomplete and self.local is None else self.table)
-            self.portals_seen = (_DrjitPortals(mi, self.portals) if self.portals and not light.emits_nothing
-                                 else None)
+            self.portals_seen = (_DrjitPortals(mi, light.portal_arrays(), self.world_from_map)
+                                 if self.portals and not light.emits_nothing else None)
             # Everything is in drjit arrays now: the C++ light (the map's pixels again, and every
             # table) would double the plugin's memory for nothing.
             self.bytes = light.bytes  # of acdf's sampling tables, all built for the export
@@ -808,58 +809,273 @@ def _portal_of(mi, name, shape):
     return portal
 
 
-class _PortalsSeen:
-    """What the portals are from each lane's point: its position, every portal's solid angle (0 where
-    the lane is not on its inner side), their sum, and the lanes that see one."""
+def _dot(a, b):
+    """a . b of float64 3-vectors in acdf's order (sphere.h's dot): dr.dot fuses multiply-adds."""
+    return a.x * b.x + a.y * b.y + a.z * b.z
 
-    def __init__(self, origin, solid_angles, active):
-        self.origin = origin
-        self.solid_angles = solid_angles
-        self.total = sum(solid_angles[1:], solid_angles[0])
+
+def _first_where(lo, hi, holds, steps, active):
+    """The first index in [lo, hi] where holds(index, live) is true, else hi, for a predicate false
+    then true: acdf's lo/hi bisection (windowed_table_2d.cpp) step for step, `steps` halvings deep
+    (enough for the longest range), so that rounding that breaks the order gives acdf's index too."""
+    for _ in range(steps):
+        live = active & (lo < hi)
+        mid = lo + ((hi - lo) >> 1)
+        above = live & holds(mid, live)
+        hi = dr.select(above, mid, hi)
+        lo = dr.select(live & ~above, mid + 1, lo)
+    return lo
+
+
+def _pick(index, values):
+    """values[index] per lane, for a few values (a select per value)."""
+    out = values[0]
+    for i, value in enumerate(values[1:], 1):
+        out = dr.select(index == i, value, out)
+    return out
+
+
+def _inside(x, lo, hi):
+    """acdf's inside() (windowed_table_2d.cpp): x moved strictly inside [lo, hi] by 1e-9 of the
+    square, or a quarter of a narrower interval."""
+    margin = dr.minimum(1e-9, 0.25 * (hi - lo))
+    return dr.clip(x, lo + margin, hi - margin)
+
+
+class _DrjitWindowedTables:
+    """acdf's WindowedTable2D (sampling/windowed_table_2d.h) of every portal, from
+    EnvironmentLight.portal_arrays, in a JIT variant's arrays: the tables' float64 arrays end to end
+    in one array, their fine-to-coarse lookups in another. A table is a layout: the offsets of its
+    arrays and its sizes, Python ints for one table, per-lane UInt32 for each lane's own (the portal
+    it chose). The functions are the C++ ones, term for term in double."""
+
+    _VALUES = ("column_vertices", "row_vertices", "density", "summed_area", "row_integral")
+    _CELLS = ("coarse_column_of_fine", "coarse_row_of_fine")
+
+    def __init__(self, mi, portals):
+        self.mi = mi
+        values, cells, self.layouts = [], [], []
+        for portal in portals:
+            layout = {"columns": len(portal["column_vertices"]) - 1, "rows": len(portal["row_vertices"]) - 1,
+                      "fine_columns": len(portal["coarse_column_of_fine"]),
+                      "fine_rows": len(portal["coarse_row_of_fine"])}
+            for names, arrays in ((self._VALUES, values), (self._CELLS, cells)):
+                for name in names:
+                    layout[name] = sum(len(a) for a in arrays)
+                    arrays.append(np.asarray(portal[name]))
+            self.layouts.append(layout)
+        self.values = mi.Float64(np.concatenate(values).astype(np.float64))
+        self.cells = mi.UInt32(np.concatenate(cells).astype(np.uint32))
+        # Halvings that bisect the longest range of rows or columns.
+        self.steps = (max(max(t["rows"], t["columns"]) for t in self.layouts) - 1).bit_length()
+
+    def layout_of(self, chosen):
+        """Each lane's table: table chosen[lane]."""
+        if len(self.layouts) == 1:
+            return self.layouts[0]
+        return {key: _pick(chosen, [self.mi.UInt32(t[key]) for t in self.layouts]) for key in self.layouts[0]}
+
+    def _value(self, at, active):
+        return dr.gather(self.mi.Float64, self.values, at, active)
+
+    def coarse_of(self, t, x, axis, active):
+        """The coarse cell of coordinate x along axis "column" or "row" (columnOf, rowOf): through its
+        fine cell, clamped into the square."""
+        fine = self.mi.Float64(t[f"fine_{axis}s"])
+        cell = self.mi.UInt32(dr.clip(dr.floor(x * fine), 0, fine - 1.0))
+        return dr.gather(self.mi.UInt32, self.cells, t[f"coarse_{axis}_of_fine"] + cell, active)
+
+    def coarse_of_end(self, t, x, axis, active):
+        """The cell a window ending at x ends in: the one below a vertex it ends on (columnOfEnd, rowOfEnd)."""
+        cell = self.coarse_of(t, x, axis, active)
+        back = active & (cell > 0)
+        back &= x <= self._value(t[f"{axis}_vertices"] + cell, back)
+        return dr.select(back, cell - 1, cell)
+
+    def along_row(self, t, row, a, column, active):
+        """alongRow: the integral over [0, a] of row `row`'s density, a in column `column`."""
+        start = self._value(t["row_integral"] + row * (t["columns"] + 1) + column, active)
+        density = self._value(t["density"] + row * t["columns"] + column, active)
+        return start + density * (a - self._value(t["column_vertices"] + column, active))
+
+    def below_row(self, t, row, a, column, active):
+        """belowRow: the integral over [0, a] x [0, B_row], linear in a inside column `column`."""
+        at = t["summed_area"] + row * (t["columns"] + 1) + column
+        lo, hi = self._value(at, active), self._value(at + 1, active)
+        left = self._value(t["column_vertices"] + column, active)
+        right = self._value(t["column_vertices"] + column + 1, active)
+        return lo + (hi - lo) * ((a - left) / (right - left))
+
+    def density(self, t, a, b, active):
+        """The coarse cell's density at (a, b)."""
+        cell = self.coarse_of(t, b, "row", active) * t["columns"] + self.coarse_of(t, a, "column", active)
+        return self._value(t["density"] + cell, active)
+
+    def mass(self, t, window, active):
+        """WindowedTable2D::mass: the first and last coarse rows the window cuts from their running
+        integrals along a, the whole rows between from the summed-area table."""
+        a0, a1, b0, b1 = window
+        active = active & (a1 > a0) & (b1 > b0)
+        cut = _WindowCut(self, t, window, active)
+        one_row = cut.J0 == cut.J1
+        rows = active & ~one_row
+        strips = cut.strip(cut.J1, rows) - cut.strip(cut.J0 + 1, rows)
+        several = ((self._value(t["row_vertices"] + cut.J0 + 1, rows) - b0) * cut.across(cut.J0, rows) + strips
+                   + (b1 - self._value(t["row_vertices"] + cut.J1, rows)) * cut.across(cut.J1, rows))
+        mass = dr.select(one_row, (b1 - b0) * cut.across(cut.J0, active & one_row), several)
+        return dr.select(active, dr.maximum(0.0, mass), 0.0)
+
+    def sample(self, t, window, mass, u0, u1, active):
+        """WindowedTable2D::sample's point (a, b) of the window (mass: its mass > 0): the row by u1
+        over the window's running mass at the row vertices, the nearest row with mass where rounding
+        picked one without, then the column by u0 over the row's running integral, stepping back
+        over columns of no density; the middle of the window where it has no mass at all."""
+        mi = self.mi
+        a0, a1, b0, b1 = window
+        cut = _WindowCut(self, t, window, active)
+        J0, J1, columns = cut.J0, cut.J1, t["columns"]
+        target = dr.clip(u1, 0.0, 1.0) * mass
+        rows = active & (J1 > J0)
+        first = (self._value(t["row_vertices"] + J0 + 1, rows) - b0) * cut.across(J0, rows)
+        searching = rows & ~(target < first)
+        base = cut.strip(J0 + 1, searching)
+
+        def mass_at(vertex, live):
+            return first + cut.strip(vertex, live) - base
+
+        J = _first_where(J0 + 1, J1, lambda mid, live: mass_at(mid + 1, live) > target, self.steps, searching)
+        J = dr.select(searching, J, J0)
+        below = dr.select(searching, mass_at(J, searching), 0.0)
+        across = cut.across(J, active)
+        # A row of no mass in the window won by an ulp: the nearest row with mass (below first) instead.
+        replaced = active & ~(across > 0)
+
+        def has_mass(row, live):
+            return live & (cut.across(row, live) > 0)
+
+        def next_row(k, taken, seeking):
+            lower = has_mass(J - k, seeking & (J >= J0 + k))
+            upper = has_mass(J + k, seeking & ~lower & (J + k <= J1))
+            taken = dr.select(lower, J - k, dr.select(upper, J + k, taken))
+            seeking &= ~lower & ~upper
+            return k + 1, taken, seeking & (k + 1 <= J1 - J0)
+
+        _, taken, _ = dr.while_loop((mi.UInt32(1), J, replaced & (J1 > J0)), lambda k, taken, seeking: seeking,
+                                    next_row)
+        empty = replaced & (taken == J)  # no row has mass: `mass` was rounding
+        J = taken
+        row_lo = dr.maximum(self._value(t["row_vertices"] + J, active), b0)
+        row_hi = dr.minimum(self._value(t["row_vertices"] + J + 1, active), b1)
+        b = dr.select(replaced, 0.5 * (row_lo + row_hi), _inside(row_lo + (target - below) / across, row_lo, row_hi))
+
+        running = t["row_integral"] + J * (columns + 1)
+        start, end = self.along_row(t, J, a0, cut.I0, active), self.along_row(t, J, a1, cut.I1, active)
+        along = start + dr.clip(u0, 0.0, 1.0) * (end - start)
+        I = _first_where(cut.I0, cut.I1, lambda mid, live: self._value(running + mid + 1, live) > along, self.steps,
+                         active)
+
+        def no_density(column, live):
+            return live & ~(self._value(t["density"] + J * columns + column, live) > 0)
+
+        # `along` rounded to the row's end: the last column with mass.
+        (I,) = dr.while_loop((I,), lambda column: no_density(column, active & (column > cut.I0)),
+                             lambda column: (column - 1,))
+        column_lo = dr.maximum(self._value(t["column_vertices"] + I, active), a0)
+        column_hi = dr.minimum(self._value(t["column_vertices"] + I + 1, active), a1)
+        density = self._value(t["density"] + J * columns + I, active)
+        a = _inside(column_lo + (along - dr.maximum(self._value(running + I, active), start)) / density, column_lo,
+                    column_hi)
+        return dr.select(empty, 0.5 * (a0 + a1), a), dr.select(empty, 0.5 * (b0 + b1), b)
+
+
+class _WindowCut:
+    """A window of a table (per lane) as mass() and sample() both walk it: the coarse columns and rows
+    at its ends (I0, I1, J0, J1), a row's integral across it and the strip below a row vertex."""
+
+    def __init__(self, tables, t, window, active):
+        self.tables, self.t, self.window = tables, t, window
+        a0, a1, b0, b1 = window
+        self.I0, self.I1 = tables.coarse_of(t, a0, "column", active), tables.coarse_of_end(t, a1, "column", active)
+        self.J0, self.J1 = tables.coarse_of(t, b0, "row", active), tables.coarse_of_end(t, b1, "row", active)
+
+    def across(self, row, active):
+        a0, a1 = self.window[:2]
+        return (self.tables.along_row(self.t, row, a1, self.I1, active)
+                - self.tables.along_row(self.t, row, a0, self.I0, active))
+
+    def strip(self, vertex, active):
+        a0, a1 = self.window[:2]
+        return (self.tables.below_row(self.t, vertex, a1, self.I1, active)
+                - self.tables.below_row(self.t, vertex, a0, self.I0, active))
+
+
+class _PortalsSeen:
+    """What the portals are from each lane's point: every portal's window of its square and the map's
+    light through it (its power, 0 where the lane is not on its inner side or the window holds too
+    little: acdf's PortalTable::View), their sum, and the lanes that see one."""
+
+    def __init__(self, windows, powers, active):
+        self.windows = windows
+        self.powers = powers
+        self.total = sum(powers[1:], powers[0])
         self.lanes = active & (self.total > 0)
 
 
 class _DrjitPortals:
-    """acdf's portals (acdf.EnvironmentLight, envmap/environment_light.h) in drjit, in float64 as
-    acdf's C++: from a point on a portal's inner side, a share of the samples goes through the portals
-    seen, a portal chosen by its share of the solid angles, the direction uniform in its solid angle
-    (Urena, Fajardo & King 2013); pdf_direction is the mixture. Portals are few: every loop over
-    them is unrolled into the kernel."""
+    """acdf's portals (acdf.EnvironmentLight, envmap/environment_light.h, portal_table.h) in drjit, in
+    float64 as acdf's C++, from the light's own tables (portal_arrays): from a point on a portal's
+    inner side, a share of the samples goes through the portals seen, a portal chosen by its share
+    of the map's light through them, the direction by the map's luminance through it (its
+    WindowedTable2D sampled inside the window the portal covers from the point); pdf_direction is
+    the mixture. Portals are few: every loop over them is unrolled into the kernel."""
 
-    def __init__(self, mi, portals):
+    def __init__(self, mi, portals, world_from_map):
+        """portals: the light's portal_arrays(), in the map frame, where acdf's light works;
+        world_from_map: the plugin's rotation. Points and directions are turned into the map frame
+        in double, as acdf's callers turn them: a sample is a steep function of its window, which
+        the float32 rotation's rounding (1e-7) would move by up to 1e-5 rad."""
         self.mi = mi
         self.share = acdf.EnvironmentLight.portal_share
-        self.min_solid_angle = acdf.EnvironmentLight.min_portal_solid_angle
+        rotated = not np.array_equal(world_from_map, np.eye(3))
+        self.world_from_map = world_from_map if rotated else None
+        self.map_from_world = world_from_map.T if rotated else None
+        self.tables = _DrjitWindowedTables(mi, portals)
         self.portals = []
-        for portal in portals:
-            u, v = np.asarray(portal["edge_u"], np.float64), np.asarray(portal["edge_v"], np.float64)
-            x, y = u / np.linalg.norm(u), v / np.linalg.norm(v)
-            vectors = {"corner": portal["corner"], "u": u, "v": v, "normal": np.cross(u, v), "x": x, "y": y,
-                       "z": np.cross(x, y)}
-            self.portals.append({**{key: mi.Vector3d(*(float(c) for c in value)) for key, value in vectors.items()},
-                                 "uu": float(u @ u), "vv": float(v @ v), "length_u": float(np.linalg.norm(u)),
-                                 "length_v": float(np.linalg.norm(v))})
+        for portal, layout in zip(portals, self.tables.layouts):
+            frame = {key: mi.Vector3d(*(float(c) for c in portal[key]))
+                     for key in ("corner", "axis_u", "axis_v", "normal")}
+            # PortalTable::minPower_: kMinShare of the whole square's mass, found as acdf finds it.
+            whole = self.tables.mass(layout, tuple(mi.Float64(x) for x in (0.0, 1.0, 0.0, 1.0)), mi.Bool(True))
+            self.portals.append({**frame, "length_u": float(portal["length_u"]), "length_v": float(portal["length_v"]),
+                                 "min_power": acdf.EnvironmentLight.min_portal_share * float(whole[0])})
 
-    def _solid_angle(self, portal, origin):
-        """Omega of the portal from origin, 0 unless origin is on its inner side and Omega is large enough
-        to sample (acdf's SphericalRectangle::solidAngleOf: two triangles, one atan2)."""
-        a = portal["corner"] - origin
-        b, d = a + portal["u"], a + portal["v"]
-        c = b + portal["v"]
-        height = dr.dot(a, portal["normal"])
-        volume = dr.abs(height)
-        la, lb, lc, ld, ac = dr.norm(a), dr.norm(b), dr.norm(c), dr.norm(d), dr.dot(a, c)
-        scale_b, scale_d = dr.rcp(la * lb * lc), dr.rcp(la * lc * ld)
-        re_b = (la * lb * lc + dr.dot(a, b) * lc + ac * lb + dr.dot(b, c) * la) * scale_b
-        re_d = (la * lc * ld + ac * ld + dr.dot(a, d) * lc + dr.dot(c, d) * la) * scale_d
-        im_b, im_d = volume * scale_b, volume * scale_d
-        omega = 2 * dr.atan2(re_b * im_d + im_b * re_d, re_b * re_d - im_b * im_d)
-        # On the inner side the corner lies behind the point along the normal.
-        return dr.select((height < 0) & (omega >= self.min_solid_angle), omega, 0.0)
+    def _view(self, portal, layout, origin, active):
+        """PortalTable::viewFrom: the window of the square the portal covers from origin, and its mass
+        (0 behind the portal, in its plane, or below min_power)."""
+        to_corner = portal["corner"] - origin
+        h = -_dot(to_corner, portal["normal"])
+        active = active & (h > 0)
+        u0, v0 = _dot(to_corner, portal["axis_u"]), _dot(to_corner, portal["axis_v"])
+
+        def coordinate(d):
+            return 0.5 * (1.0 + d / dr.sqrt(d * d + h * h))
+
+        window = (coordinate(u0), coordinate(u0 + portal["length_u"]), coordinate(v0),
+                  coordinate(v0 + portal["length_v"]))
+        power = self.tables.mass(layout, window, active)
+        return window, dr.select(active & (power > portal["min_power"]), power, 0.0)
+
+    def _turn(self, matrix, v):
+        """The float64 vector v by a 3 x 3 matrix (None: the identity), row by row in acdf's dot order."""
+        if matrix is None:
+            return v
+        return self.mi.Vector3d(*(float(m[0]) * v.x + float(m[1]) * v.y + float(m[2]) * v.z for m in matrix))
 
     def seen_from(self, p, active):
-        origin = self.mi.Vector3d(p)
-        return _PortalsSeen(origin, [self._solid_angle(portal, origin) for portal in self.portals], active)
+        origin = self._turn(self.map_from_world, self.mi.Vector3d(p))
+        views = [self._view(portal, layout, origin, active)
+                 for portal, layout in zip(self.portals, self.tables.layouts)]
+        return _PortalsSeen([window for window, _ in views], [power for _, power in views], active)
 
     def choose(self, seen, sample):
         """The lanes whose sample goes through a portal (u0 below the share), and every lane's variates
@@ -870,73 +1086,48 @@ class _DrjitPortals:
         return through, self.mi.Point2f(dr.select(seen.lanes, rescaled, sample.x), sample.y)
 
     def sample(self, seen, sample, active):
-        """World directions through the portal each lane's u0 chooses (the last one seen takes what
-        rounding leaves over), uniform in its solid angle."""
+        """World directions through the portal each lane's u0 chooses by its share of the power (the
+        last one seen takes what rounding leaves over), drawn by its table inside its window
+        (PortalTable::sample: WindowedTable2D::sample, then directionAt)."""
         mi = self.mi
         at = mi.Float64(dr.clip(sample.x, 0.0, _ONE_MINUS_EPSILON)) / self.share * seen.total
-        chosen, chosen_omega, done = mi.UInt32(0), mi.Float64(0), mi.Bool(False)
-        for i, omega in enumerate(seen.solid_angles):
-            take = ~done & (omega > 0)
-            at = dr.select(take, at - chosen_omega, at)
+        chosen, power, done = mi.UInt32(0), mi.Float64(0), mi.Bool(False)
+        for i, next_power in enumerate(seen.powers):
+            take = ~done & (next_power > 0)
+            at = dr.select(take, at - power, at)
             chosen = dr.select(take, i, chosen)
-            chosen_omega = dr.select(take, omega, chosen_omega)
-            done |= take & (at < omega)
-        v = dr.clip(at / chosen_omega, 0.0, 1.0)
-        w = mi.Vector3d(0)
-        for i, portal in enumerate(self.portals):
-            lanes = active & (chosen == i)
-            w = dr.select(lanes, self._through_rectangle(portal, seen.origin, v,
-                                                         mi.Float64(dr.clip(sample.y, 0.0, 1.0))), w)
-        return mi.Vector3f(w)
+            power = dr.select(take, next_power, power)
+            done |= take & (at < next_power)
+        window = tuple(_pick(chosen, list(bounds)) for bounds in zip(*seen.windows))
+        a, b = self.tables.sample(self.tables.layout_of(chosen), window, power, dr.clip(at / power, 0.0, 1.0),
+                                  mi.Float64(dr.clip(sample.y, 0.0, _ONE_MINUS_EPSILON)), active)
+        # directionAt: s / sqrt(1 - s^2) with 1 +- s from a and 1 - a, exact near either end.
+        x = (2.0 * a - 1.0) / (2.0 * dr.sqrt(a * (1.0 - a)))
+        y = (2.0 * b - 1.0) / (2.0 * dr.sqrt(b * (1.0 - b)))
+        axis_u, axis_v, normal = (_pick(chosen, [portal[key] for portal in self.portals])
+                                  for key in ("axis_u", "axis_v", "normal"))
+        w = axis_u * x + axis_v * y - normal
+        return mi.Vector3f(self._turn(self.world_from_map, w * (1.0 / dr.sqrt(_dot(w, w)))))
 
-    def _through_rectangle(self, portal, origin, u0, u1):
-        """acdf's SphericalRectangle::sample: the slice of the rectangle's solid angle holding u0's
-        share of it, then the height on that slice uniform in the sine of the elevation."""
-        x, y, z = portal["x"], portal["y"], portal["z"]
-        d = portal["corner"] - origin
-        z0 = dr.dot(d, z)
-        z = dr.select(z0 > 0, -z, z)
-        z0 = -dr.abs(z0)
-        x0, y0 = dr.dot(d, x), dr.dot(d, y)
-        x1, y1 = x0 + portal["length_u"], y0 + portal["length_v"]
-        Vector = self.mi.Vector3d
-        n0, n1 = dr.normalize(Vector(0, z0, -y0)), dr.normalize(Vector(-z0, 0, x1))
-        n2, n3 = dr.normalize(Vector(0, -z0, y1)), dr.normalize(Vector(z0, 0, -x0))
-
-        def inner_angle(n, m):
-            return dr.acos(dr.clip(-dr.dot(n, m), -1.0, 1.0))
-
-        g0, g1, g2, g3 = inner_angle(n0, n1), inner_angle(n1, n2), inner_angle(n2, n3), inner_angle(n3, n0)
-        b0, b1, k = n0.z, n2.z, 2 * dr.pi - g2 - g3
-        area = dr.maximum(0.0, g0 + g1 - k)
-        au = u0 * area + k
-        fu = (dr.cos(au) * b0 - b1) / dr.sin(au)
-        cu = dr.clip(dr.copysign(1.0, fu) / dr.sqrt(fu * fu + b0 * b0), -1.0, 1.0)
-        xu = -(cu * z0) / dr.sqrt(dr.maximum(0.0, 1.0 - cu * cu))
-        xu = dr.select(xu >= x0, dr.minimum(xu, x1), x0)  # NaN too
-        dist2 = xu * xu + z0 * z0
-        dist = dr.sqrt(dist2)
-        h0, h1 = y0 / dr.sqrt(dist2 + y0 * y0), y1 / dr.sqrt(dist2 + y1 * y1)
-        hv = h0 + u1 * (h1 - h0)
-        hv2 = hv * hv
-        yv = dr.select(hv2 < 1.0 - 1e-12, dr.clip(hv * dist / dr.sqrt(dr.maximum(1.0 - hv2, 1e-300)), y0, y1), y1)
-        return dr.normalize(x * xu + y * yv + z * z0)
-
-    def _passes_through(self, portal, origin, w):
-        """acdf's SphericalRectangle::passesThrough, its edges included with 1e-9 to spare."""
-        towards, height = dr.dot(w, portal["normal"]), dr.dot(portal["corner"] - origin, portal["normal"])
-        hit = origin + w * (height / towards) - portal["corner"]
-        s, t = dr.dot(hit, portal["u"]) / portal["uu"], dr.dot(hit, portal["v"]) / portal["vv"]
-        spare = 1e-9
-        return (towards * height > 0) & (s >= -spare) & (s <= 1 + spare) & (t >= -spare) & (t <= 1 + spare)
+    def _density_through(self, portal, layout, window, w, active):
+        """PortalTable::densityThrough: the table's function per steradian at the unit direction w, 0
+        for one not leaving through the portal's plane or outside the window."""
+        du, dv, dn = _dot(w, portal["axis_u"]), _dot(w, portal["axis_v"]), -_dot(w, portal["normal"])
+        qu, qv = dr.sqrt(du * du + dn * dn), dr.sqrt(dv * dv + dn * dn)
+        a, b = 0.5 * (1.0 + du / qu), 0.5 * (1.0 + dv / qv)
+        jacobian = 4.0 * (qu * qu * qu) * (qv * qv * qv) / (dn * dn * dn)
+        a0, a1, b0, b1 = window
+        active = active & (dn > 0) & ~((a < a0) | (a > a1) | (b < b0) | (b > b1))
+        return dr.select(active, self.tables.density(layout, a, b, active) / jacobian, 0.0)
 
     def mixture_pdf(self, seen, w, strategy_pdf):
-        """Where a lane sees a portal: the share times (the seen portals w passes through) / their
-        total solid angle, plus the rest times the strategy's pdf; elsewhere the strategy's."""
-        w = self.mi.Vector3d(w)
+        """Where a lane sees a portal: the share times the seen portals' densities per steradian at w
+        over their total power, plus the rest times the strategy's pdf (EnvironmentLight::mixturePdf);
+        elsewhere the strategy's."""
+        w = self._turn(self.map_from_world, self.mi.Vector3d(w))
         through = self.mi.Float64(0)
-        for portal, omega in zip(self.portals, seen.solid_angles):
-            through += dr.select((omega > 0) & self._passes_through(portal, seen.origin, w), 1.0, 0.0)
+        for portal, layout, window, power in zip(self.portals, self.tables.layouts, seen.windows, seen.powers):
+            through += self._density_through(portal, layout, window, w, seen.lanes & (power > 0))
         mixture = self.share * (through / seen.total) + (1 - self.share) * self.mi.Float64(strategy_pdf)
         return dr.select(seen.lanes, self.mi.Float(mixture), strategy_pdf)
 

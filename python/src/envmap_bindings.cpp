@@ -171,7 +171,8 @@ et al. 2005; a normal cell's table is built when a normal in it is first used).
 portals: windows or doors the map is seen through, as scene files declare them: a list of
 {"corner": [x, y, z], "edge_u": [...], "edge_v": [...]} (world frame, edges perpendicular), each
 letting light through towards the side edge_u x edge_v points to. From a point on that side
-(position=...) half the samples go uniformly through the portals by solid angle; pdf() is the
+(position=...) portal_share of the samples go through the portals, with the map's importance
+inside each (its table over the directions leaving through it, portal_arrays()); pdf() is the
 mixture. Calls without a position sample as without portals.)";
 
 void bindLight(py::module_& m) {

@@ -77,7 +77,7 @@ TEST(Portals, EverySampleCarriesTheMixturesDensityAtItsDirection) {
           ASSERT_EQ(light.pdf(context, s.direction), s.pdf) << u0 << ", " << u1;
           const RadianceAndPdf e = light.evalWithPdf(context, s.direction);
           ASSERT_EQ(e.pdf, s.pdf);
-          // The same with the portals' solid angle found once for the point (atPosition).
+          // The same with the portals' views found once for the point (atPosition).
           const LightSampleContext once = light.atPosition(context, position);
           ASSERT_EQ(light.sample(once, u0, u1).pdf, s.pdf);
           ASSERT_EQ(light.pdf(once, s.direction), s.pdf);
@@ -211,13 +211,11 @@ TEST(Portals, AContextMovedOrGivenToAnotherLightFindsItsPortalsAgain) {
   const EnvironmentLight both = lightWith(EnvironmentSampling::Adaptive, {kWindow, kSideWindow});
   const EnvironmentLight windowOnly = lightWith(EnvironmentSampling::Adaptive, {kWindow});
   const Vec3d from = kInside[0], to = kInside[1];
-  // What a stale context would keep differs from what holds: the portals' solid angles from the
-  // two points, and the two lights' from one point.
-  auto solidAngle = [](const Vec3d& o, const Portal& p) {
-    return SphericalRectangle(o, p.corner, p.edgeU, p.edgeV).solidAngle();
-  };
-  ASSERT_GT(std::abs(solidAngle(from, kWindow) - solidAngle(to, kWindow)), 0.01 * solidAngle(to, kWindow));
-  ASSERT_GT(solidAngle(from, kSideWindow), 0.01 * solidAngle(from, kWindow));
+  // What a stale context would keep differs from what holds: the portals' light from the two
+  // points, and the two lights' from one point.
+  auto power = [&both](const Vec3d& o, std::size_t portal) { return both.portalTable(portal).viewFrom(o).power; };
+  ASSERT_GT(std::abs(power(from, 0) - power(to, 0)), 0.01 * power(to, 0));
+  ASSERT_GT(power(from, 1), 0.01 * power(from, 0));
 
   const LightSampleContext found = both.atPosition({}, from);
   LightSampleContext moved = found;
@@ -227,7 +225,7 @@ TEST(Portals, AContextMovedOrGivenToAnotherLightFindsItsPortalsAgain) {
 }
 
 // The window cut into 3 × 4 portals: more than a context keeps (PortalsSeen::kCapacity), so the
-// calls find the last ones' solid angles themselves.
+// calls find the last ones' views themselves.
 std::vector<Portal> windowInPieces() {
   std::vector<Portal> pieces;
   for (int i = 0; i < 3; ++i)
