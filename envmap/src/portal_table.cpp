@@ -88,7 +88,8 @@ Vec3d PortalTable::sample(const View& view, double u0, double u1) const {
 
 double PortalTable::densityThrough(const WindowedTable2D::Window& window, const Vec3d& w) const {
   const std::optional<Coordinates> c = coordinatesOf(w);
-  if (!c || c->a < window.a0 || c->a > window.a1 || c->b < window.b0 || c->b > window.b1) return 0.0;
+  // Written to fail for NaN coordinates too.
+  if (!c || !(c->a >= window.a0 && c->a <= window.a1 && c->b >= window.b0 && c->b <= window.b1)) return 0.0;
   return table_.density(c->a, c->b) / c->jacobian;
 }
 

@@ -78,4 +78,13 @@ std::shared_ptr<const EnvironmentTable> SceneAssets::environmentTable(
   return slot;
 }
 
+void SceneAssets::recordPortalTables(const EnvironmentLight& light, const std::string& mapKey) {
+  for (std::size_t i = 0; i < light.options().portals.size(); ++i) {
+    const WindowedTable2D& table = light.portalTable(i).table();
+    record(fmt::format("envmap portal {} {} ({} x {} cells, {:.0f} kB)", i, mapKey, table.coarseColumns(),
+                       table.coarseRows(), table.bytes() / 1024.0),
+           false);
+  }
+}
+
 }  // namespace acdf

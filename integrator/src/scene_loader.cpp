@@ -435,6 +435,7 @@ std::unique_ptr<EnvironmentLight> buildEnvironment(const EnvironmentSpec& spec, 
                                                   [&](EnvironmentTableStrategy strategy, const SimplifyOptions& simplify) {
                                                     return tables.environmentTable(map, key, strategy, simplify);
                                                   });
+  tables.recordPortalTables(*light, key);
   return light;
 }
 

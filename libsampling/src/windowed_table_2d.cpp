@@ -135,15 +135,17 @@ WindowedTable2D::WindowedTable2D(std::span<const float> function, uint32_t colum
   }
 }
 
-uint32_t WindowedTable2D::columnOf(double a) const {
-  const double fine = std::floor(a * static_cast<double>(coarseColumnOf_.size()));
-  return coarseColumnOf_[static_cast<std::size_t>(std::clamp(fine, 0.0, coarseColumnOf_.size() - 1.0))];
+namespace {
+// The fine cell of x in [0, 1] among `cells`, clamped (NaN to 0).
+std::size_t fineCellOf(double x, std::size_t cells) {
+  const double fine = std::floor(x * static_cast<double>(cells));
+  return fine >= 0 ? static_cast<std::size_t>(std::min(fine, cells - 1.0)) : 0;
 }
+}  // namespace
 
-uint32_t WindowedTable2D::rowOf(double b) const {
-  const double fine = std::floor(b * static_cast<double>(coarseRowOf_.size()));
-  return coarseRowOf_[static_cast<std::size_t>(std::clamp(fine, 0.0, coarseRowOf_.size() - 1.0))];
-}
+uint32_t WindowedTable2D::columnOf(double a) const { return coarseColumnOf_[fineCellOf(a, coarseColumnOf_.size())]; }
+
+uint32_t WindowedTable2D::rowOf(double b) const { return coarseRowOf_[fineCellOf(b, coarseRowOf_.size())]; }
 
 uint32_t WindowedTable2D::columnOfEnd(double a) const {
   const uint32_t column = columnOf(a);

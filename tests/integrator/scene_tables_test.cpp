@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "acdf/brdf/analytic.h"
@@ -89,6 +90,21 @@ TEST(SceneTables, LocalSlicesAreBuiltOnFirstUseOrWhenAsked) {
   scene.buildDeferredTables();
   EXPECT_EQ(local->slicesBuilt(), 32u);
   EXPECT_EQ(scene.tableBytes().environment, scene.environment->tableBytes());
+}
+
+// A portal's table is built with its light and listed with the map's tables, with its cells and
+// bytes (tableBytes counts it too).
+TEST(SceneTables, PortalTablesAreListedWithTheirCellsAndBytes) {
+  SceneAssets tables(TableCache::disabled());
+  nlohmann::json json = mapScene("adaptive", "power");
+  json["environment"]["portals"] = {{{"corner", {-0.5, -0.5, -2}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}}};
+  const Scene scene = load(json, tables);
+  ASSERT_EQ(strategiesBuilt(tables), (std::vector<std::string>{"adaptive", "portal"}));
+  const WindowedTable2D& portal = scene.environment->portalTable(0).table();
+  EXPECT_EQ(tables.tablesBuilt()[1],
+            fmt::format("envmap portal 0 {}/data/envmaps/sunset_1024x512.exr ({} x {} cells, {:.0f} kB)", ACDF_SOURCE_DIR,
+                        portal.coarseColumns(), portal.coarseRows(), portal.bytes() / 1024.0));
+  EXPECT_EQ(scene.environment->tableBytes(), scene.environment->table({}).bytes() + portal.bytes());
 }
 
 TEST(SceneTables, LightsOfOneMapShareItsTableWhateverTheirPlacement) {

@@ -180,6 +180,9 @@ TEST(WindowedTable2D, BadFunctionsAreRefusedNamingTheValue) {
   // Nothing at all: every window's mass is 0.
   const WindowedTable2D black(std::vector<float>(12, 0.0f), 4, 3, SimplifyOptions{});
   EXPECT_EQ(black.mass({0, 1, 0, 1}), 0.0);
+  // Coordinates out of the square, or NaN (a direction gone bad upstream), find a cell: no index
+  // out of range.
+  for (double x : {-1.0, 2.0, static_cast<double>(NAN)}) EXPECT_TRUE(std::isfinite(table().density(x, x)));
 }
 
 }  // namespace
