@@ -29,7 +29,7 @@ void checkLight(const std::shared_ptr<const acdf::EnvironmentMap>& map, acdf::En
   const EnvironmentLight light(map, {.strategy = strategy});
   constexpr float kU[] = {0.0f, 0.25f, 0.5f, 0.999f, kOneMinusEpsilon};
   // Both kinds of call: a compensated light answers them from different tables.
-  for (const LightSampleContext context : {LightSampleContext{false}, LightSampleContext{true}}) {
+  for (const LightSampleContext& context : {LightSampleContext{false}, LightSampleContext{true}}) {
     for (float u0 : kU) {
       for (float u1 : kU) {
         const LightSample s = light.sample(context, u0, u1);
