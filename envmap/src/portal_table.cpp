@@ -16,10 +16,10 @@ namespace {
 // of function, maps of more than 4K rows).
 uint32_t fineCells(const EnvironmentMap& map) { return std::clamp<uint32_t>(map.height(), 128, 4096); }
 // Each fine cell's value is the mean of 3 × 3 points in it: cells and pixels do not share edges,
-// and a cell's value from its middle alone is a pixel's it only partly covers. At this resolution
-// one point per cell leaves 1.24× the variance per sample of nine (a sun-lit room through its
-// window, scenes/room-portal.json); nine points match four per cell at twice the resolution for
-// half the map lookups.
+// and a cell's value from its middle alone is a pixel's it only partly covers. One point per cell
+// at twice this resolution leaves 1.24× the variance per sample of nine at this one (a sun-lit
+// room through its window, scenes/room-portal.json); nine points here match four per cell at
+// twice the resolution for half the map lookups.
 constexpr int kPointsPerSide = 3;
 }  // namespace
 
