@@ -31,7 +31,7 @@ struct RenderArgs {
   std::optional<uint32_t> spp;
   std::optional<double> seconds;
   std::optional<uint64_t> seed;
-  std::string mis, sampler, bsdfSampling, envSampling, direct, guiding;
+  std::string mis, sampler, bsdfSampling, envSampling, direct, guiding, portals;
   std::optional<uint32_t> candidates;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
@@ -52,6 +52,7 @@ int runRender(const RenderArgs& args) {
     overrides.candidates = args.candidates;
   }
   if (!args.guiding.empty()) overrides.guiding = parseOption("render", "--guiding", args.guiding, parseGuidingMode);
+  if (!args.portals.empty()) overrides.portals = parseOption("render", "--portals", args.portals, parsePortalSource);
   if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
@@ -113,6 +114,9 @@ int runRender(const RenderArgs& args) {
       j["guiding_field_bytes"] = g.fieldBytes;
       j["guiding_field_seconds"] = g.fieldSeconds;
     }
+    j["portals"] = toString(scene.settings.portals);
+    j["portal_count"] = scene.environment->options().portals.size();
+    if (scene.openingSearch) j["escaped_share"] = scene.openingSearch->escapedShare();
     j["sampler"] = toString(scene.settings.sampler);
     j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
@@ -134,6 +138,13 @@ int runRender(const RenderArgs& args) {
                                                       kAutoGuidingGain)
                                         : "",
                          g.trainingPasses, g.spatialLeaves, g.fieldBytes / 1e3, g.fieldSeconds);
+    }
+    if (const auto& search = scene.openingSearch) {
+      out += fmt::format("portals   {} found: {:.1f} % of {} directions from {} visible points leave the scene{}\n",
+                         search->openings.size(), 100.0 * search->escapedShare(), search->rays, search->points,
+                         search->escapedShare() >= kMaxEscapedShare
+                             ? fmt::format(" (an enclosure needs < {:.0f} %)", 100.0 * kMaxEscapedShare)
+                             : "");
     }
     out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(),
                        tables.tablesFromCache().size());
@@ -160,13 +171,15 @@ Command addRender(CLI::App& parent) {
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
       "  --guiding        off | light | paths | auto  (learned in doubling passes: the light each place\n"
       "                   sees; paths: also the radiance paths carry; auto: light where it pays)\n"
+      "  --portals        auto | declared | none  (auto: the scene's portals, or where it declares none\n"
+      "                   the openings found by tracing from what the camera sees)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
-      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, guiding, sampler,\n"
-      "env_sampling; candidates and bsdf_fraction under product direct lighting; guided,\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, guiding, portals,\n"
+      "portal_count, sampler, env_sampling; escaped_share when openings were looked for; candidates and bsdf_fraction under product direct lighting; guided,\n"
       "guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
       "guiding_field_seconds unless guiding is off).\n"
       "\n"
@@ -185,6 +198,7 @@ Command addRender(CLI::App& parent) {
       ->transform(nonNegativeInteger());
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--guiding", args->guiding, "off | light | paths | auto (guiding learned as it renders)");
+  app->add_option("--portals", args->portals, "auto | declared | none (the environment's portals)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
   app->add_option("--env-sampling", args->envSampling, environmentSamplingNames(" | "));
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")

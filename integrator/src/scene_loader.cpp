@@ -453,7 +453,13 @@ constexpr EnumName<DirectLighting> kDirectLightingNames[] = {{DirectLighting::Mi
 constexpr EnumName<GuidingMode> kGuidingModeNames[] = {
     {GuidingMode::Off, "off"}, {GuidingMode::Light, "light"}, {GuidingMode::Paths, "paths"},
     {GuidingMode::Auto, "auto"}};
+constexpr EnumName<PortalSource> kPortalSourceNames[] = {
+    {PortalSource::Auto, "auto"}, {PortalSource::Declared, "declared"}, {PortalSource::None, "none"}};
 }  // namespace
+
+std::string_view toString(PortalSource source) { return nameOf(kPortalSourceNames, source); }
+
+PortalSource parsePortalSource(std::string_view name) { return valueNamed(kPortalSourceNames, name, "portal source"); }
 
 std::string_view toString(GuidingMode mode) { return nameOf(kGuidingModeNames, mode); }
 
@@ -499,7 +505,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (root.has("render")) {
     const Node r = root["render"];
     r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler", "direct", "candidates",
-              "bsdf_fraction", "guiding"});
+              "bsdf_fraction", "guiding", "portals"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
@@ -510,12 +516,14 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
     if (r.has("candidates")) settings.product.candidates = r["candidates"].count(1);
     if (r.has("bsdf_fraction")) settings.product.bsdfFraction = r["bsdf_fraction"].number();
     if (r.has("guiding")) settings.guiding = r["guiding"].parsed(parseGuidingMode);
+    if (r.has("portals")) settings.portals = r["portals"].parsed(parsePortalSource);
     r.validated(settings.product);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
   if (overrides.direct) settings.direct = *overrides.direct;
   if (overrides.candidates) settings.product.candidates = *overrides.candidates;
   if (overrides.guiding) settings.guiding = *overrides.guiding;
+  if (overrides.portals) settings.portals = *overrides.portals;
   if (settings.guiding == GuidingMode::Light && !drawsLightSamples(settings))
     throw FileError(name, settings.direct == DirectLighting::Product
                               ? "$.render.guiding: 'light' guides light samples, which product direct lighting does "
@@ -549,11 +557,9 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
     cam.fail(fmt::format("a {} × {} film needs {:.1f} GiB, more than this machine's {:.1f} GiB of memory", crop.width(),
                          crop.height(), filmBytes / 0x1p30, memory / 0x1p30));
 
-  const EnvironmentSpec envSpec = [&] {
-    EnvironmentSpec s = readEnvironment(root["environment"], baseDir);
-    if (overrides.envSampling) s.options.strategy = *overrides.envSampling;
-    return s;
-  }();
+  EnvironmentSpec envSpec = readEnvironment(root["environment"], baseDir);
+  if (overrides.envSampling) envSpec.options.strategy = *overrides.envSampling;
+  if (settings.portals == PortalSource::None) envSpec.options.portals.clear();
 
   std::map<std::string, MaterialSpec> materialSpecs;
   for (const auto& [key, node] : root["materials"].members())
@@ -608,13 +614,17 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
     scene.bsdfSamplers.push_back(spec->build(tables));
     scene.usesMeasuredMaterial = scene.usesMeasuredMaterial || spec->measured;
   }
-  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
-  scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   try {
     scene.geometry = std::make_unique<Geometry>(std::move(spheres), std::move(meshes));
   } catch (const std::invalid_argument& e) {
     throw FileError(name, std::string("$.shapes: ") + e.what());
   }
+  if (settings.portals == PortalSource::Auto && envSpec.options.portals.empty()) {
+    scene.openingSearch = findOpenings(*scene.geometry, *scene.camera);
+    envSpec.options.portals = scene.openingSearch->openings;
+  }
+  const LightPdfs lightPdfs = allowsIncompleteLightPdf(settings) ? LightPdfs::Incomplete : LightPdfs::Complete;
+  scene.environment = buildEnvironment(envSpec, lightPdfs, tables, "$.environment");
   return scene;
 }
 

@@ -226,27 +226,36 @@ nlohmann::json room(bool portal) {
 }
 
 // Portals add a technique, not light: a room renders the same with its window declared a portal,
-// under MIS (with the compensated table, incomplete) and with light sampling alone (where the
-// light answers from the complete table mixed with the portal's).
+// and with the opening found by tracing where none is declared, as without portals, under MIS
+// (with the compensated table, incomplete) and with light sampling alone (where the light
+// answers from the complete table mixed with the portal's).
 TEST(Consistency, PortalsAgreeUnderMisAndAlone) {
   for (MisMode mis : {MisMode::Power, MisMode::LightOnly}) {
     SceneOverrides overrides;
     overrides.sampler = SamplerKind::Independent;
     overrides.mis = mis;
+    overrides.portals = PortalSource::None;
     const auto plain = rendertest::imageMean(rendertest::renderScene(room(false), overrides).film);
-    const auto portal = rendertest::imageMean(rendertest::renderScene(room(true), overrides).film);
-    expectAgree(plain, portal, mis == MisMode::Power ? "portal vs none, power MIS" : "portal vs none, light-only");
+    overrides.portals = PortalSource::Auto;
+    const rendertest::Rendered declared = rendertest::renderScene(room(true), overrides);
+    const rendertest::Rendered found = rendertest::renderScene(room(false), overrides);
+    EXPECT_EQ(found.portals, 1u);
+    const std::string how = mis == MisMode::Power ? ", power MIS" : ", light-only";
+    expectAgree(plain, rendertest::imageMean(declared.film), "declared portal vs none" + how);
+    expectAgree(plain, rendertest::imageMean(found.film), "found portal vs none" + how);
   }
 }
 
 // Guiding learns where light comes from and adds none: the room renders the same guided by what
 // it learned of the light, and of the paths' radiance too, under MIS (the compensated table,
-// incomplete) and with light sampling alone (the learned light mixed with the complete table).
+// incomplete, with the window's portal found) and with light sampling alone (the learned light
+// mixed with the complete table, no portal).
 TEST(Consistency, GuidedRendersAgreeWithUnguided) {
   for (MisMode mis : {MisMode::Power, MisMode::LightOnly}) {
     SceneOverrides overrides;
     overrides.sampler = SamplerKind::Independent;
     overrides.mis = mis;
+    overrides.portals = mis == MisMode::Power ? PortalSource::Auto : PortalSource::None;
     const auto plain = rendertest::imageMean(rendertest::renderScene(room(false), overrides).film);
     for (GuidingMode guiding : {GuidingMode::Light, GuidingMode::Paths}) {
       overrides.guiding = guiding;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acdf/envmap/image_file.h"
+#include "acdf/integrator/openings.h"
 #include "app_test_util.h"
 
 namespace acdf {
@@ -243,6 +244,54 @@ TEST_F(RenderCli, GuidingOnTheCommandLine) {
                        "acdf: render: --guiding", "off, light, paths or auto");
 }
 
+// A closed box x, z in [-1, 1], y in [0, 2] with a window in its wall z = 1, under a constant sky.
+nlohmann::json tinyRoom() {
+  const auto quad = [](std::vector<double> corner, std::vector<double> u, std::vector<double> v) {
+    return nlohmann::json{{"type", "quad"}, {"corner", corner}, {"edge_u", u}, {"edge_v", v}, {"material", "grey"}};
+  };
+  nlohmann::json room = tinyScene();
+  room["camera"] = {{"eye", {0, 1, -0.8}}, {"target", {0, 0.8, 1}}, {"fov", 80}, {"width", 8}, {"height", 6}};
+  room["environment"] = {{"type", "constant"}, {"radiance", 1}};
+  room["shapes"] = {quad({-1, 0, -1}, {2, 0, 0}, {0, 0, 2}),     quad({-1, 2, -1}, {2, 0, 0}, {0, 0, 2}),
+                    quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}),     quad({-1, 0, -1}, {0, 0, 2}, {0, 2, 0}),
+                    quad({1, 0, -1}, {0, 0, 2}, {0, 2, 0}),      quad({-1, 0, 1}, {2, 0, 0}, {0, 0.6, 0}),
+                    quad({-1, 1.4, 1}, {2, 0, 0}, {0, 0.6, 0}),  quad({-1, 0.6, 1}, {0.6, 0, 0}, {0, 0.8, 0}),
+                    quad({0.4, 0.6, 1}, {0.6, 0, 0}, {0, 0.8, 0})};
+  return room;
+}
+
+// --portals replaces the scene's choice: by default a room that declares none gets its window
+// found, and the render says so; `declared` does not look, `none` drops declared ones too.
+TEST_F(RenderCli, PortalsOnTheCommandLine) {
+  const auto run = [&](const nlohmann::json& scene, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", writeScene(scene), "-o", path("room.exr")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto result = runAcdf(args, dir_);
+    EXPECT_EQ(result.exitCode, 0) << apptest::describe(result);
+    return result;
+  };
+  const auto found = nlohmann::json::parse(run(tinyRoom(), {"--json"}).out);
+  EXPECT_EQ(found["portals"], "auto");
+  EXPECT_EQ(found["portal_count"], 1);
+  EXPECT_LT(found["escaped_share"].get<double>(), kMaxEscapedShare);
+  EXPECT_NE(run(tinyRoom(), {}).out.find("portals   1 found: "), std::string::npos);
+  const auto open = nlohmann::json::parse(run(tinyScene(), {"--json"}).out);
+  EXPECT_EQ(open["portal_count"], 0);
+  EXPECT_GE(open["escaped_share"].get<double>(), kMaxEscapedShare);
+  EXPECT_NE(run(tinyScene(), {}).out.find("leave the scene (an enclosure needs < 25 %)"), std::string::npos);
+  const auto declared = nlohmann::json::parse(run(tinyRoom(), {"--portals", "declared", "--json"}).out);
+  EXPECT_EQ(declared["portal_count"], 0);
+  EXPECT_FALSE(declared.contains("escaped_share"));
+  nlohmann::json withPortal = tinyRoom();
+  withPortal["environment"]["portals"] = {{{"corner", {-0.4, 0.6, 1}}, {"edge_u", {0, 0.8, 0}}, {"edge_v", {0.8, 0, 0}}}};
+  const auto kept = nlohmann::json::parse(run(withPortal, {"--json"}).out);
+  EXPECT_EQ(kept["portal_count"], 1);
+  EXPECT_FALSE(kept.contains("escaped_share"));
+  EXPECT_EQ(nlohmann::json::parse(run(withPortal, {"--portals", "none", "--json"}).out)["portal_count"], 0);
+  expectOneLineFailure(runAcdf({"render", writeScene(tinyRoom()), "-o", path("x.exr"), "--portals", "found"}, dir_),
+                       "acdf: render: --portals", "auto, declared or none");
+}
+
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
   nlohmann::json scene = tinyScene();
   scene["shapes"][0]["radious"] = 2;
@@ -338,6 +387,8 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
           "another mis)");
   scene["render"] = {{"guiding", "always"}};
   failure(scene, "$.render.guiding: unknown guiding mode 'always' (off, light, paths or auto)");
+  scene["render"] = {{"portals", "found"}};
+  failure(scene, "$.render.portals: unknown portal source 'found' (auto, declared or none)");
   expectNoOutputs();
 }
 

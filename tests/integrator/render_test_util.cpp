@@ -21,7 +21,7 @@ Rendered renderScene(const nlohmann::json& scene, const SceneOverrides& override
   static SceneAssets tables(TableCache::disabled());
   const Scene loaded =
       loadSceneText(scene.dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", overrides, tables);
-  Rendered r{makeFilm(loaded), {}};
+  Rendered r{makeFilm(loaded), {}, loaded.environment->options().portals.size()};
   r.stats = render(loaded, r.film);
   return r;
 }

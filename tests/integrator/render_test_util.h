@@ -20,6 +20,7 @@ inline constexpr bool kSanitized = false;
 struct Rendered {
   Film film{1, 1};
   RenderStats stats;
+  std::size_t portals = 0;  // the environment light's, declared or found
 };
 
 // Loads `scene` (relative paths against the source tree) with `overrides` and renders it, with

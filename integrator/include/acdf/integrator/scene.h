@@ -21,6 +21,7 @@
 #include "acdf/envmap/environment_light.h"
 #include "acdf/integrator/camera.h"
 #include "acdf/integrator/geometry.h"
+#include "acdf/integrator/openings.h"
 #include "acdf/integrator/product_direct_light.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene_assets.h"
@@ -66,6 +67,13 @@ enum class GuidingMode { Off, Light, Paths, Auto };
 std::string_view toString(GuidingMode mode);
 GuidingMode parseGuidingMode(std::string_view name);
 
+// Which portals the environment light uses: the scene's, or where it declares none the openings
+// found by tracing (openings.h); only the scene's; or none, even declared ones.
+enum class PortalSource { Auto, Declared, None };
+// "auto", "declared", "none"; parse throws std::invalid_argument.
+std::string_view toString(PortalSource source);
+PortalSource parsePortalSource(std::string_view name);
+
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
@@ -76,6 +84,7 @@ struct RenderSettings {
   DirectLighting direct = DirectLighting::Mis;
   ProductSamplingOptions product{};  // under DirectLighting::Product
   GuidingMode guiding = GuidingMode::Off;
+  PortalSource portals = PortalSource::Auto;
 };
 
 // Whether the render's light samples may have an incomplete pdf: under product sampling when the
@@ -98,6 +107,7 @@ struct SceneOverrides {
   std::optional<DirectLighting> direct = std::nullopt;
   std::optional<uint32_t> candidates = std::nullopt;  // product sampling's M
   std::optional<GuidingMode> guiding = std::nullopt;
+  std::optional<PortalSource> portals = std::nullopt;
   std::optional<BrdfSampling> bsdfSampling = std::nullopt;  // every measured material
   std::optional<EnvironmentSampling> envSampling = std::nullopt;
   std::optional<uint32_t> spp = std::nullopt;
@@ -113,6 +123,9 @@ struct Scene {
   std::vector<std::shared_ptr<const BrdfSampler>> bsdfSamplers;
   std::unique_ptr<EnvironmentLight> environment;
   RenderSettings settings;
+  // The search for openings, when the scene declared no portals and its settings let it look
+  // (PortalSource::Auto); the light's portals are its openings.
+  std::optional<OpeningSearch> openingSearch;
 
   struct TableBytes {
     std::size_t brdf = 0, environment = 0;
