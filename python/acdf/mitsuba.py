@@ -1041,13 +1041,10 @@ class _DrjitPortals:
         self.map_from_world = world_from_map.T if rotated else None
         self.tables = _DrjitWindowedTables(mi, portals)
         self.portals = []
-        for portal, layout in zip(portals, self.tables.layouts):
+        for portal in portals:
             frame = {key: mi.Vector3d(*(float(c) for c in portal[key]))
                      for key in ("corner", "axis_u", "axis_v", "normal")}
-            # PortalTable::minPower_: kMinShare of the whole square's mass, found as acdf finds it.
-            whole = self.tables.mass(layout, tuple(mi.Float64(x) for x in (0.0, 1.0, 0.0, 1.0)), mi.Bool(True))
-            self.portals.append({**frame, "length_u": float(portal["length_u"]), "length_v": float(portal["length_v"]),
-                                 "min_power": acdf.EnvironmentLight.min_portal_share * float(whole[0])})
+            self.portals.append({**frame, **{key: float(portal[key]) for key in ("length_u", "length_v", "min_power")}})
 
     def _view(self, portal, layout, origin, active):
         """PortalTable::viewFrom: the window of the square the portal covers from origin, and its mass

@@ -390,7 +390,7 @@ void bindLight(py::module_& m) {
           portals.append(py::dict(
               "corner"_a = vector(portal.corner()), "axis_u"_a = vector(portal.axisU()),
               "axis_v"_a = vector(portal.axisV()), "normal"_a = vector(portal.normal()),
-              "length_u"_a = portal.lengthU(), "length_v"_a = portal.lengthV(),
+              "length_u"_a = portal.lengthU(), "length_v"_a = portal.lengthV(), "min_power"_a = portal.minPower(),
               "column_vertices"_a = copied(t.columnVertices()), "row_vertices"_a = copied(t.rowVertices()),
               "coarse_column_of_fine"_a = copied(t.coarseColumnOfFine()),
               "coarse_row_of_fine"_a = copied(t.coarseRowOfFine()), "density"_a = copied(t.coarseDensity()),
@@ -400,12 +400,11 @@ void bindLight(py::module_& m) {
       },
       "Per portal (world frame), its table over the square of directions leaving through it (acdf's\n"
       "PortalTable, WindowedTable2D): the frame (corner, unit axis_u, axis_v, normal into the room, the\n"
-      "edges' lengths), the coarse grid's vertices along a and b, the coarse cell of each fine cell along\n"
+      "edges' lengths), the least power a view is sampled with (min_power), the coarse grid's vertices along a and b, the coarse cell of each fine cell along\n"
       "each axis, the coarse density (row-major, rows along b), the summed-area table at the vertices\n"
       "((rows + 1) x (columns + 1)) and each row's running integral along a (rows x (columns + 1)). For\n"
       "sampling the portals in other arithmetic (acdf.mitsuba's drjit arrays).");
   c.attr("portal_share") = EnvironmentLight::kPortalShare;
-  c.attr("min_portal_share") = PortalTable::kMinShare;
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");

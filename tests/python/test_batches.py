@@ -298,6 +298,7 @@ def portal_arrays_give_the_lights_density(world):
     np.testing.assert_allclose(p["row_integral"].reshape(rows, columns + 1), running, rtol=1e-12, atol=1e-300)
     area = np.concatenate([np.zeros((1, columns + 1)), np.cumsum(running * np.diff(B)[:, None], axis=0)])
     np.testing.assert_allclose(p["summed_area"].reshape(rows + 1, columns + 1), area, rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(p["min_power"], 1e-12 * p["summed_area"][-1], rtol=1e-12)  # kMinShare of the whole
     fine_columns = np.searchsorted(A, (np.arange(len(p["coarse_column_of_fine"])) + 0.5)
                                    / len(p["coarse_column_of_fine"])) - 1
     np.testing.assert_array_equal(p["coarse_column_of_fine"], fine_columns)

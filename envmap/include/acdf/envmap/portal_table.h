@@ -64,6 +64,8 @@ class PortalTable {
   const Vec3d& normal() const { return normal_; }
   double lengthU() const { return lengthU_; }
   double lengthV() const { return lengthV_; }
+  // The least power a view is sampled with (kMinShare of the whole square's).
+  double minPower() const { return minPower_; }
 
  private:
   // The square's (a, b) of a unit world direction and its Jacobian, or none if it does not leave.
