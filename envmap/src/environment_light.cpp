@@ -93,11 +93,11 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
   const PortalsSeen* seen = portalsSeen(context, found);
   if (seen) {
     if (emitsNothing()) return {};
-    const double u = clampUnit(u0);
-    if (u < kPortalShare) {
+    const double u = clampUnit(u0), share = portalShare(context);
+    if (u < share) {
       // The seen portal whose share of Σ P_i holds u, and u rescaled into that share (the last
       // seen one takes what rounding leaves over, at its far end).
-      double at = u / kPortalShare * seen->total_;
+      double at = u / share * seen->total_;
       std::size_t chosen = 0;
       PortalTable::View view;
       for (std::size_t i = 0; i < options_.portals.size(); ++i) {
@@ -112,7 +112,7 @@ LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
       return {w, scaled(map_->radiance(p)), mixturePdf(context, seen, w, p)};
     }
-    u0 = rescaledVariate(u, kPortalShare);
+    u0 = rescaledVariate(u, share);
   }
   const EnvironmentTable::Sample s =
       usesLocal(context) ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
@@ -155,15 +155,15 @@ double EnvironmentLight::strategyPdf(const LightSampleContext& context, PixelInd
 
 double EnvironmentLight::mixturePdf(const LightSampleContext& context, const PortalsSeen* seen, const Vec3d& w,
                                     PixelIndex p) const {
-  const double strategy = strategyPdf(context, p);
-  if (!seen) return strategy;
+  if (!seen) return strategyPdf(context, p);
   // p_portals(w): the seen portals' tables per steradian at w, where w passes through, over Σ P_i.
   double through = 0;
   for (std::size_t i = 0; i < portals_.size(); ++i) {
     const PortalTable::View view = portalView(*seen, i);
     if (view.power > 0) through += portals_[i]->densityThrough(view.window, w);
   }
-  return kPortalShare * (through / seen->total_) + (1.0 - kPortalShare) * strategy;
+  const double share = portalShare(context);
+  return share * (through / seen->total_) + (share < 1.0 ? (1.0 - share) * strategyPdf(context, p) : 0.0);
 }
 
 LightSampleContext EnvironmentLight::atPosition(const LightSampleContext& context, const Vec3d& position) const {

@@ -276,7 +276,7 @@ def _make_envmap_classes():
                 self.table = _drjit_pixel_table(mi, light, self.incomplete)
                 self.complete = (_drjit_pixel_table(mi, light, False)
                                  if self.incomplete and self.local is None else self.table)
-            self.portals_seen = (_DrjitPortals(mi, light.portal_arrays(), self.world_from_map)
+            self.portals_seen = (_DrjitPortals(mi, light.portal_arrays(), self.world_from_map, self.incomplete)
                                  if self.portals and not light.emits_nothing else None)
             # Everything is in drjit arrays now: the C++ light (the map's pixels again, and every
             # table) would double the plugin's memory for nothing.
@@ -1029,13 +1029,14 @@ class _DrjitPortals:
     WindowedTable2D sampled inside the window the portal covers from the point); pdf_direction is
     the mixture. Portals are few: every loop over them is unrolled into the kernel."""
 
-    def __init__(self, mi, portals, world_from_map):
+    def __init__(self, mi, portals, world_from_map, allow_incomplete_pdf):
         """portals: the light's portal_arrays(), in the map frame, where acdf's light works;
-        world_from_map: the plugin's rotation. Points and directions are turned into the map frame
+        world_from_map: the plugin's rotation; allow_incomplete_pdf: as the plugin's calls to acdf
+        (the portals' share of the samples depends on it). Points and directions are turned into the map frame
         in double, as acdf's callers turn them: a sample is a steep function of its window, which
         the float32 rotation's rounding (1e-7) would move by up to 1e-5 rad."""
         self.mi = mi
-        self.share = acdf.EnvironmentLight.portal_share
+        self.share = acdf.EnvironmentLight.portal_share(allow_incomplete_pdf)
         rotated = not np.array_equal(world_from_map, np.eye(3))
         self.world_from_map = world_from_map if rotated else None
         self.map_from_world = world_from_map.T if rotated else None
@@ -1079,6 +1080,8 @@ class _DrjitPortals:
         for the table: u0 rescaled where the lane sees a portal, as acdf's rescaledVariate."""
         u0 = self.mi.Float64(dr.clip(sample.x, 0.0, _ONE_MINUS_EPSILON))
         through = seen.lanes & (u0 < self.share)
+        if self.share == 1.0:  # every lane that sees a portal goes through one
+            return through, sample
         rescaled = self.mi.Float(dr.minimum((u0 - self.share) / (1 - self.share), _ONE_MINUS_EPSILON))
         return through, self.mi.Point2f(dr.select(seen.lanes, rescaled, sample.x), sample.y)
 
@@ -1125,7 +1128,9 @@ class _DrjitPortals:
         through = self.mi.Float64(0)
         for portal, layout, window, power in zip(self.portals, self.tables.layouts, seen.windows, seen.powers):
             through += self._density_through(portal, layout, window, w, seen.lanes & (power > 0))
-        mixture = self.share * (through / seen.total) + (1 - self.share) * self.mi.Float64(strategy_pdf)
+        mixture = self.share * (through / seen.total)
+        if self.share < 1.0:
+            mixture += (1 - self.share) * self.mi.Float64(strategy_pdf)
         return dr.select(seen.lanes, self.mi.Float(mixture), strategy_pdf)
 
 

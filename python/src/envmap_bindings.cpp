@@ -171,9 +171,10 @@ et al. 2005; a normal cell's table is built when a normal in it is first used).
 portals: windows or doors the map is seen through, as scene files declare them: a list of
 {"corner": [x, y, z], "edge_u": [...], "edge_v": [...]} (world frame, edges perpendicular), each
 letting light through towards the side edge_u x edge_v points to. From a point on that side
-(position=...) portal_share of the samples go through the portals, with the map's importance
-inside each (its table over the directions leaving through it, portal_arrays()); pdf() is the
-mixture. Calls without a position sample as without portals.)";
+(position=...) portal_share(allow_incomplete_pdf) of the samples go through the portals (all of
+them under allow_incomplete_pdf: the rest of the sphere is left to BSDF samples), with the map's
+importance inside each (its table over the directions leaving through it, portal_arrays()); pdf()
+is the mixture. Calls without a position sample as without portals.)";
 
 void bindLight(py::module_& m) {
   m.def(
@@ -404,7 +405,13 @@ void bindLight(py::module_& m) {
       "each axis, the coarse density (row-major, rows along b), the summed-area table at the vertices\n"
       "((rows + 1) x (columns + 1)) and each row's running integral along a (rows x (columns + 1)). For\n"
       "sampling the portals in other arithmetic (acdf.mitsuba's drjit arrays).");
-  c.attr("portal_share") = EnvironmentLight::kPortalShare;
+  c.def_static(
+      "portal_share",
+      [](bool allowIncomplete) { return EnvironmentLight::portalShare({.allowIncompletePdf = allowIncomplete}); },
+      "allow_incomplete_pdf"_a = false,
+      "The share of the samples drawn through the portals from a point that sees one: 1 where the caller\n"
+      "combines the light with BSDF samples by MIS (allow_incomplete_pdf), else 0.9 (the table keeps the\n"
+      "mixture complete).");
   c.def_property_readonly("strategy",
                           [](const EnvironmentLight& l) { return std::string(toString(l.options().strategy)); });
   c.def_property_readonly("bytes", &EnvironmentLight::tableBytes, "Bytes of the tables the light holds.");

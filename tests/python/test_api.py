@@ -107,8 +107,15 @@ def test_portals_let_the_map_through_from_inside_and_bad_ones_are_refused():
     hits = (1.0 - inside[2]) / d[:, 2]
     x, y = inside[0] + hits * d[:, 0], inside[1] + hits * d[:, 1]
     through = (hits > 0) & (np.abs(x) <= 0.5) & (y >= 0.2) & (y <= 0.8)
-    share = acdf.EnvironmentLight.portal_share
+    share = acdf.EnvironmentLight.portal_share()
     assert share < through.mean() < share + 0.1
+    # Where MIS with BSDF samples covers the rest (allow_incomplete_pdf), every sample goes through.
+    assert acdf.EnvironmentLight.portal_share(allow_incomplete_pdf=True) == 1.0
+    d, _, pdf = light.sample(u, position=inside, allow_incomplete_pdf=True)
+    np.testing.assert_allclose(light.pdf(d, position=inside, allow_incomplete_pdf=True), pdf, rtol=1e-12)
+    hits = (1.0 - inside[2]) / d[:, 2]
+    x, y = inside[0] + hits * d[:, 0], inside[1] + hits * d[:, 1]
+    assert np.all((hits > 0) & (np.abs(x) <= 0.5 + 1e-9) & (y >= 0.2 - 1e-9) & (y <= 0.8 + 1e-9))
     for position in ([0.1, 0.5, 1.5], None):
         np.testing.assert_array_equal(light.sample(u[:100], position=position)[0], plain.sample(u[:100])[0])
     assert acdf.portal_problem(window) is None

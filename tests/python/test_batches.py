@@ -206,6 +206,7 @@ NOT_BATCHED = {
     "EnvironmentLight.alias_arrays": "an output; test_returned_arrays",
     "EnvironmentLight.hierarchical_arrays": "an output; test_returned_arrays",
     "EnvironmentLight.portal_arrays": "an output; test_returned_arrays",
+    "EnvironmentLight.portal_share": "no array; test_api",
     "EnvironmentMap.load": "a file",
     "EnvironmentMap.pixel_power": "an output; test_returned_arrays",
     "MerlBrdf.load": "a file",
@@ -307,7 +308,7 @@ def portal_arrays_give_the_lights_density(world):
 
     inside = np.array([0.1, 0.5, 0.0])
     u = np.random.default_rng(2).random((2000, 2), dtype=np.float32)
-    u[:, 0] *= acdf.EnvironmentLight.portal_share  # every sample through the window
+    u[:, 0] *= acdf.EnvironmentLight.portal_share()  # every sample through the window
     d, _, pdf = light.sample(u, position=inside)
     to_corner = np.asarray(p["corner"]) - inside
     h = -to_corner @ p["normal"]
@@ -328,7 +329,7 @@ def portal_arrays_give_the_lights_density(world):
     cell = density[p["coarse_row_of_fine"][np.minimum((b * fine).astype(int), fine - 1)],
                    p["coarse_column_of_fine"][np.minimum((a * fine).astype(int), fine - 1)]]
     through = cell / (4 * qu**3 * qv**3 / dn**3) / power
-    share = acdf.EnvironmentLight.portal_share
+    share = acdf.EnvironmentLight.portal_share()
     np.testing.assert_allclose(pdf, share * through + (1 - share) * light.pdf(d), rtol=1e-9)
 
 

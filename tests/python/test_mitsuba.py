@@ -489,7 +489,8 @@ def test_llvm_portals_sample_as_acdfs_light_in_drjit(block_map, strategy):
     acdf_dirs, _, acdf_pdf = light.sample(u, normal=normal_in_map, position=in_map, allow_incomplete_pdf=incomplete)
     # Through the portal the direction is acdf's to float32; from a table, in the same pixel.
     inside = np.arange(n) >= n // 10
-    portal_lanes = inside & (u[:, 0] < acdf.EnvironmentLight.portal_share)
+    share = acdf.EnvironmentLight.portal_share(incomplete)
+    portal_lanes = inside & (u[:, 0] < share)
     apart = np.linalg.norm(acdf_dirs - dirs / np.linalg.norm(dirs, axis=1, keepdims=True), axis=1)  # ~ the angle
     assert np.count_nonzero(apart[portal_lanes] > 1e-6) <= n * 1e-4
     if strategy != "uniform-sphere":  # Mitsuba's sphere warp is not acdf's; its pdf is checked below
@@ -502,7 +503,7 @@ def test_llvm_portals_sample_as_acdfs_light_in_drjit(block_map, strategy):
     x, y = points[:, 0] + hits * world[:, 0], points[:, 1] + hits * world[:, 1]
     through = (hits > 0) & (np.abs(x) <= 0.7) & (y >= 0.9) & (y <= 2.0)
     assert np.count_nonzero(~through[portal_lanes]) <= n * 1e-4
-    assert through[inside].mean() >= acdf.EnvironmentLight.portal_share and through[~inside].mean() < 0.5
+    assert through[inside].mean() >= share and through[~inside].mean() < 0.5
 
     point = np.array([[0.3, 1.2, 0.5]])
     w = rng.normal(size=(2_000_000, 3))
