@@ -26,7 +26,8 @@ constexpr uint64_t kEnoughEscapes = 1000;
 // that the crossings of one opening connect, fine enough to part two windows of one wall.
 constexpr double kCrossingsPerCell = 4;
 constexpr uint32_t kMaxFaceCells = 32;
-// An opening that lets out less than this share of the escaping directions is left to the table:
+// An opening that lets out less than this share of the escaping directions is left to the other
+// techniques (BSDF samples under MIS, else the table):
 // behind the door ajar, the strip under its gap (15 % of them) raised the variance per sample
 // from 2.8 to 3.8 beside the gap's own portal.
 constexpr double kMinOpeningShare = 0.2;

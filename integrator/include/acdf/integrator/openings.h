@@ -11,8 +11,9 @@
 // kMaxEscapedShare of the directions leave it: under an open sky most do, and the map's own table
 // already draws where they go.
 //
-// Why a guess is safe: EnvironmentLight draws from its portals in a one-sample mixture with its
-// table, so a rectangle too large, too small or misplaced changes the variance, never the mean.
+// Why a guess is safe: portals are one technique among others (EnvironmentLight::sample: under
+// MIS the BSDF samples cover what they miss, else the table in a one-sample mixture), so a
+// rectangle too large, too small or misplaced changes the variance, never the mean.
 // The search uses a fixed seed and the full frame (not the crop, not the render's seed), so every
 // render of a scene, and every crop of a frame, gets the same openings.
 
