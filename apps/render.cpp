@@ -116,7 +116,14 @@ int runRender(const RenderArgs& args) {
     }
     j["portals"] = toString(scene.settings.portals);
     j["portal_count"] = scene.environment->options().portals.size();
-    if (scene.openingSearch) j["escaped_share"] = scene.openingSearch->escapedShare();
+    if (scene.openingSearch) {
+      j["escaped_share"] = scene.openingSearch->escapedShare();
+      j["found_portals"] = nlohmann::json::array();
+      for (const Portal& p : scene.openingSearch->openings)
+        j["found_portals"].push_back({{"corner", {p.corner.x, p.corner.y, p.corner.z}},
+                                      {"edge_u", {p.edgeU.x, p.edgeU.y, p.edgeU.z}},
+                                      {"edge_v", {p.edgeV.x, p.edgeV.y, p.edgeV.z}}});
+    }
     j["sampler"] = toString(scene.settings.sampler);
     j["env_sampling"] = toString(scene.environment->options().strategy);
     j["tables_built"] = tables.tablesBuilt();
@@ -145,6 +152,12 @@ int runRender(const RenderArgs& args) {
                          search->escapedShare() >= kMaxEscapedShare
                              ? fmt::format(" (an enclosure needs < {:.0f} %)", 100.0 * kMaxEscapedShare)
                              : "");
+      // As a scene file declares them: to keep, or to give a renderer that cannot look (Mitsuba).
+      for (const Portal& p : search->openings)
+        out += fmt::format("          {{\"corner\": [{:.4g}, {:.4g}, {:.4g}], \"edge_u\": [{:.4g}, {:.4g}, {:.4g}], "
+                           "\"edge_v\": [{:.4g}, {:.4g}, {:.4g}]}}\n",
+                           p.corner.x, p.corner.y, p.corner.z, p.edgeU.x, p.edgeU.y, p.edgeU.z, p.edgeV.x, p.edgeV.y,
+                           p.edgeV.z);
     }
     out += fmt::format("tables    {} built, {} from the cache\n", tables.tablesBuilt().size(),
                        tables.tablesFromCache().size());
@@ -179,8 +192,9 @@ Command addRender(CLI::App& parent) {
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
       "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, guiding, portals,\n"
-      "portal_count, sampler, env_sampling; escaped_share when openings were looked for; candidates and bsdf_fraction under product direct lighting; guided,\n"
-      "guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
+      "portal_count, sampler, env_sampling; escaped_share and found_portals, in the scene file's form,\n"
+      "when openings were looked for; candidates and bsdf_fraction under product direct lighting;\n"
+      "guided, guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
       "guiding_field_seconds unless guiding is off).\n"
       "\n"
       "Exit status: 0 success, 2 bad scene / data file / output path or command line, 1 internal error.");

@@ -271,10 +271,19 @@ TEST_F(RenderCli, PortalsOnTheCommandLine) {
     return result;
   };
   const auto found = nlohmann::json::parse(run(tinyRoom(), {"--json"}).out);
+  const std::string foundImage = apptest::readFile(path("room.exr"));
   EXPECT_EQ(found["portals"], "auto");
   EXPECT_EQ(found["portal_count"], 1);
   EXPECT_LT(found["escaped_share"].get<double>(), kMaxEscapedShare);
   EXPECT_NE(run(tinyRoom(), {}).out.find("portals   1 found: "), std::string::npos);
+  // What was found, in the scene file's form, declared: the same image.
+  ASSERT_EQ(found["found_portals"].size(), 1u);
+  nlohmann::json declaring = tinyRoom();
+  declaring["environment"]["portals"] = found["found_portals"];
+  const auto asDeclared = nlohmann::json::parse(run(declaring, {"--json"}).out);
+  EXPECT_EQ(asDeclared["portal_count"], 1);
+  EXPECT_FALSE(asDeclared.contains("found_portals"));
+  EXPECT_TRUE(apptest::readFile(path("room.exr")) == foundImage);
   const auto open = nlohmann::json::parse(run(tinyScene(), {"--json"}).out);
   EXPECT_EQ(open["portal_count"], 0);
   EXPECT_GE(open["escaped_share"].get<double>(), kMaxEscapedShare);
