@@ -97,6 +97,19 @@ RowTrace traceRow(const Geometry& geometry, const std::vector<SurfaceHit>& point
   return trace;
 }
 
+// The bounds of crossings in a face's plane, and how many.
+struct Rectangle {
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  uint64_t crossings = 0;
+
+  void add(const std::array<double, 2>& p) {
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    ++crossings;
+  }
+  double area() const { return (hi[0] - lo[0]) * (hi[1] - lo[1]); }
+};
+
 // The face of the box an escaping direction leaves it through: 2 × axis, + 1 on the axis's high
 // side. Its origin is inside the box.
 std::optional<int> faceLeft(const Box& box, const Escape& e) {
@@ -126,8 +139,8 @@ std::optional<std::array<double, 2>> crossing(const Escape& e, int axis, int sid
 // 95 % of their origins: an opening set back from the box's face (a door ajar swings out beyond
 // its wall) is met where it is, not where its light has spread. Then one step further in: a
 // portal a hair outside its wall would have the wall's sunlit outer face on its inner side, and
-// points there would draw 90 % of their light samples through it edge-on (measured: 1.5× the
-// variance behind the door ajar).
+// points there would draw their light samples through it edge-on (measured: 1.5× the variance
+// behind the door ajar).
 constexpr double kPlaneDepth = 0.1;
 constexpr int kPlaneSteps = 32;
 
@@ -138,31 +151,19 @@ double planeOf(const std::vector<const Escape*>& leaving, int axis, int side, co
   int best = 0, deepest = 0;
   double bestArea = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= kPlaneSteps; ++k) {
-    const double level = levelAt(k);
-    double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-    double hi[2] = {-lo[0], -lo[1]};
-    std::size_t inFront = 0;
+    Rectangle inFront;
     for (const Escape* e : leaving)
-      if (const auto p = crossing(*e, axis, side, level)) {
-        ++inFront;
-        for (int j = 0; j < 2; ++j) lo[j] = std::min(lo[j], (*p)[j]), hi[j] = std::max(hi[j], (*p)[j]);
-      }
-    if (static_cast<double>(inFront) < 0.95 * static_cast<double>(leaving.size())) break;
+      if (const auto p = crossing(*e, axis, side, levelAt(k))) inFront.add(*p);
+    if (static_cast<double>(inFront.crossings) < 0.95 * static_cast<double>(leaving.size())) break;
     deepest = k;
-    const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
-    if (area < bestArea) best = k, bestArea = area;
+    if (inFront.area() < bestArea) best = k, bestArea = inFront.area();
   }
   return levelAt(std::min(best + 1, deepest));
 }
 
-struct Region {
-  double lo[2], hi[2];
-  uint64_t crossings = 0;
-};
-
 // The connected regions (8-neighbours) of a face's grid cells that crossings fell in, each with
 // the bounding rectangle of its crossings (face coordinates: the face's other two axes, in order).
-std::vector<Region> regionsOf(const std::vector<std::array<double, 2>>& points, const double lo[2],
+std::vector<Rectangle> regionsOf(const std::vector<std::array<double, 2>>& points, const double lo[2],
                               const double hi[2]) {
   const uint32_t cells = std::clamp(
       static_cast<uint32_t>(std::sqrt(static_cast<double>(points.size()) / kCrossingsPerCell)), 1u, kMaxFaceCells);
@@ -197,18 +198,8 @@ std::vector<Region> regionsOf(const std::vector<std::array<double, 2>>& points, 
     }
     ++regions;
   }
-  std::vector<Region> found(static_cast<std::size_t>(regions),
-                            Region{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
-                                   {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
-                                   0});
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    Region& region = found[static_cast<std::size_t>(label[cellOfPoint[i]])];
-    for (int k = 0; k < 2; ++k) {
-      region.lo[k] = std::min(region.lo[k], points[i][k]);
-      region.hi[k] = std::max(region.hi[k], points[i][k]);
-    }
-    ++region.crossings;
-  }
+  std::vector<Rectangle> found(static_cast<std::size_t>(regions));
+  for (std::size_t i = 0; i < points.size(); ++i) found[static_cast<std::size_t>(label[cellOfPoint[i]])].add(points[i]);
   return found;
 }
 
@@ -258,7 +249,7 @@ OpeningSearch findOpenings(const Geometry& geometry, const Camera& camera) {
     std::vector<std::array<double, 2>> points;
     for (const Escape* e : through)
       if (const auto p = crossing(*e, axis, side, level)) points.push_back(*p);
-    for (Region& region : regionsOf(points, lo, hi)) {
+    for (const Rectangle& region : regionsOf(points, lo, hi)) {
       if (static_cast<double>(region.crossings) < kMinOpeningShare * static_cast<double>(escapes.size())) continue;
       // A margin for the edges the crossings fall short of: about the gap n uniform points leave
       // at each end, and at least a thousandth of the face.

@@ -619,7 +619,9 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   } catch (const std::invalid_argument& e) {
     throw FileError(name, std::string("$.shapes: ") + e.what());
   }
-  if (settings.portals == PortalSource::Auto && envSpec.options.portals.empty()) {
+  // Portals serve light samples: a render that draws none (bsdf-only MIS) needs no search.
+  const bool samplesLight = drawsLightSamples(settings) || settings.direct == DirectLighting::Product;
+  if (settings.portals == PortalSource::Auto && envSpec.options.portals.empty() && samplesLight) {
     scene.openingSearch = findOpenings(*scene.geometry, *scene.camera);
     envSpec.options.portals = scene.openingSearch->openings;
   }

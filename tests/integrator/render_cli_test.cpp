@@ -291,6 +291,10 @@ TEST_F(RenderCli, PortalsOnTheCommandLine) {
   const auto declared = nlohmann::json::parse(run(tinyRoom(), {"--portals", "declared", "--json"}).out);
   EXPECT_EQ(declared["portal_count"], 0);
   EXPECT_FALSE(declared.contains("escaped_share"));
+  // Portals serve light samples: BSDF sampling alone does not look for them.
+  const auto bsdfOnly = nlohmann::json::parse(run(tinyRoom(), {"--mis", "bsdf-only", "--json"}).out);
+  EXPECT_EQ(bsdfOnly["portal_count"], 0);
+  EXPECT_FALSE(bsdfOnly.contains("escaped_share"));
   nlohmann::json withPortal = tinyRoom();
   withPortal["environment"]["portals"] = {{{"corner", {-0.4, 0.6, 1}}, {"edge_u", {0, 0.8, 0}}, {"edge_v", {0.8, 0, 0}}}};
   const auto kept = nlohmann::json::parse(run(withPortal, {"--json"}).out);
