@@ -367,8 +367,9 @@ def _make_envmap_classes():
                 d = dr.select(through, self.portals_seen.sample(seen, sample, through), self._to_world(d_map))
                 row_through, column_through = _pixel_of(mi, self._to_map(d), self.width, self.height)
                 row, column = dr.select(through, row_through, row), dr.select(through, column_through, column)
-                pdf = self.portals_seen.mixture_pdf(seen, d, dr.select(
-                    through, self._strategy_pdf(row, column, cell, local, active & through), pdf))
+                if self.portals_seen.share < 1.0:  # else mixture_pdf does not read it where through
+                    pdf = dr.select(through, self._strategy_pdf(row, column, cell, local, active & through), pdf)
+                pdf = self.portals_seen.mixture_pdf(seen, d, pdf)
             ds = dr.zeros(mi.DirectionSample3f)
             ds.d = d
             ds.dist = mi.Float(_FAR)
@@ -1032,9 +1033,9 @@ class _DrjitPortals:
     def __init__(self, mi, portals, world_from_map, allow_incomplete_pdf):
         """portals: the light's portal_arrays(), in the map frame, where acdf's light works;
         world_from_map: the plugin's rotation; allow_incomplete_pdf: as the plugin's calls to acdf
-        (the portals' share of the samples depends on it). Points and directions are turned into the map frame
-        in double, as acdf's callers turn them: a sample is a steep function of its window, which
-        the float32 rotation's rounding (1e-7) would move by up to 1e-5 rad."""
+        (the portals' share of the samples depends on it). Points and directions are turned into
+        the map frame in double, as acdf's callers turn them: a sample is a steep function of its
+        window, which the float32 rotation's rounding (1e-7) would move by up to 1e-5 rad."""
         self.mi = mi
         self.share = acdf.EnvironmentLight.portal_share(allow_incomplete_pdf)
         rotated = not np.array_equal(world_from_map, np.eye(3))

@@ -401,10 +401,11 @@ void bindLight(py::module_& m) {
       },
       "Per portal (world frame), its table over the square of directions leaving through it (acdf's\n"
       "PortalTable, WindowedTable2D): the frame (corner, unit axis_u, axis_v, normal into the room, the\n"
-      "edges' lengths), the least power a view is sampled with (min_power), the coarse grid's vertices along a and b, the coarse cell of each fine cell along\n"
-      "each axis, the coarse density (row-major, rows along b), the summed-area table at the vertices\n"
-      "((rows + 1) x (columns + 1)) and each row's running integral along a (rows x (columns + 1)). For\n"
-      "sampling the portals in other arithmetic (acdf.mitsuba's drjit arrays).");
+      "edges' lengths), the least power a view is sampled with (min_power), the coarse grid's\n"
+      "vertices along a and b, the coarse cell of each fine cell along each axis, the coarse density\n"
+      "(row-major, rows along b), the summed-area table at the vertices ((rows + 1) x (columns + 1))\n"
+      "and each row's running integral along a (rows x (columns + 1)). For sampling the portals in\n"
+      "other arithmetic (acdf.mitsuba's drjit arrays).");
   c.def_static(
       "portal_share",
       [](bool allowIncomplete) { return EnvironmentLight::portalShare({.allowIncompletePdf = allowIncomplete}); },
