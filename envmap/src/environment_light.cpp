@@ -88,9 +88,22 @@ const EnvironmentTable& EnvironmentLight::table(const LightSampleContext& contex
   return *complete_;
 }
 
+template <class Use>
+auto EnvironmentLight::withPortalsSeen(const LightSampleContext& context, Use&& use) const {
+  if (options_.portals.empty() || !context.position) return use(nullptr);
+  const std::optional<PortalsSeen>& kept = context.portals;
+  if (kept && kept->light_ == id_ && kept->from_ == *context.position)
+    return use(kept->total_ > 0 ? &*kept : nullptr);
+  const PortalsSeen found = portalsSeenFrom(*context.position);
+  return use(found.total_ > 0 ? &found : nullptr);
+}
+
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
-  std::optional<PortalsSeen> found;
-  const PortalsSeen* seen = portalsSeen(context, found);
+  return withPortalsSeen(context, [&](const PortalsSeen* seen) { return sampleWith(context, seen, u0, u1); });
+}
+
+LightSample EnvironmentLight::sampleWith(const LightSampleContext& context, const PortalsSeen* seen, float u0,
+                                         float u1) const {
   if (seen) {
     if (emitsNothing()) return {};
     const double u = clampUnit(u0), share = portalShare(context);
@@ -135,16 +148,6 @@ PortalsSeen EnvironmentLight::portalsSeenFrom(const Vec3d& position) const {
     seen.total_ += view.power;
   }
   return seen;
-}
-
-const PortalsSeen* EnvironmentLight::portalsSeen(const LightSampleContext& context,
-                                                 std::optional<PortalsSeen>& found) const {
-  if (options_.portals.empty() || !context.position) return nullptr;
-  const std::optional<PortalsSeen>& kept = context.portals;
-  const PortalsSeen& seen = kept && kept->light_ == id_ && kept->from_ == *context.position
-                                ? *kept
-                                : found.emplace(portalsSeenFrom(*context.position));
-  return seen.total_ > 0 ? &seen : nullptr;
 }
 
 double EnvironmentLight::strategyPdf(const LightSampleContext& context, PixelIndex p) const {
@@ -202,9 +205,8 @@ void EnvironmentLight::moveNormal(LightSampleContext& context, const Vec3d& norm
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
-  std::optional<PortalsSeen> found;
-  return mixturePdf(context, portalsSeen(context, found), w,
-                    map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w)));
+  const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  return withPortalsSeen(context, [&](const PortalsSeen* seen) { return mixturePdf(context, seen, w, p); });
 }
 
 Rgb EnvironmentLight::eval(const Vec3d& w) const {
@@ -215,8 +217,8 @@ RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, 
   const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
   // The pdf's search first, while the pixel's radiance (usually a cache miss) is on its way.
   map_->prefetchRadiance(p);
-  std::optional<PortalsSeen> found;
-  const double pdf = mixturePdf(context, portalsSeen(context, found), w, p);
+  const double pdf =
+      withPortalsSeen(context, [&](const PortalsSeen* seen) { return mixturePdf(context, seen, w, p); });
   return {scaled(map_->radiance(p)), pdf};
 }
 

@@ -62,9 +62,10 @@ void validate(const EnvironmentLightOptions& options);
 
 // The portals of one light as seen from one point, found once for the calls there by
 // EnvironmentLight::atPosition: each portal's view (PortalTable::View: its window, and the light
-// through it, 0 for one whose inner side the point is not on) and the sum of that light. Only the light fills one, and a call uses it only from that
-// light and at the position it was found for: a context moved to another position or given to
-// another light has its portals found again by each call, never a stale view.
+// through it, 0 for one whose inner side the point is not on) and the sum of that light. Only the
+// light fills one, and a call uses it only from that light and at the position it was found for: a
+// context moved to another position or given to another light has its portals found again by each
+// call, never a stale view.
 class PortalsSeen {
  public:
   // The portals whose views are kept, inline: scenes declare a few windows and doors. For a light
@@ -214,9 +215,14 @@ class EnvironmentLight {
   PortalTable::View portalView(const PortalsSeen& seen, std::size_t i) const;
   // Every portal's view from `position`.
   PortalsSeen portalsSeenFrom(const Vec3d& position) const;
-  // The portals seen from the context's position: atPosition's when they are this light's at that
-  // position, else found now into `found`; null without a position or a portal seen from it.
-  const PortalsSeen* portalsSeen(const LightSampleContext& context, std::optional<PortalsSeen>& found) const;
+  // use(the portals seen from the context's position): atPosition's when they are this light's at
+  // that position, else found now; null without a position or a portal seen from it. The views
+  // found now live in this call's frame, built only then (GCC zeroes an empty std::optional of
+  // them, 368 bytes, on construction: measurable on every call of a light without portals).
+  template <class Use>
+  auto withPortalsSeen(const LightSampleContext& context, Use&& use) const;
+  // sample() with the portals seen from the context's position (null: none).
+  LightSample sampleWith(const LightSampleContext& context, const PortalsSeen* seen, float u0, float u1) const;
   // The mixture's density at the world direction w of pixel p, the portals `seen` from the
   // context's position (null: the strategy's alone; see sample()).
   double mixturePdf(const LightSampleContext& context, const PortalsSeen* seen, const Vec3d& w, PixelIndex p) const;
