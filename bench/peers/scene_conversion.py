@@ -323,7 +323,12 @@ def load_mitsuba_scene(scene_dict):
                     for key, value in node.items()}
         return node
 
-    return mi.load_dict(wrap(scene_dict))
+    scene = wrap(scene_dict)
+    if scene.get("environment", {}).get("type") == "acdf_envmap":
+        import acdf.mitsuba  # gives acdf_envmap the scene: its bounds, and its openings where none are declared
+
+        return acdf.mitsuba.load_dict(scene)
+    return mi.load_dict(scene)
 
 
 # ---- Cycles 5 (bpy) ----

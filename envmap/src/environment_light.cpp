@@ -123,7 +123,9 @@ LightSample EnvironmentLight::sampleWith(const LightSampleContext& context, cons
       }
       const Vec3d w = portals_[chosen]->sample(view, std::clamp(at / view.power, 0.0, 1.0), clampUnit(u1));
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
-      return {w, scaled(map_->radiance(p)), mixturePdf(context, seen, w, p)};
+      map_->prefetchRadiance(p);  // as in evalWithPdf
+      const double pdf = mixturePdf(context, seen, w, p);
+      return {w, scaled(map_->radiance(p)), pdf};
     }
     u0 = rescaledVariate(u, share);
   }

@@ -11,7 +11,9 @@ over the batched module in the scalar ones.
 (a rotation: directions are mapped by its linear part, as `envmap` does), plus `strategy` (a name of
 `acdf.environment_samplings()`; adaptive by default) and the table options of `acdf.EnvironmentLight` (`epsilon`, `normal_rows`,
 `normal_columns`, `block_size`), and portals: nested `rectangle` shapes (windows, doors) whose normal points into
-the room the map lights through them (acdf.EnvironmentLight's `portals`). `compensated` (and `local-compensated`, per normal cell) is
+the room the map lights through them (acdf.EnvironmentLight's `portals`), and `portals` ("auto", the
+default: the nested ones, or where there are none the openings acdf.find_openings finds in a scene
+loaded with acdf.mitsuba.load_dict or load_file; "declared"; "none"). `compensated` (and `local-compensated`, per normal cell) is
 Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
 BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
@@ -114,8 +116,8 @@ def _make_envmap_classes():
             mi.Emitter.__init__(self, props)
             name = "acdf_envmap"
             portal_names = [key for key in props.keys() if isinstance(props[key], mi.Shape)]
-            _refuse_unknown(name, props, ["filename", "scale", "to_world", "strategy", *_ENVMAP_TABLE_OPTIONS,
-                                          *portal_names])
+            _refuse_unknown(name, props, ["filename", "scale", "to_world", "strategy", "portals",
+                                          *_ENVMAP_TABLE_OPTIONS, *portal_names])
             if "filename" not in props:
                 _refuse(name, "needs a filename")
             filename = str(props["filename"])
@@ -135,22 +137,38 @@ def _make_envmap_classes():
             self.strategy = strategy
             self.scale = float(scale)
             self.incomplete = strategy in ("compensated", "local-compensated")
-            self.portals = [_portal_of(mi, key, props[key]) for key in portal_names]  # world frame
+            self.portal_source = str(props["portals"]) if "portals" in props else acdf.portal_sources[0]
+            if self.portal_source not in acdf.portal_sources:
+                _refuse(name, f"unknown portals {self.portal_source!r}; one of {', '.join(acdf.portal_sources)}")
+            self.openings = None  # set_scene's acdf.find_openings result, where it searched
+            self.light_file, self.light_options = filename, {"strategy": strategy, "scale": float(scale), **table}
+            self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
+            self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
+            self._load([] if self.portal_source == "none" else
+                       [_portal_of(mi, key, props[key]) for key in portal_names])
+
+        def _load(self, portals):
+            """acdf's light with these portals (world frame)."""
+            self.portals = portals
             # acdf's light works in the map's frame: its world is this plugin's map frame.
             in_map = [{key: self.map_from_world @ vector for key, vector in portal.items()} for portal in self.portals]
             # acdf.FileError (an OSError) names the file; bad options raise ValueError.
-            self.light = acdf.EnvironmentLight.load(filename, strategy=strategy, scale=float(scale), portals=in_map,
-                                                    **table)
-            self.bounds = None  # the scene's bounding sphere (center, radius), for rays leaving the light
-            self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
+            self.light = acdf.EnvironmentLight.load(self.light_file, portals=in_map, **self.light_options)
 
         def set_scene(self, scene):
-            """Mitsuba calls this on its C++ emitters only; load_dict and load_file below call it."""
+            """Mitsuba calls this on its C++ emitters only; load_dict and load_file below call it.
+            The scene's bounds, and under portals "auto" with none declared its openings
+            (acdf.find_openings), which become the light's portals."""
             box = scene.bbox()
             if box.valid():
                 sphere = box.bounding_sphere()
                 self.bounds = (np.asarray(sphere.center, dtype=np.float64).reshape(3),
                                max(float(sphere.radius) * (1 + 1e-4), 1e-4))
+            if self.portal_source == "auto" and not self.portals:
+                self.openings = _find_openings(mi, scene)
+                if self.openings is not None and self.openings["portals"]:
+                    self._load([{key: np.asarray(vector, dtype=np.float64) for key, vector in portal.items()}
+                                for portal in self.openings["portals"]])
 
         def bbox(self):
             return mi.ScalarBoundingBox3f()
@@ -252,8 +270,8 @@ def _make_envmap_classes():
         A local light samples each lane's normal cell's table, lanes without a normal its complete
         table, as acdf's EnvironmentLight does."""
 
-        def __init__(self, props):
-            AcdfEnvmap.__init__(self, props)
+        def _load(self, portals):
+            AcdfEnvmap._load(self, portals)
             light = self.light
             width, height = light.map.width, light.map.height
             rgb = light.map.rgb.reshape(-1) * np.float32(self.scale)
@@ -789,6 +807,35 @@ class _DrjitLocalTable:
 # below which a sample reports pdf() instead of the density along its path.
 _HALF_VECTOR_CELL_MARGIN = 1e-6
 _ROUND_TRIP_EXACT = 1e-3
+
+
+def _find_openings(mi, scene):
+    """acdf.find_openings on the scene's shapes from its first sensor; None where it cannot look: no
+    perspective sensor, or a shape other than meshes (rectangles, cubes, OBJ and PLY files) and
+    spheres, whose surfaces the search would miss."""
+    sensors = scene.sensors()
+    if not sensors or sensors[0].class_name() not in ("PerspectiveCamera", "ThinLensCamera"):
+        return None
+    meshes, spheres = [], []
+    for shape in scene.shapes():
+        if shape.is_mesh():
+            meshes.append((np.asarray(shape.vertex_positions_buffer(), dtype=np.float64).reshape(-1, 3),
+                           np.asarray(shape.faces_buffer(), dtype=np.int64).reshape(-1, 3)))
+        elif shape.shape_type() == int(mi.ShapeType.Sphere):
+            matrix = np.asarray(mi.traverse(shape)["to_world"].matrix, dtype=np.float64).reshape(4, 4)
+            spheres.append([*matrix[:3, 3], np.linalg.norm(matrix[:3, 0])])
+        else:
+            return None
+    sensor = sensors[0]
+    params = mi.traverse(sensor)
+    matrix = np.asarray(params["to_world"].matrix, dtype=np.float64).reshape(4, 4)
+    width, height = (int(v) for v in sensor.film().size())
+    # Mitsuba's x_fov is horizontal, acdf's camera's vertical; a mirrored frame sees the same points.
+    x_fov = np.radians(float(np.asarray(params["x_fov"]).reshape(-1)[0]))
+    fov = np.degrees(2 * np.arctan(np.tan(x_fov / 2) * height / width))
+    eye = matrix[:3, 3]
+    return acdf.find_openings(meshes, eye, eye + matrix[:3, 2], matrix[:3, 1], fov, width, height,
+                              spheres=np.array(spheres).reshape(-1, 4))
 
 
 def _portal_of(mi, name, shape):
@@ -1867,8 +1914,9 @@ def _with_bounds(scene):
 
 
 def load_dict(scene_dict, **kwargs):
-    """mi.load_dict, then gives acdf_envmap emitters the scene's bounding sphere (needed by
-    sample_ray: light tracing, e.g. Mitsuba's ptracer; path tracing does not need it)."""
+    """mi.load_dict, then gives acdf_envmap emitters the scene: its bounding sphere (needed by
+    sample_ray: light tracing, e.g. Mitsuba's ptracer; path tracing does not need it) and, where they
+    declare no portal, the openings found in it (portals "auto")."""
     return _with_bounds(_mi().load_dict(scene_dict, **kwargs))
 
 

@@ -1,6 +1,6 @@
 #pragma once
 // The parts of the module, one per library (module.cpp calls them in this order: the BRDF and
-// environment classes use the sampling ones, product sampling both).
+// environment classes use the sampling ones, product sampling both; the openings none).
 #include <pybind11/pybind11.h>
 
 #include <span>
@@ -26,5 +26,6 @@ void bindSampling(pybind11::module_& m);
 void bindEnvmap(pybind11::module_& m);
 void bindBrdf(pybind11::module_& m);
 void bindProductSampling(pybind11::module_& m);
+void bindOpenings(pybind11::module_& m);
 
 }  // namespace acdf::python

@@ -38,5 +38,6 @@ Errors
   acdf::python::bindEnvmap(m);
   acdf::python::bindBrdf(m);
   acdf::python::bindProductSampling(m);
+  acdf::python::bindOpenings(m);
   m.attr("__name__") = extensionName;
 }

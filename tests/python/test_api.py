@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import acdf
+from conftest import ROOM_CAMERA, ROOM_QUADS, WINDOW_QUAD, assert_portal_covers_window
 
 ONE_MINUS_EPSILON = np.nextafter(np.float32(1), np.float32(0))
 
@@ -133,6 +134,49 @@ def test_help_states_the_conventions():
     assert "per steradian" in acdf.__doc__ and "lat-long" in acdf.__doc__
     for name in ["Cascade", "EnvironmentLight", "BrdfSampler", "TabulatedBrdfSampler", "SimplifyOptions"]:
         assert len(getattr(acdf, name).__doc__) > 200, name
+
+
+def room_meshes(window=True):
+    """The room of conftest.py as triangles (two per quad), its window open unless window is False."""
+    meshes = []
+    for corner, u, v in ROOM_QUADS + ([] if window else [WINDOW_QUAD]):
+        c, u, v = (np.array(x, dtype=np.float64) for x in (corner, u, v))
+        meshes.append((np.array([c, c + u, c + u + v, c + v]), np.array([[0, 1, 2], [0, 2, 3]])))
+    return meshes
+
+
+def test_find_openings_finds_a_rooms_window_and_refuses_bad_geometry():
+    """The window of a room of triangles becomes one portal covering it (to 3 % of the wall, in the
+    wall's plane to 3 %), facing in, the same on every call; a sealed room and an open floor get none;
+    bad meshes, spheres and cameras are refused naming the argument."""
+    found = acdf.find_openings(room_meshes(), **ROOM_CAMERA, spheres=np.array([[0.0, 0.5, 0.0, 0.5]]))
+    assert 0 < found["escaped_share"] < 0.25 and found["rays"] > 0 and found["points"] > 0
+    assert found == acdf.find_openings(room_meshes(), **ROOM_CAMERA, spheres=np.array([[0.0, 0.5, 0.0, 0.5]]))
+    other_layouts = [(np.asfortranarray(p), t.astype(np.int32)[:, ::-1][:, ::-1]) for p, t in room_meshes()]
+    assert found == acdf.find_openings(other_layouts, **ROOM_CAMERA, spheres=[[0, 0.5, 0, 0.5]])
+    (portal,) = found["portals"]
+    assert_portal_covers_window(portal)
+    light = acdf.EnvironmentLight(acdf.EnvironmentMap(np.ones((8, 16, 3), np.float32)), portals=found["portals"])
+    assert light.portal_arrays()[0]["length_u"] > 0
+
+    assert acdf.find_openings(room_meshes(window=False), **ROOM_CAMERA)["portals"] == []
+    open_floor = [(np.array([[-5, 0, -5], [5, 0, -5], [5, 0, 5], [-5, 0, 5]], float), np.array([[0, 1, 2], [0, 2, 3]]))]
+    found = acdf.find_openings(open_floor, **ROOM_CAMERA)
+    assert found["portals"] == [] and found["escaped_share"] >= 0.25
+
+    floor = open_floor[0]
+    bad = [(dict(meshes=[(floor[0], floor[1].astype(float))]), "meshes\\[0\\]\\[1\\]: expected integer vertex indices"),
+           (dict(meshes=[(floor[0], floor[1] + 2)]), "meshes\\[0\\]\\[1\\]: triangle 0 refers to vertex 4 of 4"),
+           (dict(meshes=[(floor[0] * np.nan, floor[1])]), "meshes\\[0\\]\\[0\\]: vertex 0 is not finite"),
+           (dict(meshes=[floor[0]]), "meshes\\[0\\]: expected a \\(positions, triangles\\) pair"),
+           (dict(meshes=[floor], spheres=np.array([[0.0, 1.0, 0.0, -1.0]])), "radius must be positive"),
+           (dict(meshes=[floor], spheres=np.zeros((1, 3))), "spheres: expected shape \\(n, 4\\)"),
+           (dict(meshes=[floor], fov=180), "fov must be in"),
+           (dict(meshes=[floor], eye=[0.5, 0.8, -1.2]), "eye and target must differ")]
+    for arguments, message in bad:
+        with pytest.raises(ValueError, match=message):
+            acdf.find_openings(**{**ROOM_CAMERA, **arguments})
+    assert acdf.portal_sources == ("auto", "declared", "none")
 
 
 def test_table_options_are_the_scene_formats_and_all_reach_the_table():

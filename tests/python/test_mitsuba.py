@@ -15,6 +15,7 @@ import drjit as dr  # noqa: E402
 
 import acdf  # noqa: E402
 import acdf.mitsuba  # noqa: E402
+from conftest import ROOM_CAMERA, ROOM_QUADS, WINDOW_QUAD, assert_portal_covers_window  # noqa: E402
 
 VARIANTS = ["scalar_rgb", "llvm_ad_rgb"]
 BLOCK = 8
@@ -548,6 +549,70 @@ def test_portals_are_rectangles_that_acdf_can_use(variant, block_map):
         np.testing.assert_allclose(rows_of(ds.d)[0], d[0], atol=1e-6)
         np.testing.assert_allclose(float(ds.pdf), pdf[0], rtol=1e-6)
         np.testing.assert_allclose(float(emitter.pdf_direction(it, ds)), pdf[0], rtol=1e-5)
+
+
+def rectangle(corner, edge_u, edge_v):
+    """Mitsuba's rectangle ([-1, 1]^2 of its z = 0 plane) over corner + s edge_u + t edge_v."""
+    c, u, v = (np.array(x, dtype=np.float64) for x in (corner, edge_u, edge_v))
+    n = np.cross(u, v)
+    matrix = np.eye(4)
+    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2], matrix[:3, 3] = u / 2, v / 2, n / np.linalg.norm(n), c + (u + v) / 2
+    return {"type": "rectangle", "to_world": mi.ScalarTransform4f(matrix)}
+
+
+def room_scene(path, emitter_options, window=True, extra_shapes=()):
+    """conftest's room in Mitsuba: rectangles, a sphere, its camera (fov along y) and acdf_envmap."""
+    camera = ROOM_CAMERA
+    scene = {"type": "scene",
+             "sensor": {"type": "perspective", "fov": camera["fov"], "fov_axis": "y",
+                        "to_world": mi.ScalarTransform4f().look_at(origin=camera["eye"], target=camera["target"],
+                                                                   up=camera["up"]),
+                        "film": {"type": "hdrfilm", "width": camera["width"], "height": camera["height"]}},
+             "ball": {"type": "sphere", "center": [0.0, 0.5, 0.0], "radius": 0.5},
+             "light": {"type": "acdf_envmap", "filename": path, **emitter_options}}
+    quads = ROOM_QUADS + ([] if window else [WINDOW_QUAD])
+    scene.update({f"wall-{i}": rectangle(*quad) for i, quad in enumerate(quads)})
+    scene.update({f"extra-{i}": shape for i, shape in enumerate(extra_shapes)})
+    return scene
+
+
+def test_load_dict_finds_a_rooms_window_and_makes_it_a_portal(variant, block_map):
+    """acdf.mitsuba.load_dict gives acdf_envmap its scene: where no portal is declared (portals "auto",
+    the default) the window of a room is found (acdf.find_openings on the scene's meshes and spheres
+    from its sensor) and becomes the light's portal, sampled from inside (scalar: every sample of a
+    compensated light from a point inside passes through the window). "declared" and "none" do not
+    search, "none" drops declared portals; a scene with a shape the search cannot read (a disk), a
+    sealed room, or mi.load_dict (which does not call Python emitters' set_scene) get none; an
+    unknown value is refused."""
+    path = block_map[0]
+    emitter = acdf.mitsuba.load_dict(room_scene(path, {"strategy": "compensated"})).emitters()[0]
+    (portal,) = emitter.openings["portals"]
+    assert_portal_covers_window(portal)
+    assert 0 < emitter.openings["escaped_share"] < 0.25
+    (used,) = emitter.portals
+    np.testing.assert_array_equal(used["corner"], portal["corner"])
+    if variant.startswith("scalar"):
+        it = mi.SurfaceInteraction3f()
+        it.p = mi.Point3f(0.3, 1.2, 0.5)
+        it.n = mi.Normal3f(0, 1, 0)
+        for u in np.random.default_rng(5).random((64, 2)).astype(np.float32):
+            ds, _ = emitter.sample_direction(it, mi.Point2f(*u))
+            d = rows_of(ds.d)[0]
+            hit = np.array([0.3, 1.2, 0.5]) + (2.0 - 0.5) / d[2] * d
+            assert d[2] > 0 and abs(hit[0]) <= 0.75 and 0.85 <= hit[1] <= 2.05
+
+    for options, declared in [({"portals": "declared"}, []), ({"portals": "none", "door": window()}, [])]:
+        emitter = acdf.mitsuba.load_dict(room_scene(path, options)).emitters()[0]
+        assert emitter.openings is None and emitter.portals == declared
+    declared = acdf.mitsuba.load_dict(room_scene(path, {"door": window()})).emitters()[0]
+    assert declared.openings is None and len(declared.portals) == 1
+    sealed = acdf.mitsuba.load_dict(room_scene(path, {}, window=False)).emitters()[0]
+    assert sealed.openings["portals"] == [] and sealed.openings["escaped_share"] == 0 and sealed.portals == []
+    unreadable = acdf.mitsuba.load_dict(room_scene(path, {}, extra_shapes=[{"type": "disk"}])).emitters()[0]
+    assert unreadable.openings is None and unreadable.portals == []
+    assert mi.load_dict(room_scene(path, {})).emitters()[0].openings is None
+    with pytest.raises(RuntimeError, match="acdf_envmap: unknown portals 'sometimes'; one of auto, declared, none"):
+        mi.load_dict({"type": "acdf_envmap", "filename": path, "portals": "sometimes"})
 
 
 LOCAL_STRATEGIES = ["local", "local-compensated"]
