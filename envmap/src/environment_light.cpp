@@ -94,7 +94,8 @@ auto EnvironmentLight::withPortalsSeen(const LightSampleContext& context, Use&& 
   const std::optional<PortalsSeen>& kept = context.portals;
   if (kept && kept->light_ == id_ && kept->from_ == *context.position)
     return use(kept->total_ > 0 ? &*kept : nullptr);
-  const PortalsSeen found = portalsSeenFrom(*context.position);
+  PortalsSeen found;
+  see(found, *context.position);
   return use(found.total_ > 0 ? &found : nullptr);
 }
 
@@ -140,8 +141,7 @@ PortalTable::View EnvironmentLight::portalView(const PortalsSeen& seen, std::siz
   return i < PortalsSeen::kCapacity ? seen.views_[i] : portals_[i]->viewFrom(seen.from_);
 }
 
-PortalsSeen EnvironmentLight::portalsSeenFrom(const Vec3d& position) const {
-  PortalsSeen seen;
+void EnvironmentLight::see(PortalsSeen& seen, const Vec3d& position) const {
   seen.from_ = position;
   seen.light_ = id_;
   for (std::size_t i = 0; i < portals_.size(); ++i) {
@@ -149,7 +149,6 @@ PortalsSeen EnvironmentLight::portalsSeenFrom(const Vec3d& position) const {
     if (i < PortalsSeen::kCapacity) seen.views_[i] = view;
     seen.total_ += view.power;
   }
-  return seen;
 }
 
 double EnvironmentLight::strategyPdf(const LightSampleContext& context, PixelIndex p) const {
@@ -191,7 +190,7 @@ void EnvironmentLight::moveTo(LightSampleContext& context, const Vec3d& position
 void EnvironmentLight::movePosition(LightSampleContext& context, const Vec3d& position) const {
   context.position = position;
   context.portals.reset();
-  if (!options_.portals.empty()) context.portals = portalsSeenFrom(position);
+  if (!options_.portals.empty()) see(context.portals.emplace(), position);  // in place, not a 368-byte copy
 }
 
 void EnvironmentLight::moveNormal(LightSampleContext& context, const Vec3d& normal) const {

@@ -213,8 +213,8 @@ class EnvironmentLight {
   double strategyPdf(const LightSampleContext& context, PixelIndex p) const;
   // Portal i's view as `seen` keeps it, or found now for a portal beyond its capacity.
   PortalTable::View portalView(const PortalsSeen& seen, std::size_t i) const;
-  // Every portal's view from `position`.
-  PortalsSeen portalsSeenFrom(const Vec3d& position) const;
+  // Every portal's view from `position`, into `seen`.
+  void see(PortalsSeen& seen, const Vec3d& position) const;
   // use(the portals seen from the context's position): atPosition's when they are this light's at
   // that position, else found now; null without a position or a portal seen from it. The views
   // found now live in this call's frame, built only then (GCC zeroes an empty std::optional of
