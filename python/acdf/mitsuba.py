@@ -1906,7 +1906,7 @@ def register():
     mi.register_bsdf("acdf_measured", native_measured if jit else batched_measured)
 
 
-def _with_bounds(scene):
+def _with_scene(scene):
     for emitter in scene.emitters():
         if isinstance(emitter, tuple(_envmap_classes)):
             emitter.set_scene(scene)
@@ -1917,9 +1917,9 @@ def load_dict(scene_dict, **kwargs):
     """mi.load_dict, then gives acdf_envmap emitters the scene: its bounding sphere (needed by
     sample_ray: light tracing, e.g. Mitsuba's ptracer; path tracing does not need it) and, where they
     declare no portal, the openings found in it (portals "auto")."""
-    return _with_bounds(_mi().load_dict(scene_dict, **kwargs))
+    return _with_scene(_mi().load_dict(scene_dict, **kwargs))
 
 
 def load_file(path, **kwargs):
     """mi.load_file, then as load_dict."""
-    return _with_bounds(_mi().load_file(path, **kwargs))
+    return _with_scene(_mi().load_file(path, **kwargs))
