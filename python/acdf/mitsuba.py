@@ -13,8 +13,8 @@ over the batched module in the scalar ones.
 `normal_columns`, `block_size`), and portals: nested `rectangle` shapes (windows, doors) whose normal points into
 the room the map lights through them (acdf.EnvironmentLight's `portals`), and `portals` ("auto", the
 default: the nested ones, or where there are none the openings acdf.find_openings finds in a scene
-loaded with acdf.mitsuba.load_dict or load_file; "declared"; "none"). `compensated` (and `local-compensated`, per normal cell) is
-Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
+loaded with acdf.mitsuba.load_dict or load_file; "declared"; "none").
+`compensated` (and `local-compensated`, per normal cell) is Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
 mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
 BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
 light (`sample_ray`) use the complete table. The map's frame is Mitsuba's:

@@ -579,8 +579,8 @@ def room_scene(path, emitter_options, window=True, extra_shapes=()):
 def test_load_dict_finds_a_rooms_window_and_makes_it_a_portal(variant, block_map):
     """acdf.mitsuba.load_dict gives acdf_envmap its scene: where no portal is declared (portals "auto",
     the default) the window of a room is found (acdf.find_openings on the scene's meshes and spheres
-    from its sensor) and becomes the light's portal, sampled from inside (scalar: every sample of a
-    compensated light from a point inside passes through the window). "declared" and "none" do not
+    from its sensor) and becomes the light's portal, sampled from inside (every sample of a
+    compensated light from a point inside passes through the window, in drjit too). "declared" and "none" do not
     search, "none" drops declared portals; a scene with a shape the search cannot read (a disk), a
     sealed room, or mi.load_dict (which does not call Python emitters' set_scene) get none; an
     unknown value is refused."""
@@ -591,15 +591,17 @@ def test_load_dict_finds_a_rooms_window_and_makes_it_a_portal(variant, block_map
     assert 0 < emitter.openings["escaped_share"] < 0.25
     (used,) = emitter.portals
     np.testing.assert_array_equal(used["corner"], portal["corner"])
+    u = np.random.default_rng(5).random((64 if variant.startswith("scalar") else 4096, 2)).astype(np.float32)
     if variant.startswith("scalar"):
         it = mi.SurfaceInteraction3f()
-        it.p = mi.Point3f(0.3, 1.2, 0.5)
-        it.n = mi.Normal3f(0, 1, 0)
-        for u in np.random.default_rng(5).random((64, 2)).astype(np.float32):
-            ds, _ = emitter.sample_direction(it, mi.Point2f(*u))
-            d = rows_of(ds.d)[0]
-            hit = np.array([0.3, 1.2, 0.5]) + (2.0 - 0.5) / d[2] * d
-            assert d[2] > 0 and abs(hit[0]) <= 0.75 and 0.85 <= hit[1] <= 2.05
+        it.p, it.n = mi.Point3f(0.3, 1.2, 0.5), mi.Normal3f(0, 1, 0)
+        d = np.concatenate([rows_of(emitter.sample_direction(it, mi.Point2f(*row))[0].d) for row in u])
+    else:  # the drjit tables of the portal found
+        it = dr.zeros(mi.SurfaceInteraction3f, len(u))
+        it.p, it.n = mi.Point3f(0.3, 1.2, 0.5), mi.Normal3f(0, 1, 0)
+        d = rows_of(emitter.sample_direction(it, mi.Point2f(u[:, 0], u[:, 1]))[0].d)
+    hit = np.array([0.3, 1.2, 0.5]) + ((2.0 - 0.5) / d[:, 2])[:, None] * d
+    assert np.all((d[:, 2] > 0) & (np.abs(hit[:, 0]) <= 0.75) & (hit[:, 1] >= 0.85) & (hit[:, 1] <= 2.05))
 
     for options, declared in [({"portals": "declared"}, []), ({"portals": "none", "door": window()}, [])]:
         emitter = acdf.mitsuba.load_dict(room_scene(path, options)).emitters()[0]
