@@ -14,10 +14,11 @@ over the batched module in the scalar ones.
 the room the map lights through them (acdf.EnvironmentLight's `portals`), and `portals` ("auto", the
 default: the nested ones, or where there are none the openings acdf.find_openings finds in a scene
 loaded with acdf.mitsuba.load_dict or load_file; "declared"; "none").
-`compensated` (and `local-compensated`, per normal cell) is Mitsuba's `mis_compensation`: its emitter samples and pdf leave out the directions where the map is below its
-mean, which BSDF sampling covers, so it is unbiased only under integrators that combine emitter and
-BSDF sampling by MIS (`path`, `volpath`, `direct` with both sample counts > 0); rays leaving the
-light (`sample_ray`) use the complete table. The map's frame is Mitsuba's:
+`compensated` (and `local-compensated`, per normal cell) is Mitsuba's `mis_compensation`: its emitter
+samples and pdf leave out the directions where the map is below its mean, which BSDF sampling covers,
+so it is unbiased only under integrators that combine emitter and BSDF sampling by MIS (`path`,
+`volpath`, `direct` with both sample counts > 0); rays leaving the light (`sample_ray`) use the
+complete table. The map's frame is Mitsuba's:
 +Y up, phi = 0 along -Z, phi growing towards +X. The radiance of a direction is acdf's: the
 nearest pixel times the scale, the function the tables are built for (Mitsuba's `envmap`
 interpolates bilinearly, so the two agree wherever the map is constant around a direction).
