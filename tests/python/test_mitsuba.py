@@ -21,6 +21,8 @@ VARIANTS = ["scalar_rgb", "llvm_ad_rgb"]
 BLOCK = 8
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SHARED_DATA = os.environ.get("ACDF_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data"))
+sys.path.insert(0, os.path.join(ROOT, "bench", "peers"))
+import scene_conversion as sc  # noqa: E402  (its Mitsuba rectangles)
 SHARED_RGL = os.path.join(SHARED_DATA, "rgl")
 
 
@@ -551,15 +553,6 @@ def test_portals_are_rectangles_that_acdf_can_use(variant, block_map):
         np.testing.assert_allclose(float(emitter.pdf_direction(it, ds)), pdf[0], rtol=1e-5)
 
 
-def rectangle(corner, edge_u, edge_v):
-    """Mitsuba's rectangle ([-1, 1]^2 of its z = 0 plane) over corner + s edge_u + t edge_v."""
-    c, u, v = (np.array(x, dtype=np.float64) for x in (corner, edge_u, edge_v))
-    n = np.cross(u, v)
-    matrix = np.eye(4)
-    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2], matrix[:3, 3] = u / 2, v / 2, n / np.linalg.norm(n), c + (u + v) / 2
-    return {"type": "rectangle", "to_world": mi.ScalarTransform4f(matrix)}
-
-
 def room_scene(path, emitter_options, window=True, extra_shapes=()):
     """conftest's room in Mitsuba: rectangles, a sphere, its camera (fov along y) and acdf_envmap."""
     camera = ROOM_CAMERA
@@ -571,7 +564,8 @@ def room_scene(path, emitter_options, window=True, extra_shapes=()):
              "ball": {"type": "sphere", "center": [0.0, 0.5, 0.0], "radius": 0.5},
              "light": {"type": "acdf_envmap", "filename": path, **emitter_options}}
     quads = ROOM_QUADS + ([] if window else [WINDOW_QUAD])
-    scene.update({f"wall-{i}": rectangle(*quad) for i, quad in enumerate(quads)})
+    scene.update({f"wall-{i}": {"type": "rectangle", "to_world": mi.ScalarTransform4f(sc.mitsuba_rectangle(*quad))}
+                  for i, quad in enumerate(quads)})
     scene.update({f"extra-{i}": shape for i, shape in enumerate(extra_shapes)})
     return scene
 
@@ -580,10 +574,10 @@ def test_load_dict_finds_a_rooms_window_and_makes_it_a_portal(variant, block_map
     """acdf.mitsuba.load_dict gives acdf_envmap its scene: where no portal is declared (portals "auto",
     the default) the window of a room is found (acdf.find_openings on the scene's meshes and spheres
     from its sensor) and becomes the light's portal, sampled from inside (every sample of a
-    compensated light from a point inside passes through the window, in drjit too). "declared" and "none" do not
-    search, "none" drops declared portals; a scene with a shape the search cannot read (a disk), a
-    sealed room, or mi.load_dict (which does not call Python emitters' set_scene) get none; an
-    unknown value is refused."""
+    compensated light from a point inside passes through the window, in drjit too). "declared" and
+    "none" do not search, "none" drops declared portals; a scene with a shape the search cannot read
+    (a disk), a sealed room, or mi.load_dict (which does not call Python emitters' set_scene) get
+    none; an unknown value is refused."""
     path = block_map[0]
     emitter = acdf.mitsuba.load_dict(room_scene(path, {"strategy": "compensated"})).emitters()[0]
     (portal,) = emitter.openings["portals"]
@@ -603,9 +597,9 @@ def test_load_dict_finds_a_rooms_window_and_makes_it_a_portal(variant, block_map
     hit = np.array([0.3, 1.2, 0.5]) + ((2.0 - 0.5) / d[:, 2])[:, None] * d
     assert np.all((d[:, 2] > 0) & (np.abs(hit[:, 0]) <= 0.75) & (hit[:, 1] >= 0.85) & (hit[:, 1] <= 2.05))
 
-    for options, declared in [({"portals": "declared"}, []), ({"portals": "none", "door": window()}, [])]:
+    for options in [{"portals": "declared"}, {"portals": "none", "door": window()}]:
         emitter = acdf.mitsuba.load_dict(room_scene(path, options)).emitters()[0]
-        assert emitter.openings is None and emitter.portals == declared
+        assert emitter.openings is None and emitter.portals == []
     declared = acdf.mitsuba.load_dict(room_scene(path, {"door": window()})).emitters()[0]
     assert declared.openings is None and len(declared.portals) == 1
     sealed = acdf.mitsuba.load_dict(room_scene(path, {}, window=False)).emitters()[0]
