@@ -26,7 +26,7 @@ UNSUPPORTED_EXIT = 3
 
 # Row name -> what it renders with; the order of the report's rows.
 RENDERERS = {
-    "acdf": "acdf render, the scene's strategies (the defaults: Sobol, compensated map table, power MIS)",
+    "acdf": "acdf render, the scene's strategies (the defaults: Sobol, compensated map table, balance MIS)",
     "cycles": "Cycles 5.0.1, CPU, its defaults",
     "cycles-guiding": "Cycles 5.0.1 with path guiding (use_guiding, use_surface_guiding)",
     "mitsuba-independent": "Mitsuba 3.9.1 llvm_ad_rgb, path, independent sampler",
