@@ -11,32 +11,41 @@ namespace acdf {
 GgxBrdfSampler::GgxBrdfSampler(std::shared_ptr<const AnalyticBrdf> model)
     : BrdfSampler(model), alpha_(model->alpha()) {}
 
-// D(θh) = α² / (π cos⁴θh (α² + tan²θh)²).
-double GgxBrdfSampler::halfVectorPdf(const Vec3d& wh) const {
-  if (wh.z <= 0) return 0;
-  const double cos2 = wh.z * wh.z, tan2 = (1.0 - cos2) / cos2, a2 = alpha_ * alpha_;
-  const double d = a2 / (std::numbers::pi * cos2 * cos2 * (a2 + tan2) * (a2 + tan2));
-  return d * wh.z;
+// D(θh) = α² / (π (cos²θh (α² − 1) + 1)²); G1(ωo) = 2 / (1 + √(1 + α² tan²θo)).
+double GgxBrdfSampler::visibleNormalPdf(const Vec3d& wo, const Vec3d& wh) const {
+  const double cosOut = dot(wo, wh);
+  if (!(wh.z > 0.0) || !(cosOut > 0.0) || !(wo.z > 0.0)) return 0.0;
+  const double a2 = alpha_ * alpha_, c2 = wh.z * wh.z;
+  const double denominator = c2 * (a2 - 1.0) + 1.0;
+  const double d = a2 / (std::numbers::pi * denominator * denominator);
+  const double o2 = wo.z * wo.z, tan2Out = (1.0 - o2) / o2;
+  const double g1 = 2.0 / (1.0 + std::sqrt(1.0 + a2 * tan2Out));
+  return g1 * cosOut * d / wo.z;
 }
 
 SampledDirection GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {
   if (!(wo.z > 0.0)) return sampleCosineDirection(u0, u1);
-  const double u = std::fmin(u0, 1.0 - 0x1p-40);  // u → 1 is the horizon, where D cosθh = 0
-  const double tan2 = alpha_ * alpha_ * u / (1.0 - u);
-  const double cosTheta = 1.0 / std::sqrt(1.0 + tan2);
-  const Vec3d wh = directionAtTurns(cosTheta, std::sqrt(tan2) * cosTheta, u1);  // sinθ = tanθ·cosθ, without acos
+  // ωo where the microsurface is the unit hemisphere; the visible normals there are uniform on the
+  // cap of directions whose z is above −ωo's, and each one plus ωo points along a visible normal.
+  const Vec3d view = normalize(Vec3d{alpha_ * wo.x, alpha_ * wo.y, wo.z});
+  const double z = (1.0 - static_cast<double>(u0)) * (1.0 + view.z) - view.z;  // in (−view.z, 1]
+  const Vec3d normal = directionAtTurns(z, std::sqrt(std::fmax(0.0, 1.0 - z * z)), u1) + view;
+  const Vec3d wh = normalize(Vec3d{alpha_ * normal.x, alpha_ * normal.y, normal.z});
   const HalfVector h = sampledHalfVector(wo, wh);
-  return reflected(vertex(wo), normalize(reflect(wo, wh)), h, h.incidentPdf(halfVectorPdf(wh)));
+  return reflected(vertex(wo), normalize(reflect(wo, wh)), h, h.incidentPdf(visibleNormalPdf(wo, wh)));
 }
 
 double GgxBrdfSampler::pdf(const Vec3d& wo, const Vec3d& wi) const {
   if (!(wo.z > 0.0)) return cosineHemispherePdf(wi.z);
   const std::optional<HalfVector> h = halfVectorOf(wo, wi);
-  return h ? h->incidentPdf(halfVectorPdf(h->direction)) : 0.0;
+  return h ? h->incidentPdf(visibleNormalPdf(wo, h->direction)) : 0.0;
 }
 
-HalfVectorDensity GgxBrdfSampler::halfVectorDensity(const Vec3d&) const {
-  return {.cosineShare = 0, .sCells = 256, .phiCells = 32, .density = [this](const Vec3d& wh) { return halfVectorPdf(wh); }};
+HalfVectorDensity GgxBrdfSampler::halfVectorDensity(const Vec3d& wo) const {
+  return {.cosineShare = 0,
+          .sCells = 256,
+          .phiCells = 32,
+          .density = [this, wo](const Vec3d& wh) { return visibleNormalPdf(wo, wh); }};
 }
 
 }  // namespace acdf

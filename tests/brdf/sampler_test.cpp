@@ -264,6 +264,24 @@ void expectValidAtExtremeVariates(const BrdfSampler& sampler) {
       }
 }
 
+// Visible-normal sampling (ggx_sampler.h): a GGX conductor's sample weight f·cosθi / p is
+// F·G1(ωi), at most 1 for F0 <= 1, at every ωo up to grazing, where sampling D(ωh) cosθh weighs
+// samples up to 1.6 times 1 at θo = 30°, 25 at 80° and 52 at 85° (gold, α = 0.15).
+TEST(BrdfSamplers, GgxConductorWeightsAreAtMostOne) {
+  const BrdfSampler& sampler = library().sampler("gold", "ggx");
+  Pcg32 rng(23);
+  for (double theta : {0.0, 30.0, 60.0, 80.0, 85.0, 89.0, 89.9}) {
+    const Vec3d wo = outgoing(theta);
+    float largest = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const BrdfSample s = sampler.sample(wo, rng.nextFloat(), rng.nextFloat());
+      largest = std::max({largest, s.weight.r, s.weight.g, s.weight.b});
+    }
+    EXPECT_LE(largest, 1.0f + 1e-6f) << "θo " << theta;
+    EXPECT_GT(largest, 0.5f) << "θo " << theta;
+  }
+}
+
 TEST(BrdfSamplers, ExtremeVariatesAndOutgoingBelowTheHorizon) {
   for (const auto& [material, name] : everySampler()) {
     SCOPED_TRACE(material + " " + name);

@@ -1,8 +1,16 @@
 #pragma once
-// Sampling of an AnalyticBrdf by its GGX distribution: the half vector ωh ∝ D(ωh) cosθh (the
-// projected microfacet area, which integrates to 1 over the hemisphere), then ωi = reflect(ωo, ωh),
-// so p(ωi) = D(ωh) cosθh / (4 |ωo·ωh|) (half_vector.h). Inverting D cosθh's CDF in θh:
-// tan²θh = α² u / (1 − u), φh = 2π u'.
+// Sampling of an AnalyticBrdf by the GGX distribution of the normals ωo sees (Heitz 2018,
+// "Sampling the GGX Distribution of Visible Normals"), as pbrt-v4 and Mitsuba 3 sample GGX: the
+// half vector ωh with the visible-normal density
+//
+//   D_ωo(ωh) = G1(ωo) max(0, ωo·ωh) D(ωh) / cosθo,
+//
+// then ωi = reflect(ωo, ωh), so p(ωi) = D_ωo(ωh) / (4 ωo·ωh) = G1(ωo) D(ωh) / (4 cosθo)
+// (half_vector.h), and a conductor's weight f cosθi / p is F G1(ωi) <= 1. Sampling D(ωh) cosθh
+// instead (Walter et al. 2007) weighs in ωo·ωh / cosθh, which near grazing ωo exceeds 1 many
+// times over. The visible normals are drawn as Dupuy & Benyoub 2023 do ("Sampling Visible GGX
+// Normals with Spherical Caps"): in the configuration where the microsurface is the unit
+// hemisphere (x and y divided by α), the visible normals are uniform on a spherical cap around ωo.
 //
 // Exact in shape for the conductor's specular lobe; for the coated diffuse model it samples the
 // coat's lobe (pdf > 0 wherever f·cosθi > 0, so estimators stay unbiased, at more variance for
@@ -21,8 +29,8 @@ class GgxBrdfSampler final : public BrdfSampler {
   explicit GgxBrdfSampler(std::shared_ptr<const AnalyticBrdf> model);
 
   double pdf(const Vec3d& wo, const Vec3d& wi) const override;
-  // D(ωh) cosθh per steradian of ωh; 0 below the horizon.
-  double halfVectorPdf(const Vec3d& wh) const;
+  // D_ωo(ωh) per steradian of ωh, for ωo above the horizon; 0 where ωo·ωh <= 0 or ωh is below it.
+  double visibleNormalPdf(const Vec3d& wo, const Vec3d& wh) const;
   // All of it reflected; the smooth density on 256 × 32 cells in (√θh, φh) follows the peak.
   HalfVectorDensity halfVectorDensity(const Vec3d& wo) const override;
 
