@@ -50,18 +50,6 @@ double schlick(double f0, double cosine) {
   return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
 }
 
-double ggxD(double alpha, double cosH) {
-  const double a2 = alpha * alpha, c2 = cosH * cosH;
-  const double denom = c2 * (a2 - 1.0) + 1.0;  // = cos²θh (α² + tan²θh)
-  return a2 / (kPi * denom * denom);
-}
-
-double smithG1(double alpha, double cosTheta) {
-  const double c2 = cosTheta * cosTheta;
-  const double tan2 = (1.0 - c2) / c2;
-  return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * tan2));
-}
-
 Rgb toRgb(const std::array<double, 3>& f) {
   return {static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2])};
 }
@@ -95,7 +83,7 @@ std::array<double, 3> AnalyticBrdf::closedForm(double thetaHalf, double thetaDif
 std::array<double, 3> AnalyticBrdf::fromCosines(double cosI, double cosO, double cosHalf, double cosDiff) const {
   if (!(cosI > 0 && cosO > 0)) return {0.0, 0.0, 0.0};
   const double specular =
-      ggxD(alpha_, cosHalf) * smithG1(alpha_, cosI) * smithG1(alpha_, cosO) / (4.0 * cosI * cosO);
+      ggxDistribution(alpha_, cosHalf) * ggxMasking(alpha_, cosI) * ggxMasking(alpha_, cosO) / (4.0 * cosI * cosO);
   std::array<double, 3> f{};
   if (kind_ == Kind::Conductor) {
     for (int c = 0; c < 3; ++c) f[c] = schlick(f0_[c], cosDiff) * specular;

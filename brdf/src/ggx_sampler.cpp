@@ -1,7 +1,6 @@
 #include "acdf/brdf/ggx_sampler.h"
 
 #include <cmath>
-#include <numbers>
 
 #include "acdf/brdf/half_vector.h"
 
@@ -11,16 +10,10 @@ namespace acdf {
 GgxBrdfSampler::GgxBrdfSampler(std::shared_ptr<const AnalyticBrdf> model)
     : BrdfSampler(model), alpha_(model->alpha()) {}
 
-// D(θh) = α² / (π (cos²θh (α² − 1) + 1)²); G1(ωo) = 2 / (1 + √(1 + α² tan²θo)).
 double GgxBrdfSampler::visibleNormalPdf(const Vec3d& wo, const Vec3d& wh) const {
   const double cosOut = dot(wo, wh);
   if (!(wh.z > 0.0) || !(cosOut > 0.0) || !(wo.z > 0.0)) return 0.0;
-  const double a2 = alpha_ * alpha_, c2 = wh.z * wh.z;
-  const double denominator = c2 * (a2 - 1.0) + 1.0;
-  const double d = a2 / (std::numbers::pi * denominator * denominator);
-  const double o2 = wo.z * wo.z, tan2Out = (1.0 - o2) / o2;
-  const double g1 = 2.0 / (1.0 + std::sqrt(1.0 + a2 * tan2Out));
-  return g1 * cosOut * d / wo.z;
+  return ggxMasking(alpha_, wo.z) * cosOut * ggxDistribution(alpha_, wh.z) / wo.z;
 }
 
 SampledDirection GgxBrdfSampler::sampleDirection(const Vec3d& wo, float u0, float u1) const {

@@ -15,11 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double ggxD(double alpha, double cosTheta) {
-  const double a2 = alpha * alpha, t = cosTheta * cosTheta * (a2 - 1.0) + 1.0;
-  return a2 / (kPi * t * t);
-}
-
 double ggxSigma(double alpha, double cosTheta) {
   const double sin2 = std::max(0.0, 1.0 - cosTheta * cosTheta);
   return 0.5 * (cosTheta + std::sqrt(cosTheta * cosTheta + alpha * alpha * sin2));
@@ -51,7 +46,7 @@ TensorFile synthesizeRgl(const AnalyticBrdf& model, const RglSynthesisOptions& o
   std::vector<float> ndf(2 * o.ndf), sigma(2 * o.ndf);
   for (uint32_t c = 0; c < o.ndf; ++c) {
     const double cosTheta = std::cos(uToTheta(static_cast<double>(c) / (o.ndf - 1)));
-    ndf[c] = ndf[o.ndf + c] = static_cast<float>(ggxD(alpha, cosTheta));
+    ndf[c] = ndf[o.ndf + c] = static_cast<float>(ggxDistribution(alpha, cosTheta));
     sigma[c] = sigma[o.ndf + c] = static_cast<float>(ggxSigma(alpha, cosTheta));
   }
   file.add("sigma", TensorField::floats({2, o.ndf}, sigma));
@@ -68,7 +63,7 @@ TensorFile synthesizeRgl(const AnalyticBrdf& model, const RglSynthesisOptions& o
         const float um[2] = {static_cast<float>(r) / (o.vndf - 1), static_cast<float>(c) / (o.vndf - 1)};
         const Vec3d wm = RglBrdf::halfVector(um, 0.0);
         const double theta = uToTheta(um[1]);
-        const double visible = std::max(0.0, dot(wo, wm)) * ggxD(alpha, wm.z) / sigmaOut;
+        const double visible = std::max(0.0, dot(wo, wm)) * ggxDistribution(alpha, wm.z) / sigmaOut;
         slice[std::size_t{r} * o.vndf + c] = static_cast<float>(visible * 2 * kPi * kPi * um[1] * std::sin(theta));
       }
     // The warp the reader will build from this slice, to place the reflectance vertices.
@@ -84,7 +79,7 @@ TensorFile synthesizeRgl(const AnalyticBrdf& model, const RglSynthesisOptions& o
           // ρ's limit at grazing ωo (where f itself is 0 by the horizon rule) from just above it.
           const HalfDiffAngles a = toHalfDiff(wo.z > 1e-4 ? wo : sphericalDirection(kPi / 2 - 1e-4, 0.0), wi);
           const std::array<double, 3> f = model.closedForm(a.thetaHalf, a.thetaDiff, a.phiDiff);
-          const double scale = 4.0 * sigmaOut * wi.z / ggxD(alpha, wm.z);
+          const double scale = 4.0 * sigmaOut * wi.z / ggxDistribution(alpha, wm.z);
           for (int ch = 0; ch < 3; ++ch) rho[ch] = f[ch] * scale;
         }
         const std::size_t i = std::size_t{r} * o.reflectance + c;

@@ -12,15 +12,30 @@
 //                     + (1 − F(θi)) (1 − F(θo)) · albedo / π              (diffuse base under it)
 //
 // with D(θh) = α² / (π cos⁴θh (α² + tan²θh)²). Both are reciprocal; values in 1/sr, linear RGB.
-// GgxBrdfSampler (ggx_sampler.h) samples the half vector from D.
+// GgxBrdfSampler (ggx_sampler.h) samples the half vectors ωo sees, from D and G1(ωo).
 
 #include <array>
+#include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "acdf/brdf/brdf_model.h"
 
 namespace acdf {
+
+// The model's GGX terms, which its sampler and the RGL files synthesised from it use too: D at a
+// half vector of cosine cosHalf, written α² / (π (cos²θh (α² − 1) + 1)²), and Smith's G1 of a
+// direction of cosine cosTheta > 0.
+inline double ggxDistribution(double alpha, double cosHalf) {
+  const double a2 = alpha * alpha, denominator = cosHalf * cosHalf * (a2 - 1.0) + 1.0;
+  return a2 / (std::numbers::pi * denominator * denominator);
+}
+inline double ggxMasking(double alpha, double cosTheta) {
+  const double c2 = cosTheta * cosTheta;
+  const double tan2 = (1.0 - c2) / c2;
+  return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * tan2));
+}
 
 class AnalyticBrdf final : public BrdfModel {
  public:
