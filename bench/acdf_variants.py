@@ -6,6 +6,12 @@ standard error, and the --json keys a variant reports about guiding.
     .venv/bin/python bench/acdf_variants.py scenes/room.json --spp 64 --seeds 4 \\
         --variant "--guiding off" --variant "--guiding light" --variant "--guiding auto"
 
+With --program given more than once, every variant runs with each acdf program (two builds of the
+project side by side, on the same seeds), and a row names its program:
+
+    .venv/bin/python bench/acdf_variants.py scenes/room.json --variant "" \\
+        --program /tmp/acdf-before --program build/bin/acdf
+
 Reads the EXRs with Mitsuba's Bitmap (the project's .venv has it). A benchmark, not a test.
 """
 import argparse
@@ -33,8 +39,8 @@ def read_exr(path):
     return np.array(mi.Bitmap(path), dtype=np.float64)[:, :, :3]
 
 
-def render(scene, variant, spp, seed, threads, output):
-    command = [ACDF_PROGRAM, "render", scene, "-o", output, "--no-png", "--spp", str(spp), "--seed", str(seed),
+def render(program, scene, variant, spp, seed, threads, output):
+    command = [program, "render", scene, "-o", output, "--no-png", "--spp", str(spp), "--seed", str(seed),
                "--threads", str(threads), "--json"] + variant.split()
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
@@ -52,7 +58,10 @@ def main():
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--program", action="append",
+                        help=f"an acdf program to run every variant with (default: {ACDF_PROGRAM})")
     args = parser.parse_args()
+    programs = args.program or [ACDF_PROGRAM]
     if args.seeds < 2:
         parser.error("--seeds must be at least 2")
 
@@ -60,13 +69,15 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         output = os.path.join(workdir, "image.exr")
         # Seeds outermost, so load that changes during the run falls on every variant alike.
-        runs = {variant: [] for variant in args.variant}
+        runs = {(program, variant): [] for program in programs for variant in args.variant}
         for k in range(args.seeds):
-            for variant in args.variant:
-                runs[variant].append(render(args.scene, variant, args.spp, 1000 + k, args.threads, output))
-        for variant, results in runs.items():
-            rows[variant] = (np.array([r[0] for r in results]), [r[1] for r in results], [r[2] for r in results],
-                             results[-1][3])
+            for program, variant in runs:
+                runs[program, variant].append(render(program, args.scene, variant, args.spp, 1000 + k, args.threads,
+                                                     output))
+        for (program, variant), results in runs.items():
+            label = f"{program}: `{variant}`" if len(programs) > 1 else f"`{variant}`"
+            rows[label] = (np.array([r[0] for r in results]), [r[1] for r in results], [r[2] for r in results],
+                           results[-1][3])
     reference = np.mean([images.mean(axis=0) for images, *_ in rows.values()], axis=0)
     print(f"{args.scene}: {args.spp} spp x {args.seeds} seeds, {args.threads} threads, "
           f"load average {os.getloadavg()[0]:.1f}")
@@ -77,7 +88,7 @@ def main():
         relative_variance = efficiency.relative_variance_per_sample(images, args.spp, reference)
         mean, error = efficiency.mean_and_standard_error(images)
         gain = report.get("guiding_gain")
-        print(f"| `{variant}` | {relative_variance:.4g} | {statistics.median(seconds):.2f} | "
+        print(f"| {variant} | {relative_variance:.4g} | {statistics.median(seconds):.2f} | "
               f"{statistics.median(cpu):.2f} | {mean:.5f} ± {error:.1g} | {report.get('guided', '')} | "
               f"{'' if gain is None else f'{gain:.2f}'} |")
 
