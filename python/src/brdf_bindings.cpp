@@ -285,7 +285,8 @@ the density sample() draws wi with (equal to sample()'s pdf to 1e-4 off cell bou
           "The sampler's table options (its defaults included) as text, keyed as acdf.table_options() names them.");
 
   py::class_<GgxBrdfSampler, BrdfSampler, std::shared_ptr<GgxBrdfSampler>>(
-      m, "GgxBrdfSampler", "Sampling of an analytic model by the GGX distribution of visible normals (Heitz 2018): no table.")
+      m, "GgxBrdfSampler",
+      "Sampling of an analytic model by the GGX distribution of visible normals (Heitz 2018): no table.")
       .def(py::init([](std::shared_ptr<AnalyticBrdf> model) { return std::make_shared<GgxBrdfSampler>(model); }),
            "model"_a);
 
