@@ -8,9 +8,10 @@
 // then ωi = reflect(ωo, ωh), so p(ωi) = D_ωo(ωh) / (4 ωo·ωh) = G1(ωo) D(ωh) / (4 cosθo)
 // (half_vector.h), and a conductor's weight f cosθi / p is F G1(ωi) <= 1. Sampling D(ωh) cosθh
 // instead (Walter et al. 2007) weighs F G1(ωi) G1(ωo) (ωo·ωh) / (cosθo cosθh), which near grazing
-// ωo exceeds 1 many times over. The visible normals are drawn as Dupuy & Benyoub 2023 do ("Sampling Visible GGX
-// Normals with Spherical Caps"): in the configuration where the microsurface is the unit
-// hemisphere (x and y divided by α), the visible normals are uniform on a spherical cap around ωo.
+// ωo exceeds 1 many times over. The visible normals are drawn as Dupuy & Benyoub 2023 do
+// ("Sampling Visible GGX Normals with Spherical Caps"): in the configuration where the
+// microsurface is the unit hemisphere (x and y divided by α), the visible normals are uniform on a
+// spherical cap around ωo.
 //
 // Exact in shape for the conductor's specular lobe; for the coated diffuse model it samples the
 // coat's lobe (pdf > 0 wherever f·cosθi > 0, so estimators stay unbiased, at more variance for
