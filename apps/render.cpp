@@ -33,6 +33,7 @@ struct RenderArgs {
   std::optional<uint64_t> seed;
   std::string mis, sampler, bsdfSampling, envSampling, direct, guiding, portals;
   std::optional<uint32_t> candidates;
+  std::string branches;
   std::vector<uint32_t> crop;
   uint32_t threads = 0;
   bool noCache = false;
@@ -51,6 +52,7 @@ int runRender(const RenderArgs& args) {
     }
     overrides.candidates = args.candidates;
   }
+  if (!args.branches.empty()) overrides.branches = parseOption("render", "--branches", args.branches, parseBranches);
   if (!args.guiding.empty()) overrides.guiding = parseOption("render", "--guiding", args.guiding, parseGuidingMode);
   if (!args.portals.empty()) overrides.portals = parseOption("render", "--portals", args.portals, parsePortalSource);
   if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
@@ -99,6 +101,12 @@ int runRender(const RenderArgs& args) {
     j["rays_per_second"] = raysPerSecond;
     j["rays"] = stats.rays;
     j["mis"] = toString(scene.settings.mis);
+    j["branches"] = branchesName(scene.settings.branches);
+    j["branched"] = stats.branching.branches;
+    if (stats.branching.raysBefore) {
+      j["rays_before_branching"] = *stats.branching.raysBefore;
+      j["rays_per_branch"] = *stats.branching.raysAfter;
+    }
     j["direct"] = toString(scene.settings.direct);
     if (scene.settings.direct == DirectLighting::Product) {
       j["candidates"] = scene.settings.product.candidates;
@@ -136,6 +144,11 @@ int runRender(const RenderArgs& args) {
     out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
                        film.height(), stats.spp, stats.seconds, setupMs);
     out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
+    if (const BranchingStats& b = stats.branching; b.branches > 1 || b.raysBefore)
+      out += fmt::format("branches  {} per camera sample from its first vertex on{}\n", b.branches,
+                         b.raysBefore ? fmt::format(" (auto: {:.2f} rays per camera sample before, {:.2f} per branch)",
+                                                    *b.raysBefore, *b.raysAfter)
+                                      : "");
     if (scene.settings.guiding != GuidingMode::Off) {
       const GuidingStats& g = stats.guiding;
       out += fmt::format("guiding   {} ({}){}: {} training passes, last fields {} leaves, {:.0f} kB, built in {:.2f}"
@@ -181,6 +194,8 @@ Command addRender(CLI::App& parent) {
       "  --env-sampling   " + environmentSamplingNames(" | ") + "\n"
       "  --mis            power | balance | bsdf-only | light-only\n"
       "  --direct         mis | product  (product: resampled f·L·cos, --candidates M of them)\n"
+      "  --branches       auto | N  (paths per camera sample from its first vertex on; 1: plain path\n"
+      "                   tracing; auto: the N its first samples measure pays)\n"
       "  --sampler        independent | sobol  (Owen-scrambled Sobol, per-pixel deterministic)\n"
       "  --guiding        off | light | paths | auto  (learned in doubling passes: the light each place\n"
       "                   sees; paths: also the radiance paths carry; auto: light where it pays)\n"
@@ -191,9 +206,11 @@ Command addRender(CLI::App& parent) {
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
-      "tables_from_cache, exr, png (and scene, width, height, rays, mis, direct, guiding, portals,\n"
-      "portal_count, sampler, env_sampling; escaped_share and found_portals, in the scene file's form,\n"
-      "when openings were looked for; candidates and bsdf_fraction under product direct lighting;\n"
+      "tables_from_cache, exr, png (and scene, width, height, rays, mis, branches, branched, direct, guiding,\n"
+      "portals, portal_count, sampler, env_sampling; rays_before_branching and rays_per_branch under\n"
+      "auto branching;\n"
+      "escaped_share and found_portals, in the scene file's form, when openings were looked for;\n"
+      "candidates and bsdf_fraction under product direct lighting;\n"
       "guided, guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
       "guiding_field_seconds unless guiding is off).\n"
       "\n"
@@ -210,6 +227,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--direct", args->direct, "mis | product (direct lighting technique)");
   app->add_option("--candidates", args->candidates, "Product sampling's candidates per vertex (replaces the scene's)")
       ->transform(nonNegativeInteger());
+  app->add_option("--branches", args->branches, "auto | N (paths per camera sample from its first vertex on)");
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--guiding", args->guiding, "off | light | paths | auto (guiding learned as it renders)");
   app->add_option("--portals", args->portals, "auto | declared | none (the environment's portals)");

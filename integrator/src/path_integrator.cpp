@@ -10,11 +10,9 @@
 
 namespace acdf {
 
-namespace {
-
 // The vertices of one path that record what they learn (PathGuiding::records): each keeps the
 // throughput from itself on and the radiance that has reached it so far.
-class PathRecorder {
+class PathIntegrator::PathRecorder {
  public:
   PathRecorder(std::vector<GuidingRecord>* sink, std::vector<GuidingRecord>* lightSink)
       : sink_(sink), lightSink_(lightSink) {}
@@ -73,8 +71,6 @@ class PathRecorder {
   uint32_t open_ = 0;
 };
 
-}  // namespace
-
 PathIntegrator::PathIntegrator(const Scene& scene) : scene_(scene) {
   guided_.reserve(scene.bsdfSamplers.size());
   for (const auto& sampler : scene.bsdfSamplers) guided_.push_back(sampler && guidedMaterial(*sampler));
@@ -100,7 +96,17 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
-Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays, const PathGuiding& guiding) const {
+Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
+                             uint32_t branches) const {
+  PathState state;
+  state.ray = cameraRay;
+  state.lightContext.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings);
+  PathRecorder recorder(guiding.records, guiding.lightRecords);
+  return walk(state, 0, branches, sampler, rays, guiding, recorder);
+}
+
+Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
+                         const PathGuiding& guiding, PathRecorder& recorder) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
@@ -108,22 +114,18 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
   const bool bsdfSeesLight = !product && mis != MisMode::LightOnly;
   // The normal and position are those of the vertex being lit; after a BSDF sample they stay those
   // of the vertex the sample left, for the pdf of the light the sample may reach.
-  LightSampleContext lightContext{.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings)};
-  PathRecorder recorder(guiding.records, guiding.lightRecords);
+  LightSampleContext& lightContext = state.lightContext;
+  const Rgb& throughput = state.throughput;
+  const Ray& ray = state.ray;
 
-  Rgb result, throughput{1, 1, 1};
+  Rgb result;
   // Light reaching the current vertex, into the image and the recorded vertices.
   auto add = [&](const Rgb& light) {
     result += throughput * light;
     recorder.add(light);
   };
-  Ray ray = cameraRay;
-  double bsdfPdf = 0;  // density of the sample that produced `ray`; 0 for the camera ray
-  // The learned light at the vertex `ray` left, and that vertex.
-  DirectionalDistribution lightField;
-  Vec3d lastPosition, lastNormal;
-  for (uint32_t depth = 0;; ++depth) {
-    ++rays;
+  for (uint32_t depth = firstDepth;; ++depth) {
+    rays.add(depth);
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (!hit) {
       Rgb seen;
@@ -131,16 +133,16 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       if (depth == 0) {
         seen = env.eval(ray.direction);
       } else if (bsdfSeesLight && sampleLight) {
-        const ValueAndPdf light = guidedLight(lightContext, lightField).along(ray.direction);
+        const ValueAndPdf light = guidedLight(lightContext, state.lightField).along(ray.direction);
         seen = light.value;
-        weight = static_cast<float>(misWeight(bsdfPdf, light.pdf));
+        weight = static_cast<float>(misWeight(state.bsdfPdf, light.pdf));
       } else if (bsdfSeesLight || recorder.recordsLight()) {
         seen = env.eval(ray.direction);
         weight = bsdfSeesLight ? 1.0f : 0.0f;
       }
       result += throughput * seen * weight;
       recorder.add(seen * weight);
-      if (depth > 0) recorder.light(lastPosition, lastNormal, ray.direction, seen, bsdfPdf);
+      if (depth > 0) recorder.light(state.lastPosition, state.lastNormal, ray.direction, seen, state.bsdfPdf);
       break;
     }
     if (depth >= scene_.settings.maxDepth) break;
@@ -155,27 +157,27 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
                                                                      : DirectionalDistribution{},
                              kGuidedBsdfShare);
     // Looked up only where light samples are drawn (and escapes weighed against them).
-    lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal)
-                                                   : DirectionalDistribution{};
+    state.lightField = sampleLight && guiding.lightField ? guiding.lightField->at(hit->position, hit->normal)
+                                                         : DirectionalDistribution{};
 
     if (product) {
       CandidateValues candidates = sampler.getCandidates(scene_.settings.product.candidates);
       const ProductDirectLight direct(env, lightContext, material, frame, scene_.settings.product);
       if (const std::optional<ProductLightSample> light = direct.sample(candidates)) {
-        ++rays;
+        rays.add(depth);
         if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light->direction), light->direction},
                                        std::numeric_limits<double>::infinity()))
           add(light->estimate);
       }
     } else if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
-      const TechniqueSample light = guidedLight(lightContext, lightField).sample(u0, u1);
+      const TechniqueSample light = guidedLight(lightContext, state.lightField).sample(u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
       bool visible = false;
       if (light.pdf > 0 && wi.z > 0 && !light.value.isBlack()) {
         // The shadow ray first: a measured BRDF's eval costs about as much as the ray, and a
         // fifth of the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0).
-        ++rays;
+        rays.add(depth);
         visible = !scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
                                              std::numeric_limits<double>::infinity());
         if (visible) {
@@ -189,27 +191,45 @@ Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& r
       recorder.light(hit->position, hit->normal, light.direction, visible ? light.value : Rgb{}, light.pdf);
     }
 
-    const auto [u0, u1] = sampler.get2D();
-    const TechniqueSample next = bsdf.sample(u0, u1);
-    if (!(next.pdf > 0) || next.value.isBlack()) break;
-    const Rgb weight = next.value * static_cast<float>(1.0 / next.pdf);
-    throughput *= weight;
-    recorder.scale(weight);
-    recorder.open(hit->position, hit->normal, next.direction, next.pdf);
-    bsdfPdf = next.pdf;
-    lastPosition = hit->position;
-    lastNormal = hit->normal;
-    ray = {Geometry::offsetOrigin(*hit, next.direction), next.direction};
-
-    if (depth + 1 >= scene_.settings.rouletteDepth) {
-      const double survive = std::min<double>(0.95, throughput.maxComponent());
-      if (sampler.get1D() >= survive) break;
-      const auto rescale = static_cast<float>(1.0 / survive);
-      throughput *= rescale;
-      recorder.scale(Rgb{rescale, rescale, rescale});
+    if (depth == 0 && branches > 1) {
+      // Branched at the first vertex: each branch continues a copy of the path with its own BSDF
+      // sample and its own recorder, and carries a 1/branches share of the light it brings.
+      for (uint32_t branch = 0; branch < branches; ++branch) {
+        sampler.startBranch(branch, branches);
+        PathState branchState = state;
+        PathRecorder branchRecorder(guiding.records, guiding.lightRecords);
+        if (extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
+          result += walk(branchState, depth + 1, 1, sampler, rays, guiding, branchRecorder);
+      }
+      break;
     }
+    if (!extend(state, *hit, bsdf, depth, 1.0f, sampler, recorder)) break;
   }
   return result;
+}
+
+bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf,
+                            uint32_t depth, float share, Sampler& sampler, PathRecorder& recorder) const {
+  const auto [u0, u1] = sampler.get2D();
+  const TechniqueSample next = bsdf.sample(u0, u1);
+  if (!(next.pdf > 0) || next.value.isBlack()) return false;
+  const Rgb weight = next.value * static_cast<float>(share / next.pdf);
+  state.throughput *= weight;
+  recorder.scale(weight);
+  recorder.open(hit.position, hit.normal, next.direction, next.pdf);
+  state.bsdfPdf = next.pdf;
+  state.lastPosition = hit.position;
+  state.lastNormal = hit.normal;
+  state.ray = {Geometry::offsetOrigin(hit, next.direction), next.direction};
+
+  if (depth + 1 >= scene_.settings.rouletteDepth) {
+    const double survive = std::min<double>(0.95, state.throughput.maxComponent());
+    if (sampler.get1D() >= survive) return false;
+    const auto rescale = static_cast<float>(1.0 / survive);
+    state.throughput *= rescale;
+    recorder.scale(Rgb{rescale, rescale, rescale});
+  }
+  return true;
 }
 
 }  // namespace acdf

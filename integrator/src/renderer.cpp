@@ -55,6 +55,16 @@ std::vector<Tile> makeTiles(const Film& film, uint32_t size) {
 
 }  // namespace
 
+uint32_t branchesThatPay(double raysBefore, double raysAfter) {
+  if (!(raysAfter > 0)) return 1;  // nothing after the first vertex to branch
+  // Variance and cost per camera sample, V0 = 1.
+  const auto figure = [&](double k) { return (1.0 + kBranchVarianceRatio / k) * (raysBefore + k * raysAfter); };
+  uint32_t best = 1;
+  for (uint32_t k = 2; k <= kMaxAutoBranches; ++k)
+    if (figure(k) < figure(best)) best = k;
+  return best;
+}
+
 Film makeFilm(const Scene& scene) { return Film(scene.camera->crop().width(), scene.camera->crop().height()); }
 
 namespace {
@@ -68,6 +78,7 @@ struct PassPlan {
   bool recordLight = false;  // keep what its paths learn about the light
   bool recordPaths = false;  // and about the radiance they carry
   uint64_t recordStride = 1;  // of its pixel samples, keep every this many's records
+  uint32_t branches = 1;      // paths per camera sample from the first vertex on
 };
 
 // A half of the pixels of a comparing pass: sums of the pixels' luminance mean and variance.
@@ -94,6 +105,7 @@ struct PassResult {
   std::vector<GuidingRecord> lightRecords, pathRecords;
   uint64_t recordedSamples = 0;
   HalfStats halves[2];  // guided, unguided (a comparing pass)
+  RayCounts rays;
 };
 
 // Records a pass may keep, about 100 MB: beyond it a pass keeps every k-th pixel sample's.
@@ -128,12 +140,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       const Tile& tile = tiles[t];
       PassResult& out = tileResults[t];
       const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
-      uint64_t tileRays = 0;
+      RayCounts tileRays;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
           const bool guided = !plan.compare || (fx + fy) % 2 == 0;
-          const uint64_t raysBefore = tileRays;
+          const uint64_t raysBefore = tileRays.total;
           double sum = 0, sumSquares = 0;
           for (uint32_t s = plan.first; s < plan.last; ++s) {
             sampler->startPixelSample(fx, fy, s);
@@ -145,7 +157,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
             const Rgb L = integrator.radiance(
                 ray, *sampler, tileRays,
                 {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
-                 guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr});
+                 guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
+                plan.branches);
             film.add(x, y, L);
             const double luminance = L.luminance();
             sum += luminance;
@@ -157,11 +170,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
             half.variance += std::max(0.0, (sumSquares - passSamples * mean * mean) / (passSamples - 1));
             half.mean += mean;
             ++half.pixels;
-            half.rays += tileRays - raysBefore;
+            half.rays += tileRays.total - raysBefore;
             half.samples += passSamples;
           }
         }
-      rays += tileRays;
+      rays += tileRays.total;
+      out.rays = tileRays;
       const std::size_t done = ++tilesDone;
       if (options.progress) {
         // Reported from whichever thread finished a tile, one at a time.
@@ -183,6 +197,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       r.lightRecords = {};
       r.pathRecords = {};
       joined.recordedSamples += r.recordedSamples;
+      joined.rays.total += r.rays.total;
+      joined.rays.afterFirstVertex += r.rays.afterFirstVertex;
       for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
     }
     return joined;
@@ -225,7 +241,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
                     compare,
                     learnLight,
                     learnPaths,
-                    std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(expected / kMaxRecordsPerPass)))};
+                    std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(expected / kMaxRecordsPerPass))),
+                    stats.branching.branches};
   };
   // Under auto, whether the second pass's guided half paid.
   auto decide = [&](const PassResult& second) {
@@ -234,20 +251,37 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     guidingStats.measuredGain = guided > 0 ? unguided / guided : 1.0;
     return *guidingStats.measuredGain >= kAutoGuidingGain;
   };
+  // Under auto branching, the first sample of every pixel, unbranched, measures what a branch costs.
+  const bool measuresBranches = scene.settings.branches == kAutoBranches;
+  stats.branching.branches = measuresBranches ? 1 : scene.settings.branches;
+  auto decideBranches = [&](const PassResult& first) {
+    const double samples = static_cast<double>(pixels);
+    const RayCounts& r = first.rays;
+    stats.branching.raysBefore = static_cast<double>(r.total - r.afterFirstVertex) / samples;
+    stats.branching.raysAfter = static_cast<double>(r.afterFirstVertex) / samples;
+    stats.branching.branches = branchesThatPay(*stats.branching.raysBefore, *stats.branching.raysAfter);
+  };
   auto finalPlan = [&](uint32_t first, uint32_t last) {
-    return guidingStats.guided ? PassPlan{first, last, lightField.get(), pathField.get()} : PassPlan{first, last};
+    PassPlan plan{first, last};
+    if (guidingStats.guided) plan.lightField = lightField.get(), plan.pathField = pathField.get();
+    plan.branches = stats.branching.branches;
+    return plan;
   };
 
   if (options.seconds) {
     const double budget = *options.seconds;
     auto fraction = [&] { return std::min(1.0, elapsed() / budget); };
+    if (measuresBranches) {
+      decideBranches(renderPass(PassPlan{0, 1}, fraction(), 0.0));
+      stats.spp = 1;
+    }
     if (learns) {
       // The first two passes, then doubling ones while the next should end within half the budget.
-      PassResult first = renderPass(recordingPlan(0, 1, false, false), fraction(), 0.0);
+      PassResult first = renderPass(recordingPlan(stats.spp, 1, false, false), fraction(), 0.0);
       learn(first);
       const double secondStart = elapsed();
-      PassResult second = renderPass(recordingPlan(1, 2, true, mode == GuidingMode::Auto), fraction(), 0.0);
-      stats.spp = 3;
+      PassResult second = renderPass(recordingPlan(stats.spp + 1, 2, true, mode == GuidingMode::Auto), fraction(), 0.0);
+      stats.spp += 3;
       guidingStats.guided = decide(second);
       double lastPass = elapsed() - secondStart;
       if (guidingStats.guided) {
@@ -270,11 +304,16 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     const uint32_t total = scene.settings.spp;
     auto share = [&](uint32_t samples) { return static_cast<double>(samples) / total; };
     uint32_t done = 0;
-    if (learns && total >= 3) {
-      PassResult first = renderPass(recordingPlan(0, 1, false, false), 0.0, share(1));
+    if (measuresBranches && total > 1) {
+      decideBranches(renderPass(PassPlan{0, 1}, 0.0, share(1)));
+      done = 1;
+    }
+    if (learns && total >= done + 3) {
+      PassResult first = renderPass(recordingPlan(done, 1, false, false), share(done), share(1));
       learn(first);
-      PassResult second = renderPass(recordingPlan(1, 2, true, mode == GuidingMode::Auto), share(1), share(2));
-      done = 3;
+      PassResult second =
+          renderPass(recordingPlan(done + 1, 2, true, mode == GuidingMode::Auto), share(done + 1), share(2));
+      done += 3;
       guidingStats.guided = decide(second);
       if (guidingStats.guided) {
         learn(second);

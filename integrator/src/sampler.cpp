@@ -42,9 +42,17 @@ CandidateValues IndependentSampler::getCandidates(uint32_t) {
 
 void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
   pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
+  pixelSampleIndex_ = sampleIndex;
   sampleIndex_ = sampleIndex;
   paddedIndex_ = PaddedSobolIndex(sampleIndex);
   component_ = 0;
+}
+
+void SobolSampler::startBranch(uint32_t branch, uint32_t branches) {
+  if (branch == 0) branchComponent_ = component_;
+  component_ = branchComponent_;
+  sampleIndex_ = pixelSampleIndex_ * branches + branch;
+  paddedIndex_ = PaddedSobolIndex(sampleIndex_);
 }
 
 float SobolSampler::get1D() { return paddedSobol1D(paddedIndex_, component_++, pixelSeed_); }

@@ -3,6 +3,7 @@
 // 35 MB material is loaded; then the used materials, the shapes and the light are built.
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -71,6 +72,7 @@ class Node {
   }
   bool has(const std::string& key) const { return value_.contains(key); }
   bool isNumber() const { return value_.is_number(); }
+  bool isString() const { return value_.is_string(); }
   Node operator[](const std::string& key) const {
     if (!value_.contains(key)) fail("missing key \"" + key + "\"");
     return child(key);
@@ -97,10 +99,12 @@ class Node {
     if (!(v > 0) || !std::isfinite(v)) fail("must be positive");
     return v;
   }
-  uint32_t count(uint32_t minimum) const {
+  uint32_t count(uint32_t minimum, uint32_t maximum = uint32_t{1} << 30) const {
     if (!value_.is_number_integer() && !value_.is_number_unsigned()) fail("expected an integer, got " + typeName());
     const auto v = value_.get<int64_t>();
-    if (v < minimum || v > int64_t{1} << 30) fail(fmt::format("must be an integer in [{}, 2^30]", minimum));
+    if (v < minimum || v > maximum)
+      fail(fmt::format("must be an integer in [{}, {}]", minimum,
+                       maximum == uint32_t{1} << 30 ? "2^30" : std::to_string(maximum)));
     return static_cast<uint32_t>(v);
   }
   bool boolean() const {
@@ -457,6 +461,20 @@ constexpr EnumName<PortalSource> kPortalSourceNames[] = {
     {PortalSource::Auto, "auto"}, {PortalSource::Declared, "declared"}, {PortalSource::None, "none"}};
 }  // namespace
 
+std::string branchesName(uint32_t branches) {
+  return branches == kAutoBranches ? "auto" : std::to_string(branches);
+}
+
+uint32_t parseBranches(std::string_view name) {
+  if (name == "auto") return kAutoBranches;
+  uint32_t branches = 0;
+  const auto [end, error] = std::from_chars(name.data(), name.data() + name.size(), branches);
+  if (error != std::errc{} || end != name.data() + name.size() || branches < 1 || branches > kMaxBranches)
+    throw std::invalid_argument(fmt::format("unknown branch count '{}' (auto or an integer in [1, {}])", name,
+                                            kMaxBranches));
+  return branches;
+}
+
 std::string_view toString(PortalSource source) { return nameOf(kPortalSourceNames, source); }
 
 PortalSource parsePortalSource(std::string_view name) { return valueNamed(kPortalSourceNames, name, "portal source"); }
@@ -504,13 +522,17 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   RenderSettings& settings = scene.settings;
   if (root.has("render")) {
     const Node r = root["render"];
-    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "sampler", "direct", "candidates",
+    r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "branches", "sampler", "direct", "candidates",
               "bsdf_fraction", "guiding", "portals"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
     if (r.has("roulette_depth")) settings.rouletteDepth = r["roulette_depth"].count(1);
     if (r.has("mis")) settings.mis = r["mis"].parsed(parseMisMode);
+    if (r.has("branches")) {
+      const Node branches = r["branches"];
+      settings.branches = branches.isString() ? branches.parsed(parseBranches) : branches.count(1, kMaxBranches);
+    }
     if (r.has("sampler")) settings.sampler = r["sampler"].parsed(parseSamplerKind);
     if (r.has("direct")) settings.direct = r["direct"].parsed(parseDirectLighting);
     if (r.has("candidates")) settings.product.candidates = r["candidates"].count(1);
@@ -522,6 +544,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (overrides.mis) settings.mis = *overrides.mis;
   if (overrides.direct) settings.direct = *overrides.direct;
   if (overrides.candidates) settings.product.candidates = *overrides.candidates;
+  if (overrides.branches) settings.branches = *overrides.branches;
   if (overrides.guiding) settings.guiding = *overrides.guiding;
   if (overrides.portals) settings.portals = *overrides.portals;
   if (settings.guiding == GuidingMode::Light && !drawsLightSamples(settings))

@@ -290,5 +290,56 @@ TEST(Consistency, GuidedRendersAgreeWithUnguided) {
   }
 }
 
+// Branching at the first vertex adds paths, not light: the sky scene renders the same with 4
+// branches per camera sample as with none, with both sample sources; and so does the room guided
+// by its paths' radiance (each branch records its own vertices).
+TEST(Consistency, BranchedRendersAgreeWithUnbranched) {
+  for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+    SceneOverrides overrides;
+    overrides.sampler = sampler;
+    overrides.branches = 1;
+    const auto plain = rendertest::imageMean(rendertest::renderScene(skyScene("adaptive"), overrides).film);
+    overrides.branches = 4;
+    const rendertest::Rendered branched = rendertest::renderScene(skyScene("adaptive"), overrides);
+    EXPECT_EQ(branched.stats.branching.branches, 4u);
+    expectAgree(plain, rendertest::imageMean(branched.film), std::string("4 branches vs 1, ") +
+                                                                 std::string(toString(sampler)));
+  }
+  SceneOverrides overrides;
+  overrides.sampler = SamplerKind::Independent;
+  overrides.branches = 1;
+  const auto plain = rendertest::imageMean(rendertest::renderScene(room(false), overrides).film);
+  overrides.guiding = GuidingMode::Paths;
+  overrides.branches = 3;
+  const rendertest::Rendered guided = rendertest::renderScene(room(false), overrides);
+  EXPECT_TRUE(guided.stats.guiding.guided);
+  expectAgree(plain, rendertest::imageMean(guided.film), "3 branches guided by paths vs 1 unguided");
+}
+
+// What branching is for: on the sky scene the light after the first vertex (the floor's and the
+// spheres' indirect light) is noisy, so 4 branches lower the image's standard error per camera
+// sample; auto gives it branches (a branch costs fewer rays than the camera sample's own work).
+TEST(Consistency, BranchesLowerTheErrorPerCameraSample) {
+  const auto render = [](uint32_t branches) {
+    SceneOverrides overrides;
+    overrides.sampler = SamplerKind::Independent;
+    overrides.branches = branches;
+    return rendertest::renderScene(skyScene("adaptive"), overrides);
+  };
+  const rendertest::Rendered one = render(1), four = render(4), automatic = render(kAutoBranches);
+  const Rgb a = rendertest::imageMean(one.film).standardError, b = rendertest::imageMean(four.film).standardError;
+  std::printf("standard error of the image mean, 1 vs 4 branches: %.4g vs %.4g, %.4g vs %.4g, %.4g vs %.4g\n", a.r, b.r,
+              a.g, b.g, a.b, b.b);
+  EXPECT_LT(b.r, a.r);
+  EXPECT_LT(b.g, a.g);
+  EXPECT_LT(b.b, a.b);
+  const BranchingStats& chosen = automatic.stats.branching;
+  std::printf("auto: %u branches (%.2f rays before, %.2f per branch)\n", chosen.branches,
+              chosen.raysBefore.value_or(0), chosen.raysAfter.value_or(0));
+  EXPECT_GT(chosen.branches, 1u);
+  EXPECT_EQ(one.stats.branching.branches, 1u);
+  EXPECT_FALSE(one.stats.branching.raysBefore);
+}
+
 }  // namespace
 }  // namespace acdf

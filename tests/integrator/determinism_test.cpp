@@ -76,6 +76,40 @@ TEST(Determinism, GuidedRendersAreTheSameForAnyThreadCount) {
       << "guiding must change the image";
 }
 
+// Branched paths read their branches' own sample points, and auto decides from ray counts summed
+// per tile: the same image for any thread count, and different from an unbranched one.
+TEST(Determinism, BranchedRendersAreTheSameForAnyThreadCount) {
+  for (const uint32_t branches : {3u, kAutoBranches}) {
+    for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+      SceneOverrides overrides;
+      overrides.branches = branches;
+      overrides.sampler = sampler;
+      const Image one = renderWithThreads(1, smallScene(1), overrides);
+      EXPECT_EQ(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << toString(sampler);
+      EXPECT_EQ(one.pixels, renderWithThreads(4, smallScene(1), overrides).pixels) << toString(sampler);
+      overrides.branches = 1;
+      EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << "branching must change it";
+    }
+  }
+}
+
+// Auto branching takes the K that makes (V0 + V1 / K)(c0 + K c1) least for V1 = 4 V0: measured
+// from the rays a camera sample casts before its first bounce (c0) and after (c1).
+TEST(Branching, AutoTakesTheCountThatMinimisesVarianceTimesCost) {
+  for (const double before : {0.5, 1.0, 1.65, 2.0, 6.0}) {
+    for (const double after : {0.25, 1.0, 7.7}) {
+      const uint32_t chosen = branchesThatPay(before, after);
+      const auto figure = [&](double k) { return (1.0 + kBranchVarianceRatio / k) * (before + k * after); };
+      for (uint32_t k = 1; k <= kMaxAutoBranches; ++k)
+        EXPECT_LE(figure(chosen), figure(k) * (1 + 1e-12)) << before << " " << after << ": " << chosen << " vs " << k;
+    }
+  }
+  EXPECT_EQ(branchesThatPay(1.65, 1.02), 3u);  // an open scene (bench/peers spheres)
+  EXPECT_EQ(branchesThatPay(2.0, 7.7), 1u);    // an interior (scenes/door-ajar.json)
+  EXPECT_EQ(branchesThatPay(2.0, 0.0), 1u);    // nothing after the first vertex (max_depth 1 and sky)
+  EXPECT_EQ(branchesThatPay(100.0, 0.01), kMaxAutoBranches);
+}
+
 // Where paths draw no light samples (product direct lighting, bsdf-only MIS) auto has no light to
 // guide: it learns nothing and renders what off renders.
 TEST(Determinism, AutoWithoutLightSamplesLearnsNothing) {

@@ -16,6 +16,7 @@
 
 #include "acdf/envmap/image_file.h"
 #include "acdf/integrator/openings.h"
+#include "acdf/integrator/renderer.h"
 #include "app_test_util.h"
 
 namespace acdf {
@@ -244,6 +245,37 @@ TEST_F(RenderCli, GuidingOnTheCommandLine) {
                        "acdf: render: --guiding", "off, light, paths or auto");
 }
 
+// --branches replaces the scene's choice (1 by default); --json reports the count rendered and,
+// under auto, the rays it was chosen from.
+TEST_F(RenderCli, BranchesOnTheCommandLine) {
+  nlohmann::json scene = tinyScene();
+  scene["environment"]["sampling"] = "uniform-sphere";
+  scene["render"]["spp"] = 4;
+  const auto fixed =
+      runAcdf({"render", writeScene(scene), "-o", path("fixed.exr"), "--branches", "3", "--json"}, dir_);
+  ASSERT_EQ(fixed.exitCode, 0) << apptest::describe(fixed);
+  const auto j = nlohmann::json::parse(fixed.out);
+  EXPECT_EQ(j["branches"], "3");
+  EXPECT_EQ(j["branched"], 3);
+  EXPECT_FALSE(j.contains("rays_per_branch"));
+  const auto plain = runAcdf({"render", writeScene(scene), "-o", path("plain.exr"), "--json"}, dir_);
+  ASSERT_EQ(plain.exitCode, 0) << apptest::describe(plain);
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["branches"], "1");
+  const auto automatic =
+      runAcdf({"render", writeScene(scene), "-o", path("auto.exr"), "--branches", "auto", "--json"}, dir_);
+  ASSERT_EQ(automatic.exitCode, 0) << apptest::describe(automatic);
+  const auto a = nlohmann::json::parse(automatic.out);
+  EXPECT_EQ(a["branches"], "auto");
+  EXPECT_TRUE(a["rays_before_branching"].is_number());
+  EXPECT_TRUE(a["rays_per_branch"].is_number());
+  EXPECT_EQ(a["branched"].get<uint32_t>(),
+            branchesThatPay(a["rays_before_branching"].get<double>(), a["rays_per_branch"].get<double>()));
+  for (const char* bad : {"0", "65", "many", "2.5"})
+    expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--branches", bad}, dir_),
+                         "acdf: render: --branches", "(auto or an integer in [1, 64])");
+  EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
 // A closed box x, z in [-1, 1], y in [0, 2] with a window in its wall z = 1, under a constant sky.
 nlohmann::json tinyRoom() {
   const auto quad = [](std::vector<double> corner, std::vector<double> u, std::vector<double> v) {
@@ -402,6 +434,10 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   failure(scene, "$.render.guiding: unknown guiding mode 'always' (off, light, paths or auto)");
   scene["render"] = {{"portals", "found"}};
   failure(scene, "$.render.portals: unknown portal source 'found' (auto, declared or none)");
+  scene["render"] = {{"branches", 0}};
+  failure(scene, "$.render.branches: must be an integer in [1, 64]");
+  scene["render"] = {{"branches", "some"}};
+  failure(scene, "$.render.branches: unknown branch count 'some' (auto or an integer in [1, 64])");
   expectNoOutputs();
 }
 

@@ -206,6 +206,47 @@ TEST(SobolSampler, ProductCandidatesAreStratifiedAndTakeTheLightSamplesPlace) {
   }
 }
 
+// Branch b of B at vertex 0 (after its light sample) reads, from its BSDF sample on, the values
+// pixel sample B·s + b reads there: a pixel's branches are one stratified sequence, as its samples
+// are, whatever an earlier branch asked. The independent source gives every branch new values.
+TEST(SobolSampler, BranchesReadTheirOwnPointsOfEveryLaterDecision) {
+  constexpr uint32_t B = 4;
+  SobolSampler path(3, 64), reference(3, 64);
+  std::vector<std::array<float, 2>> bsdf;
+  for (uint32_t s = 0; s < 16; ++s) {
+    path.startPixelSample(5, 9, s);
+    path.startVertex(0);
+    (void)path.get2D();
+    for (uint32_t b = 0; b < B; ++b) {
+      path.startBranch(b, B);
+      reference.startPixelSample(5, 9, B * s + b);
+      reference.startVertex(0);
+      (void)reference.get2D();
+      const auto first = path.get2D();
+      EXPECT_EQ(first, reference.get2D()) << "vertex 0's BSDF sample, sample " << s << " branch " << b;
+      bsdf.push_back(first);
+      for (uint32_t d = 1; d < 3; ++d) {
+        path.startVertex(d), reference.startVertex(d);
+        EXPECT_EQ(path.get2D(), reference.get2D()) << "vertex " << d;
+        EXPECT_EQ(path.get2D(), reference.get2D()) << "vertex " << d;
+        EXPECT_EQ(path.get1D(), reference.get1D()) << "vertex " << d;
+      }
+    }
+  }
+  EXPECT_TRUE(isZeroNet(bsdf, 6)) << "the branches' BSDF samples of 16 pixel samples";
+
+  IndependentSampler independent(3, 64);
+  independent.startPixelSample(5, 9, 0);
+  independent.startVertex(0);
+  (void)independent.get2D();
+  std::set<std::array<float, 2>> seen;
+  for (uint32_t b = 0; b < B; ++b) {
+    independent.startBranch(b, B);
+    seen.insert(independent.get2D());
+  }
+  EXPECT_EQ(seen.size(), B);
+}
+
 // The scene's render.sampler, Sobol by default (it won at equal time, docs/performance.md), replaced by
 // SceneOverrides::sampler (--sampler); a bad name is a FileError with its JSON path.
 TEST(SceneSampler, FromTheSceneFileOrTheOverride) {

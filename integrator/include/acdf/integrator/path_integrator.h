@@ -12,6 +12,9 @@
 // Under product direct lighting (RenderSettings::direct) the light sample and its MIS weights give
 // way to one resampled estimate of all the direct light (product_direct_light.h, one shadow ray);
 // BSDF samples then only continue the path, and escapes add nothing, as under light-only.
+// Branched at the first vertex into K paths (after its light sample), each branch continues with
+// its own BSDF sample and a 1/K share: the mean of K unbiased estimates of the light after vertex
+// 0, so unbiased for any K; the MIS weights are per sample, as without branches.
 // Russian roulette from RenderSettings::rouletteDepth on: survive with probability
 // min(0.95, max throughput channel), dividing the throughput by it. Light sampling may use an
 // incomplete pdf (a compensated table) exactly when BSDF samples see the light too
@@ -39,7 +42,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "acdf/integrator/camera.h"
 #include "acdf/integrator/direction_techniques.h"
+#include "acdf/integrator/geometry.h"
 #include "acdf/integrator/guiding_field.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
@@ -57,13 +62,25 @@ struct PathGuiding {
   std::vector<GuidingRecord>* lightRecords = nullptr;
 };
 
+// Rays a path cast (closest hit and shadow), and how many of them after its first vertex's light
+// sample: what a branch costs (RenderSettings::branches).
+struct RayCounts {
+  uint64_t total = 0, afterFirstVertex = 0;
+  void add(uint32_t depth) {
+    ++total;
+    afterFirstVertex += depth > 0;
+  }
+};
+
 class PathIntegrator {
  public:
   explicit PathIntegrator(const Scene& scene);
 
   // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
-  // pixel dimensions taken; `rays` counts the rays cast (intersect + shadow).
-  Rgb radiance(const Ray& cameraRay, Sampler& sampler, uint64_t& rays, const PathGuiding& guiding = {}) const;
+  // pixel dimensions taken; it adds the rays it casts to `rays`. The path branches
+  // `branches` ways at its first vertex (RenderSettings::branches).
+  Rgb radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding = {},
+               uint32_t branches = 1) const;
 
   // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
@@ -75,6 +92,25 @@ class PathIntegrator {
   static bool guidedMaterial(const BrdfSampler& sampler);
 
  private:
+  class PathRecorder;
+  // What a path carries from one vertex to the next.
+  struct PathState {
+    Ray ray;                     // the ray to the next vertex
+    Rgb throughput{1, 1, 1};
+    double bsdfPdf = 0;          // density of the sample that produced `ray`; 0 for the camera ray
+    LightSampleContext lightContext;
+    // The learned light at the vertex `ray` left, and that vertex.
+    DirectionalDistribution lightField;
+    Vec3d lastPosition, lastNormal;
+  };
+  // The path from `state` on, its first vertex at `firstDepth` (branching `branches` ways there if it
+  // is vertex 0): the light it brings to the image.
+  Rgb walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
+           const PathGuiding& guiding, PathRecorder& recorder) const;
+  // Continues `state` from its vertex `hit` at `depth` along a BSDF sample, with `share` of its
+  // weight, through Russian roulette: false where the path ends.
+  bool extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf, uint32_t depth,
+              float share, Sampler& sampler, PathRecorder& recorder) const;
   // The light at a vertex seen from `context`, mixed with the light field there (none: the light alone).
   GuidedMixture<LightTechnique> guidedLight(const LightSampleContext& context, DirectionalDistribution field) const;
   // The MIS weight of a strategy with density `chosen` against one with density `other`.

@@ -19,6 +19,11 @@
 // rest renders unguided and nothing more is learned. With a time budget the passes double while
 // the next would end within half of it, and one-sample passes with the last field fill the rest.
 // Deterministic for a sample count: records are kept per tile and joined in tile order.
+//
+// Branching (RenderSettings::branches). Under auto the first sample of every pixel renders
+// unbranched and counts the rays cast before and after the first vertex's light sample; the rest
+// of the samples branch as branchesThatPay says. Renders of one sample do not branch. This comes
+// before guiding's passes.
 
 #include <cstddef>
 #include <cstdint>
@@ -52,12 +57,33 @@ struct GuidingStats {
 // The gain `auto` needs to guide: the field's lookups cost time the ray count does not show.
 inline constexpr double kAutoGuidingGain = 1.2;
 
+// Under auto branching, the variance after the first vertex over the variance before it that
+// branchesThatPay assumes (the first samples cannot measure it: Sobol points lower the variance
+// before the first vertex far more with the sample count than the branches'), and the most
+// branches it chooses.
+inline constexpr double kBranchVarianceRatio = 4.0;
+inline constexpr uint32_t kMaxAutoBranches = 8;
+
+// The branch count K in [1, kMaxAutoBranches] that makes variance times cost per camera sample,
+// (V0 + V1 / K)(c0 + K c1), least (about sqrt(V1 c0 / (V0 c1))), for rays per camera sample
+// c0 = `raysBefore` (the camera ray, the first vertex's shadow ray) and c1 = `raysAfter` (the
+// rest of an unbranched path), and V1 / V0 = kBranchVarianceRatio.
+uint32_t branchesThatPay(double raysBefore, double raysAfter);
+
+struct BranchingStats {
+  uint32_t branches = 1;  // of the last samples
+  // Under auto, rays per camera sample before and after the first vertex's light sample, measured
+  // on the first sample of every pixel.
+  std::optional<double> raysBefore, raysAfter;
+};
+
 struct RenderStats {
   uint32_t spp = 0;    // samples per pixel rendered
   uint64_t paths = 0;  // camera paths traced
   uint64_t rays = 0;   // rays cast (closest hit and shadow)
   double seconds = 0;  // wall-clock render time
   GuidingStats guiding;
+  BranchingStats branching;
 };
 
 // The film has the crop window's size.

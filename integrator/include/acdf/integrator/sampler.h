@@ -13,6 +13,9 @@
 //                                  its candidates (their number is an option),
 //                        get2D()   the BSDF sample,
 //                        get1D()   Russian roulette (from RenderSettings::rouletteDepth on).
+// With RenderSettings::branches > 1 the path branches at vertex 0 after its light sample:
+// startBranch(b, branches) for b = 0, 1, …, each followed by the BSDF sample (and roulette) of
+// vertex 0 and the whole branch.
 // Which values a vertex asks for depends on the MIS mode, the direct lighting and the depth;
 // startVertex() lets a low-discrepancy sampler give every vertex the same fixed block of
 // dimensions whatever the vertices before it asked for.
@@ -73,6 +76,10 @@ class Sampler {
   virtual CandidateValues getCandidates(uint32_t count) = 0;
   // The position in the pixel, [0, 1)².
   virtual std::array<float, 2> getPixel2D() = 0;
+  // Starts branch `branch` of `branches` (called for 0, 1, … in order) of the path at the vertex
+  // whose light sample was just taken: from that vertex's next call on, the values are branch
+  // `branch`'s, as different from the other branches' as two pixel samples'.
+  virtual void startBranch(uint32_t branch, uint32_t branches) = 0;
 
   // A sampler of the same kind and seed, with its own state (one per thread or tile).
   virtual std::unique_ptr<Sampler> clone() const = 0;
@@ -96,6 +103,7 @@ class IndependentSampler final : public Sampler {
   // From a stream seeded by the next two values of the pixel sample's.
   CandidateValues getCandidates(uint32_t count) override;
   std::array<float, 2> getPixel2D() override { return get2D(); }
+  void startBranch(uint32_t, uint32_t) override {}
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<IndependentSampler>(*this); }
 
  private:
@@ -114,6 +122,9 @@ class IndependentSampler final : public Sampler {
 // so vertex d's light sample always reads component 1 + 3d, however the path got there. Every
 // component is a (0,2)-sequence over the pixel's samples (the first 2^m samples a (0,m,2)-net,
 // for every m); components are independent of each other, pixels independent of each other.
+// Branch b of B (startBranch) reads point B·s + b of the components from its first call on
+// (indices modulo 2^32), so a pixel's branches together are one stratified sequence, as the
+// pixel's samples are.
 // getCandidates(M) takes a component's place too, for stratified CandidateValues (their stream
 // seeded by a hash of the pixel's seed, the sample index and the component).
 class SobolSampler final : public Sampler {
@@ -126,15 +137,18 @@ class SobolSampler final : public Sampler {
   std::array<float, 2> get2D() override;
   CandidateValues getCandidates(uint32_t count) override;
   std::array<float, 2> getPixel2D() override;
+  void startBranch(uint32_t branch, uint32_t branches) override;
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<SobolSampler>(*this); }
 
  private:
   uint64_t seed_;
   uint32_t frameWidth_;
   uint64_t pixelSeed_ = 0;
-  uint32_t sampleIndex_ = 0;
+  uint32_t pixelSampleIndex_ = 0;
+  uint32_t sampleIndex_ = 0;         // the pixel sample's, or its branch's
   PaddedSobolIndex paddedIndex_{0};  // sampleIndex_, prepared once for all its components
   uint32_t component_ = 0;
+  uint32_t branchComponent_ = 0;     // where the branches' values start
 };
 
 enum class SamplerKind { Independent, Sobol };

@@ -74,6 +74,13 @@ enum class PortalSource { Auto, Declared, None };
 std::string_view toString(PortalSource source);
 PortalSource parsePortalSource(std::string_view name);
 
+// RenderSettings::branches: at most this many, or auto (renderer.h).
+inline constexpr uint32_t kMaxBranches = 64;
+inline constexpr uint32_t kAutoBranches = 0;
+// "auto" or an integer in [1, kMaxBranches]; parse throws std::invalid_argument.
+std::string branchesName(uint32_t branches);
+uint32_t parseBranches(std::string_view name);
+
 struct RenderSettings {
   uint32_t spp = 16;
   uint64_t seed = 1;
@@ -85,6 +92,14 @@ struct RenderSettings {
   // derives for it, and it gave 2-13% less variance per sample than power on every open example
   // scene, the same in the interiors (performance.md).
   MisMode mis = MisMode::Balance;
+  // Paths per camera sample from the first vertex on (branched path tracing): the camera ray, its
+  // vertex and that vertex's light sample are shared, each branch has its own BSDF sample and
+  // carries 1/branches of its light. Pays where the light after the first bounce is the noisy
+  // part and a branch costs less than the camera sample: 1.2-1.4x the efficiency on the open
+  // scenes with analytic materials, 1 branch is best in the interiors. Not by default: auto
+  // (renderer.h) counts rays, not what a measured material's vertex costs, and chose 2 branches
+  // where they lost 5-10 % (the demo, product.json; performance.md, "Branching").
+  uint32_t branches = 1;
   SamplerKind sampler = SamplerKind::Sobol;
   DirectLighting direct = DirectLighting::Mis;
   ProductSamplingOptions product{};  // under DirectLighting::Product
@@ -111,6 +126,7 @@ struct SceneOverrides {
   std::optional<SamplerKind> sampler = std::nullopt;
   std::optional<DirectLighting> direct = std::nullopt;
   std::optional<uint32_t> candidates = std::nullopt;  // product sampling's M
+  std::optional<uint32_t> branches = std::nullopt;
   std::optional<GuidingMode> guiding = std::nullopt;
   std::optional<PortalSource> portals = std::nullopt;
   std::optional<BrdfSampling> bsdfSampling = std::nullopt;  // every measured material
