@@ -59,7 +59,8 @@ inline constexpr double kAutoGuidingGain = 1.2;
 
 // Under auto branching, the variance after the first vertex over the variance before it that
 // branchesThatPay assumes (the first samples cannot measure it: Sobol points lower the variance
-// before the first vertex far more with the sample count than the branches'), and the most
+// before the first vertex far more with the sample count than the branches'; measured at 16-64
+// spp it is 1-3 in the interiors and on the cluster, 8-10 on the glossy spheres), and the most
 // branches it chooses.
 inline constexpr double kBranchVarianceRatio = 4.0;
 inline constexpr uint32_t kMaxAutoBranches = 8;

@@ -96,9 +96,9 @@ struct RenderSettings {
   // vertex and that vertex's light sample are shared, each branch has its own BSDF sample and
   // carries 1/branches of its light. Pays where the light after the first bounce is the noisy
   // part and a branch costs less than the camera sample: 1.2-1.4x the efficiency on the open
-  // scenes with analytic materials, 1 branch is best in the interiors. Not by default: auto
+  // scenes with glossy analytic materials, 1 branch is best in the interiors. Not by default: auto
   // (renderer.h) counts rays, not what a measured material's vertex costs, and chose 2 branches
-  // where they lost 5-10 % (the demo, product.json; performance.md, "Branching").
+  // where they lost 7-12 % (the demo, product.json; performance.md, "Branching").
   uint32_t branches = 1;
   SamplerKind sampler = SamplerKind::Sobol;
   DirectLighting direct = DirectLighting::Mis;
