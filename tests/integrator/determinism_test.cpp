@@ -1,9 +1,12 @@
 // Determinism: every pixel sample has its own random stream, so an image depends on the seed
 // only — not on the number of threads, nor on which part of the frame (crop window) is rendered.
+// Branched paths too: where each branch's values start, and how auto chooses their number.
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "acdf/integrator/path_integrator.h"
+#include "acdf/sampling/table_cache.h"
 #include "render_test_util.h"
 
 namespace acdf {
@@ -90,6 +93,69 @@ TEST(Determinism, BranchedRendersAreTheSameForAnyThreadCount) {
       overrides.branches = 1;
       EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << "branching must change it";
     }
+  }
+}
+
+// The calls a path makes on its sampler, in order, with the values of a Sobol sampler behind them.
+class RecordingSampler final : public Sampler {
+ public:
+  std::vector<std::string> calls;
+  void startPixelSample(uint32_t x, uint32_t y, uint32_t s) override { inner_.startPixelSample(x, y, s); }
+  void startVertex(uint32_t depth) override {
+    calls.push_back("vertex " + std::to_string(depth));
+    inner_.startVertex(depth);
+  }
+  float get1D() override {
+    calls.push_back("1D");
+    return inner_.get1D();
+  }
+  std::array<float, 2> get2D() override {
+    calls.push_back("2D");
+    return inner_.get2D();
+  }
+  CandidateValues getCandidates(uint32_t count) override { return inner_.getCandidates(count); }
+  std::array<float, 2> getPixel2D() override { return inner_.getPixel2D(); }
+  void startBranch(uint32_t branch, uint32_t branches) override {
+    calls.push_back("branch " + std::to_string(branch) + "/" + std::to_string(branches));
+    inner_.startBranch(branch, branches);
+  }
+  std::unique_ptr<Sampler> clone() const override { return std::make_unique<RecordingSampler>(*this); }
+
+ private:
+  SobolSampler inner_{1, 40};
+};
+
+// A path with K branches starts each after its first vertex's light sample and before that
+// vertex's BSDF sample, in order, so each reads its own points (sampler.h); with one it starts none.
+TEST(Branching, EachBranchStartsBeforeItsFirstBsdfSample) {
+  SceneAssets tables(TableCache::disabled());
+  const Scene scene =
+      loadSceneText(smallScene(1).dump(), std::string(ACDF_SOURCE_DIR) + "/test-scene.json", {}, tables);
+  const PathIntegrator integrator(scene);
+  const Ray towardsTheFloor{{0, 1, 4}, normalize(Vec3d{0.3, -1, -1})};
+  for (const uint32_t branches : {1u, 3u}) {
+    RecordingSampler sampler;
+    sampler.startPixelSample(0, 0, 0);
+    RayCounts rays;
+    (void)integrator.radiance(towardsTheFloor, sampler, rays, {}, branches);
+    std::vector<std::string> started;
+    for (std::size_t i = 0; i < sampler.calls.size(); ++i)
+      if (sampler.calls[i].starts_with("branch")) {
+        started.push_back(sampler.calls[i]);
+        ASSERT_LT(i + 1, sampler.calls.size());
+        EXPECT_EQ(sampler.calls[i + 1], "2D") << "the BSDF sample of vertex 0 follows " << sampler.calls[i];
+      }
+    if (branches == 1) {
+      EXPECT_TRUE(started.empty());
+    } else {
+      EXPECT_EQ(started, (std::vector<std::string>{"branch 0/3", "branch 1/3", "branch 2/3"}));
+      ASSERT_GE(sampler.calls.size(), 3u);
+      EXPECT_EQ(sampler.calls[0], "vertex 0");
+      EXPECT_EQ(sampler.calls[1], "2D") << "the light sample, shared";
+      EXPECT_EQ(sampler.calls[2], "branch 0/3");
+    }
+    EXPECT_GT(rays.afterFirstVertex, 0u);
+    EXPECT_GT(rays.total, rays.afterFirstVertex);
   }
 }
 
