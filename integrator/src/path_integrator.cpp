@@ -96,11 +96,33 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
+[[gnu::always_inline]] inline bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf,
+                            uint32_t depth, float share, Sampler& sampler, PathRecorder& recorder) const {
+  const auto [u0, u1] = sampler.get2D();
+  const TechniqueSample next = bsdf.sample(u0, u1);
+  if (!(next.pdf > 0) || next.value.isBlack()) return false;
+  const Rgb weight = next.value * static_cast<float>(share / next.pdf);
+  state.throughput *= weight;
+  recorder.scale(weight);
+  recorder.open(hit.position, hit.normal, next.direction, next.pdf);
+  state.bsdfPdf = next.pdf;
+  state.lastPosition = hit.position;
+  state.lastNormal = hit.normal;
+  state.ray = {Geometry::offsetOrigin(hit, next.direction), next.direction};
+
+  if (depth + 1 >= scene_.settings.rouletteDepth) {
+    const double survive = std::min<double>(0.95, state.throughput.maxComponent());
+    if (sampler.get1D() >= survive) return false;
+    const auto rescale = static_cast<float>(1.0 / survive);
+    state.throughput *= rescale;
+    recorder.scale(Rgb{rescale, rescale, rescale});
+  }
+  return true;
+}
+
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
                              uint32_t branches) const {
-  PathState state;
-  state.ray = cameraRay;
-  state.lightContext.allowIncompletePdf = allowsIncompleteLightPdf(scene_.settings);
+  PathState state(cameraRay, allowsIncompleteLightPdf(scene_.settings));
   PathRecorder recorder(guiding.records, guiding.lightRecords);
   return walk(state, 0, branches, sampler, rays, guiding, recorder);
 }
@@ -206,30 +228,6 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
     if (!extend(state, *hit, bsdf, depth, 1.0f, sampler, recorder)) break;
   }
   return result;
-}
-
-bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf,
-                            uint32_t depth, float share, Sampler& sampler, PathRecorder& recorder) const {
-  const auto [u0, u1] = sampler.get2D();
-  const TechniqueSample next = bsdf.sample(u0, u1);
-  if (!(next.pdf > 0) || next.value.isBlack()) return false;
-  const Rgb weight = next.value * static_cast<float>(share / next.pdf);
-  state.throughput *= weight;
-  recorder.scale(weight);
-  recorder.open(hit.position, hit.normal, next.direction, next.pdf);
-  state.bsdfPdf = next.pdf;
-  state.lastPosition = hit.position;
-  state.lastNormal = hit.normal;
-  state.ray = {Geometry::offsetOrigin(hit, next.direction), next.direction};
-
-  if (depth + 1 >= scene_.settings.rouletteDepth) {
-    const double survive = std::min<double>(0.95, state.throughput.maxComponent());
-    if (sampler.get1D() >= survive) return false;
-    const auto rescale = static_cast<float>(1.0 / survive);
-    state.throughput *= rescale;
-    recorder.scale(Rgb{rescale, rescale, rescale});
-  }
-  return true;
 }
 
 }  // namespace acdf

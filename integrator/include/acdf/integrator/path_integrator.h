@@ -95,6 +95,10 @@ class PathIntegrator {
   class PathRecorder;
   // What a path carries from one vertex to the next.
   struct PathState {
+    // Built member by member: a defaulted constructor zero-fills the whole context, portal views
+    // and all (about 600 bytes), on every camera sample.
+    PathState(const Ray& cameraRay, bool allowIncompleteLightPdf)
+        : ray(cameraRay), lightContext{.allowIncompletePdf = allowIncompleteLightPdf} {}
     Ray ray;                     // the ray to the next vertex
     Rgb throughput{1, 1, 1};
     double bsdfPdf = 0;          // density of the sample that produced `ray`; 0 for the camera ray
