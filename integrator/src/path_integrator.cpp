@@ -96,8 +96,10 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return 1.0;  // single-strategy modes never combine
 }
 
-[[gnu::always_inline]] inline bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf,
-                            uint32_t depth, float share, Sampler& sampler, PathRecorder& recorder) const {
+[[gnu::always_inline]] inline bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit,
+                                                         const GuidedMixture<BsdfTechnique>& bsdf, uint32_t depth,
+                                                         float share, Sampler& sampler,
+                                                         PathRecorder& recorder) const {
   const auto [u0, u1] = sampler.get2D();
   const TechniqueSample next = bsdf.sample(u0, u1);
   if (!(next.pdf > 0) || next.value.isBlack()) return false;

@@ -50,6 +50,15 @@ class RenderCli : public apptest::TempDirTest {
     apptest::writeFile(path(name), scene.dump(2));
     return path(name);
   }
+  // `acdf render SCENE -o OUTPUT --json` with `options`, which must succeed: its JSON summary.
+  nlohmann::json renderSummary(const nlohmann::json& scene, const std::string& output,
+                               const std::vector<std::string>& options = {}) {
+    std::vector<std::string> args{"render", writeScene(scene), "-o", path(output), "--json"};
+    args.insert(args.end(), options.begin(), options.end());
+    const auto run = runAcdf(args, dir_);
+    EXPECT_EQ(run.exitCode, 0) << apptest::describe(run);
+    return run.exitCode == 0 ? nlohmann::json::parse(run.out) : nlohmann::json::object();
+  }
   // Nothing but the scene (and what the test put there) in the directory: no partial outputs.
   void expectNoOutputs() {
     for (const auto& entry : fs::directory_iterator(dir_)) {
@@ -225,22 +234,15 @@ TEST_F(RenderCli, ProductDirectLightingOnTheCommandLine) {
 TEST_F(RenderCli, GuidingOnTheCommandLine) {
   nlohmann::json scene = tinyScene();
   scene["render"]["spp"] = 8;
-  const auto guided =
-      runAcdf({"render", writeScene(scene), "-o", path("guided.exr"), "--guiding", "light", "--json"}, dir_);
-  ASSERT_EQ(guided.exitCode, 0) << apptest::describe(guided);
-  const auto j = nlohmann::json::parse(guided.out);
+  const auto j = renderSummary(scene, "guided.exr", {"--guiding", "light"});
   EXPECT_EQ(j["guiding"], "light");
   EXPECT_EQ(j["guided"], true);
   EXPECT_EQ(j["guiding_training_passes"], 2);  // of 1 and 2 samples; the other 5 use the second's field
   EXPECT_TRUE(j["guiding_gain"].is_null());
-  const auto automatic =
-      runAcdf({"render", writeScene(scene), "-o", path("auto.exr"), "--guiding", "auto", "--json"}, dir_);
-  ASSERT_EQ(automatic.exitCode, 0) << apptest::describe(automatic);
-  EXPECT_TRUE(nlohmann::json::parse(automatic.out)["guiding_gain"].is_number());
-  const auto plain = runAcdf({"render", writeScene(scene), "-o", path("plain.exr"), "--json"}, dir_);
-  ASSERT_EQ(plain.exitCode, 0) << apptest::describe(plain);
-  EXPECT_EQ(nlohmann::json::parse(plain.out)["guiding"], "off");
-  EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("guided"));
+  EXPECT_TRUE(renderSummary(scene, "auto.exr", {"--guiding", "auto"})["guiding_gain"].is_number());
+  const auto plain = renderSummary(scene, "plain.exr");
+  EXPECT_EQ(plain["guiding"], "off");
+  EXPECT_FALSE(plain.contains("guided"));
   expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--guiding", "always"}, dir_),
                        "acdf: render: --guiding", "off, light, paths or auto");
 }
@@ -251,20 +253,12 @@ TEST_F(RenderCli, BranchesOnTheCommandLine) {
   nlohmann::json scene = tinyScene();
   scene["environment"]["sampling"] = "uniform-sphere";
   scene["render"]["spp"] = 4;
-  const auto fixed =
-      runAcdf({"render", writeScene(scene), "-o", path("fixed.exr"), "--branches", "3", "--json"}, dir_);
-  ASSERT_EQ(fixed.exitCode, 0) << apptest::describe(fixed);
-  const auto j = nlohmann::json::parse(fixed.out);
+  const auto j = renderSummary(scene, "fixed.exr", {"--branches", "3"});
   EXPECT_EQ(j["branches"], "3");
   EXPECT_EQ(j["branched"], 3);
   EXPECT_FALSE(j.contains("rays_per_branch"));
-  const auto plain = runAcdf({"render", writeScene(scene), "-o", path("plain.exr"), "--json"}, dir_);
-  ASSERT_EQ(plain.exitCode, 0) << apptest::describe(plain);
-  EXPECT_EQ(nlohmann::json::parse(plain.out)["branches"], "1");
-  const auto automatic =
-      runAcdf({"render", writeScene(scene), "-o", path("auto.exr"), "--branches", "auto", "--json"}, dir_);
-  ASSERT_EQ(automatic.exitCode, 0) << apptest::describe(automatic);
-  const auto a = nlohmann::json::parse(automatic.out);
+  EXPECT_EQ(renderSummary(scene, "plain.exr")["branches"], "1");
+  const auto a = renderSummary(scene, "auto.exr", {"--branches", "auto"});
   EXPECT_EQ(a["branches"], "auto");
   EXPECT_TRUE(a["rays_before_branching"].is_number());
   EXPECT_TRUE(a["rays_per_branch"].is_number());
