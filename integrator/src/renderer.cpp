@@ -128,7 +128,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       makeSampler(scene.settings.sampler, scene.settings.seed, camera.width());
   const CropWindow& crop = camera.crop();
   const std::vector<Tile> tiles = makeTiles(film, std::max(1u, options.tileSize));
-  std::atomic<uint64_t> rays{0};
+  uint64_t rays = 0;  // of every pass, joined
   std::atomic<std::size_t> tilesDone{0};
   std::mutex progressMutex;
 
@@ -174,7 +174,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
             half.samples += passSamples;
           }
         }
-      rays += tileRays.total;
       out.rays = tileRays;
       const std::size_t done = ++tilesDone;
       if (options.progress) {
@@ -199,6 +198,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       joined.recordedSamples += r.recordedSamples;
       joined.rays.total += r.rays.total;
       joined.rays.afterFirstVertex += r.rays.afterFirstVertex;
+      rays += r.rays.total;
       for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
     }
     return joined;
