@@ -214,8 +214,22 @@ Rgb EnvironmentLight::eval(const Vec3d& w) const {
   return scaled(map_->radiance(options_.worldFromMap.applyInverse(w)));
 }
 
+void EnvironmentLight::prefetch(LightSampleContext& context, const Vec3d& w) const {
+  EscapePixelFound& found = context.escape.emplace();
+  found.direction_ = w;
+  found.light_ = id_;
+  found.pixel_ = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  map_->prefetchRadiance(found.pixel_);
+}
+
+PixelIndex EnvironmentLight::pixelOf(const LightSampleContext& context, const Vec3d& w) const {
+  const std::optional<EscapePixelFound>& kept = context.escape;
+  if (kept && kept->light_ == id_ && kept->direction_ == w) return kept->pixel_;
+  return map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+}
+
 RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {
-  const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  const PixelIndex p = pixelOf(context, w);
   // The pdf's search first, while the pixel's radiance (usually a cache miss) is on its way.
   map_->prefetchRadiance(p);
   const double pdf =

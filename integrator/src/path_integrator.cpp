@@ -150,13 +150,19 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
   };
   for (uint32_t depth = firstDepth;; ++depth) {
     rays.add(depth);
+    const bool weighsEscape = depth > 0 && bsdfSeesLight && sampleLight;
+    if (weighsEscape && rays.escapesLikely()) env.prefetch(lightContext, ray.direction);
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
+    if (depth > 0) {
+      ++rays.continuations;
+      rays.escapes += !hit;
+    }
     if (!hit) {
       Rgb seen;
       float weight = 1;  // the image's share of it
       if (depth == 0) {
         seen = env.eval(ray.direction);
-      } else if (bsdfSeesLight && sampleLight) {
+      } else if (weighsEscape) {
         const ValueAndPdf light = guidedLight(lightContext, state.lightField).along(ray.direction);
         seen = light.value;
         weight = static_cast<float>(misWeight(state.bsdfPdf, light.pdf));

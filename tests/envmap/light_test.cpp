@@ -232,6 +232,31 @@ TEST(Sampling, EvalWithPdfIsEvalAndPdf) {
     }
 }
 
+// prefetch() keeps w's pixel in the context for evalWithPdf: the same answer bit for bit, and used
+// only for that direction and from that light (a light turned otherwise finds its own pixel).
+TEST(Sampling, APrefetchedPixelServesOnlyItsDirectionAndLight) {
+  const auto map = smoothMap(64, 32);
+  const EnvironmentLight light(map, {.strategy = EnvironmentSampling::Compensated});
+  const EnvironmentLight turned(map, {.strategy = EnvironmentSampling::Compensated,
+                                      .worldFromMap = Rotation::aboutAxis({1, 2, 3}, 0.7)});
+  auto expectSame = [](const RadianceAndPdf& a, const RadianceAndPdf& b) {
+    ASSERT_EQ(a.radiance, b.radiance);
+    ASSERT_EQ(a.pdf, b.pdf);
+  };
+  Pcg32 rng(6);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3d w = sampleUniformSphere(rng.nextDouble(), rng.nextDouble());
+    const Vec3d other = sampleUniformSphere(rng.nextDouble(), rng.nextDouble());
+    for (const bool incomplete : {false, true}) {
+      LightSampleContext context{.allowIncompletePdf = incomplete};
+      light.prefetch(context, w);
+      expectSame(light.evalWithPdf(context, w), light.evalWithPdf({.allowIncompletePdf = incomplete}, w));
+      expectSame(light.evalWithPdf(context, other), light.evalWithPdf({.allowIncompletePdf = incomplete}, other));
+      expectSame(turned.evalWithPdf(context, w), turned.evalWithPdf({.allowIncompletePdf = incomplete}, w));
+    }
+  }
+}
+
 TEST(Sampling, RotationTurnsSamplesAndScaleMultipliesRadiance) {
   const auto map = smoothMap(64, 32);
   const Rotation r = Rotation::aboutAxis({1, 2, 3}, 0.7);

@@ -125,6 +125,31 @@ class RecordingSampler final : public Sampler {
   SobolSampler inner_{1, 40};
 };
 
+// A path counts its continuations and those that escaped (what decides whether the map's pixel is
+// loaded ahead): every one from a floor under the open sky escapes, none from inside a closed box.
+TEST(RayCounts, ContinuationsAndTheirEscapes) {
+  SceneAssets tables(TableCache::disabled());
+  nlohmann::json open = smallScene(1);
+  open["shapes"].erase(0);  // the floor alone
+  nlohmann::json closed = smallScene(1);
+  closed["shapes"] = {{{"type", "sphere"}, {"center", {0, 1, 4}}, {"radius", 2}, {"material", "floor"}}};
+  const std::string path = std::string(ACDF_SOURCE_DIR) + "/test-scene.json";
+  const Ray towardsTheFloor{{0, 1, 4}, normalize(Vec3d{0.3, -1, -1})};
+  for (const bool sky : {true, false}) {
+    const Scene scene = loadSceneText((sky ? open : closed).dump(), path, {}, tables);
+    const PathIntegrator integrator(scene);
+    IndependentSampler sampler(7, 1);
+    RayCounts rays;
+    for (uint32_t s = 0; s < 64; ++s) {
+      sampler.startPixelSample(0, 0, s);
+      (void)integrator.radiance(towardsTheFloor, sampler, rays);
+    }
+    EXPECT_GE(rays.continuations, 64u);
+    EXPECT_EQ(rays.escapes, sky ? rays.continuations : 0u);
+    EXPECT_EQ(rays.escapesLikely(), sky);
+  }
+}
+
 // A path with K branches starts each after its first vertex's light sample and before that
 // vertex's BSDF sample, in order, so each reads its own points (sampler.h); with one it starts none.
 TEST(Branching, EachBranchStartsBeforeItsFirstBsdfSample) {

@@ -92,6 +92,17 @@ class LocalCellFound {
   std::size_t cell_ = 0;
 };
 
+// The map pixel along one world direction, found by EnvironmentLight::prefetch before a ray along
+// it is traced. Like LocalCellFound, used only by the light that found it and for that direction:
+// the pixel depends on nothing else, so it is never stale.
+class EscapePixelFound {
+ private:
+  friend class EnvironmentLight;
+  Vec3d direction_;
+  std::uint64_t light_ = 0;  // EnvironmentLight::id_
+  PixelIndex pixel_;
+};
+
 // What a light sample or pdf depends on besides its variates or direction.
 struct LightSampleContext {
   // True when another technique samples every direction the light lights (BSDF sampling, the
@@ -107,6 +118,8 @@ struct LightSampleContext {
   // The portals seen from `position`, found once for the calls of one shading point by
   // EnvironmentLight::atPosition; without it (or with one found elsewhere) each call finds them.
   std::optional<PortalsSeen> portals = std::nullopt;
+  // The pixel of the direction last prefetched (EnvironmentLight::prefetch), for evalWithPdf.
+  std::optional<EscapePixelFound> escape = std::nullopt;
 };
 
 struct LightSample {
@@ -179,6 +192,10 @@ class EnvironmentLight {
   Rgb eval(const Vec3d& w) const;
   // eval(w) and pdf(context, w), bit for bit, finding w's pixel once: an escaped ray needs both.
   RadianceAndPdf evalWithPdf(const LightSampleContext& context, const Vec3d& w) const;
+  // Finds w's pixel into `context` and starts loading its radiance, for an evalWithPdf(context, w)
+  // after a ray along w has been traced and escaped: the map is megabytes, so the pixel is usually
+  // a cache miss, which the trace then hides (spheres: 5 % of the render's time).
+  void prefetch(LightSampleContext& context, const Vec3d& w) const;
 
   // The table sample() and pdf() use in `context` (for Local, the Adaptive one of calls without a
   // normal). Throws std::logic_error for a context the light was not made for (a complete pdf
@@ -201,6 +218,8 @@ class EnvironmentLight {
   void movePosition(LightSampleContext& context, const Vec3d& position) const;
   void moveNormal(LightSampleContext& context, const Vec3d& normal) const;
   Rgb scaled(const Rgb& L) const;
+  // The map pixel of the world direction w, as prefetch() found it into `context` or found now.
+  PixelIndex pixelOf(const LightSampleContext& context, const Vec3d& w) const;
   // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
   // else none.
   std::optional<double> localPdf(const LightSampleContext& context, PixelIndex p) const;

@@ -63,13 +63,17 @@ struct PathGuiding {
 };
 
 // Rays a path cast (closest hit and shadow), and how many of them after its first vertex's light
-// sample: what a branch costs (RenderSettings::branches).
+// sample: what a branch costs (RenderSettings::branches). And of the continuations (the rays after
+// a BSDF sample) how many escaped: where most do, the map's pixel along the next one is loaded while
+// it is traced (EnvironmentLight::prefetch); where most hit, that would be wasted work.
 struct RayCounts {
   uint64_t total = 0, afterFirstVertex = 0;
+  uint64_t continuations = 0, escapes = 0;
   void add(uint32_t depth) {
     ++total;
     afterFirstVertex += depth > 0;
   }
+  bool escapesLikely() const { return 2 * escapes > continuations; }
 };
 
 class PathIntegrator {
