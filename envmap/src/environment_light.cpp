@@ -100,11 +100,20 @@ auto EnvironmentLight::withPortalsSeen(const LightSampleContext& context, Use&& 
 }
 
 LightSample EnvironmentLight::sample(const LightSampleContext& context, float u0, float u1) const {
-  return withPortalsSeen(context, [&](const PortalsSeen* seen) { return sampleWith(context, seen, u0, u1); });
+  const LightDirection drawn = sampleDirection(context, u0, u1);
+  if (!drawn.pixel) return {};
+  return {drawn.direction, radiance(*drawn.pixel), drawn.pdf};
 }
 
-LightSample EnvironmentLight::sampleWith(const LightSampleContext& context, const PortalsSeen* seen, float u0,
-                                         float u1) const {
+LightDirection EnvironmentLight::sampleDirection(const LightSampleContext& context, float u0, float u1) const {
+  return withPortalsSeen(context,
+                         [&](const PortalsSeen* seen) { return sampleDirectionWith(context, seen, u0, u1); });
+}
+
+Rgb EnvironmentLight::radiance(PixelIndex p) const { return scaled(map_->radiance(p)); }
+
+LightDirection EnvironmentLight::sampleDirectionWith(const LightSampleContext& context, const PortalsSeen* seen,
+                                                     float u0, float u1) const {
   if (seen) {
     if (emitsNothing()) return {};
     const double u = clampUnit(u0), share = portalShare(context);
@@ -124,17 +133,17 @@ LightSample EnvironmentLight::sampleWith(const LightSampleContext& context, cons
       }
       const Vec3d w = portals_[chosen]->sample(view, std::clamp(at / view.power, 0.0, 1.0), clampUnit(u1));
       const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
-      map_->prefetchRadiance(p);  // as in evalWithPdf
-      const double pdf = mixturePdf(context, seen, w, p);
-      return {w, scaled(map_->radiance(p)), pdf};
+      map_->prefetchRadiance(p);
+      return {w, mixturePdf(context, seen, w, p), p};
     }
     u0 = rescaledVariate(u, share);
   }
   const EnvironmentTable::Sample s =
       usesLocal(context) ? local_->sampleInCell(localCell(context), u0, u1) : table(context).sample(u0, u1);
   if (!(s.pdf > 0)) return {};
+  map_->prefetchRadiance(s.pixel);
   const Vec3d w = options_.worldFromMap.apply(s.direction);
-  return {w, scaled(map_->radiance(s.pixel)), seen ? mixturePdf(context, seen, w, s.pixel) : s.pdf};
+  return {w, seen ? mixturePdf(context, seen, w, s.pixel) : s.pdf, s.pixel};
 }
 
 PortalTable::View EnvironmentLight::portalView(const PortalsSeen& seen, std::size_t i) const {

@@ -102,8 +102,10 @@ double PathIntegrator::misWeight(double chosen, double other) const {
                                                          PathRecorder& recorder) const {
   const auto [u0, u1] = sampler.get2D();
   const TechniqueSample next = bsdf.sample(u0, u1);
-  if (!(next.pdf > 0) || next.value.isBlack()) return false;
-  const Rgb weight = next.value * static_cast<float>(share / next.pdf);
+  if (!(next.pdf > 0)) return false;
+  const Rgb value = next.value();
+  if (value.isBlack()) return false;
+  const Rgb weight = value * static_cast<float>(share / next.pdf);
   state.throughput *= weight;
   recorder.scale(weight);
   recorder.open(hit.position, hit.normal, next.direction, next.pdf);
@@ -203,22 +205,23 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
       const auto [u0, u1] = sampler.get2D();
       const TechniqueSample light = guidedLight(lightContext, state.lightField).sample(u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
-      bool visible = false;
-      if (light.pdf > 0 && wi.z > 0 && !light.value.isBlack()) {
-        // The shadow ray first: a measured BRDF's eval costs about as much as the ray, and a
-        // fifth of the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0).
+      Rgb arriving;  // 0 where blocked
+      if (light.pdf > 0 && wi.z > 0) {
+        // The shadow ray first: a measured BRDF's eval costs about as much as the ray, a fifth of
+        // the demo's shadow rays are blocked (f is rarely 0 where cosθi > 0), and the light's
+        // radiance arrives from memory meanwhile.
         rays.add(depth);
-        visible = !scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
-                                             std::numeric_limits<double>::infinity());
-        if (visible) {
+        if (!scene_.geometry->occluded({Geometry::offsetOrigin(*hit, light.direction), light.direction},
+                                       std::numeric_limits<double>::infinity())) {
+          arriving = light.value();
           const Rgb f = material.eval(wi);
-          if (!f.isBlack()) {
+          if (!f.isBlack() && !arriving.isBlack()) {
             const double weight = bsdfSeesLight ? misWeight(light.pdf, bsdf.pdf(light.direction)) : 1.0;
-            add(f * light.value * static_cast<float>(wi.z * weight / light.pdf));
+            add(f * arriving * static_cast<float>(wi.z * weight / light.pdf));
           }
         }
       }
-      recorder.light(hit->position, hit->normal, light.direction, visible ? light.value : Rgb{}, light.pdf);
+      recorder.light(hit->position, hit->normal, light.direction, arriving, light.pdf);
     }
 
     if (depth == 0 && branches > 1) {

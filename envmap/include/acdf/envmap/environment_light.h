@@ -128,6 +128,16 @@ struct LightSample {
   double pdf = 0;   // per steradian; 0 only for a light that emits nothing
 };
 
+// A light sample before its radiance is read: EnvironmentLight::sampleDirection() finds the
+// direction and its density and starts loading the pixel's radiance, which radiance(pixel) reads
+// later. A path tracer reads it after the shadow ray, whose trace then hides the map's cache miss
+// (the map is megabytes; the read had stalled 4 % of a spheres render and 6 % behind the door).
+struct LightDirection {
+  Vec3d direction;                  // world frame, unit length
+  double pdf = 0;                   // per steradian
+  std::optional<PixelIndex> pixel;  // the map pixel it lies in; none where nothing was drawn
+};
+
 // What arrives from a direction, and the density sample() gives it.
 struct RadianceAndPdf {
   Rgb radiance;
@@ -167,6 +177,10 @@ class EnvironmentLight {
   // portal) the light samples as without portals. atPosition() finds the portals' views once for
   // the calls of a shading point.
   LightSample sample(const LightSampleContext& context, float u0, float u1) const;
+  // sample() without its radiance, which radiance(*pixel) gives, bit for bit (see LightDirection).
+  LightDirection sampleDirection(const LightSampleContext& context, float u0, float u1) const;
+  // The scaled radiance of map pixel p.
+  Rgb radiance(PixelIndex p) const;
   // c: where the caller combines light and BSDF samples by MIS (allowIncompletePdf), the portals
   // take every light sample: directions through no portal (a skylight left out) are left to BSDF
   // samples, as the compensated table leaves them the map's dim half, and no table pdf is looked
@@ -240,8 +254,9 @@ class EnvironmentLight {
   // them, 368 bytes, on construction: measurable on every call of a light without portals).
   template <class Use>
   auto withPortalsSeen(const LightSampleContext& context, Use&& use) const;
-  // sample() with the portals seen from the context's position (null: none).
-  LightSample sampleWith(const LightSampleContext& context, const PortalsSeen* seen, float u0, float u1) const;
+  // sampleDirection() with the portals seen from the context's position (null: none).
+  LightDirection sampleDirectionWith(const LightSampleContext& context, const PortalsSeen* seen, float u0,
+                                     float u1) const;
   // The mixture's density at the world direction w of pixel p, the portals `seen` from the
   // context's position (null: the strategy's alone; see sample()).
   double mixturePdf(const LightSampleContext& context, const PortalsSeen* seen, const Vec3d& w, PixelIndex p) const;

@@ -26,10 +26,26 @@
 
 namespace acdf {
 
-struct TechniqueSample {
+// A drawn direction, its density, and the technique's value along it, which value() reads. The
+// BSDF's value is known when it draws; the light's is a pixel of its map, whose radiance the draw
+// only starts loading (LightDirection), so that a path reading it after the shadow ray finds it there.
+class TechniqueSample {
+ public:
+  TechniqueSample() = default;
+  TechniqueSample(const Vec3d& direction, const Rgb& value, double pdf)
+      : direction(direction), pdf(pdf), value_(value) {}
+  TechniqueSample(const EnvironmentLight& light, const LightDirection& drawn)
+      : direction(drawn.direction), pdf(drawn.pixel ? drawn.pdf : 0.0), light_(&light), pixel_(drawn.pixel) {}
+
+  Rgb value() const { return light_ ? (pixel_ ? light_->radiance(*pixel_) : Rgb{}) : value_; }
+
   Vec3d direction;  // world frame, unit
-  Rgb value;
-  double pdf = 0;  // per steradian
+  double pdf = 0;   // per steradian; 0: nothing drawn
+
+ private:
+  Rgb value_;
+  const EnvironmentLight* light_ = nullptr;
+  std::optional<PixelIndex> pixel_;
 };
 
 struct ValueAndPdf {
@@ -65,10 +81,7 @@ class LightTechnique {
  public:
   LightTechnique(const EnvironmentLight& light, const LightSampleContext& context) : light_(light), context_(context) {}
 
-  TechniqueSample sample(float u0, float u1) const {
-    const LightSample s = light_.sample(context_, u0, u1);
-    return {s.direction, s.radiance, s.pdf};
-  }
+  TechniqueSample sample(float u0, float u1) const { return {light_, light_.sampleDirection(context_, u0, u1)}; }
   ValueAndPdf along(const Vec3d& w) const {
     const RadianceAndPdf r = light_.evalWithPdf(context_, w);
     return {r.radiance, r.pdf};
