@@ -114,6 +114,10 @@ void Geometry::intersectCoherent(std::span<const Ray> rays, std::span<std::optio
   if (hits.size() != rays.size()) throw std::invalid_argument("intersectCoherent: as many hits as rays");
   for (std::size_t first = 0; first < rays.size(); first += kPacketSize) {
     const std::size_t count = std::min(kPacketSize, rays.size() - first);
+    if (count < kMinPacketRays) {
+      for (std::size_t i = first; i < first + count; ++i) hits[i] = intersect(rays[i]);
+      continue;
+    }
     alignas(64) int valid[kPacketSize];
     alignas(64) RTCRayHit16 rh;
     for (std::size_t i = 0; i < kPacketSize; ++i) {

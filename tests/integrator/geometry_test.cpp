@@ -1,11 +1,12 @@
 // Ray queries (geometry.h): rays traced in Embree's packets find what each traced alone finds —
 // the same surface and side, the same point up to Embree's float distance — for full and partial
-// packets, hits and misses alike.
+// packets and rays too few for a packet, hits and misses alike.
 #include "acdf/integrator/geometry.h"
 
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -34,11 +35,18 @@ TEST(Geometry, PacketsFindTheHitsOfSingleRays) {
     const Vec3d target{4 * rng.nextDouble() - 2, 3 * rng.nextDouble() - 0.5, -2 * rng.nextDouble()};
     rays.push_back({origin, normalize(i % 5 == 4 ? Vec3d{0.1, 1, 0.2} : target - origin)});
   }
-  std::vector<std::optional<SurfaceHit>> packed(rays.size());
+  // The last 5 rays make a partial packet; without them, the last 2 are too few for one and go alone.
+  std::vector<std::optional<SurfaceHit>> packed(rays.size()), fewer(34);
   geometry.intersectCoherent(rays, packed);
+  geometry.intersectCoherent(std::span(rays).first(fewer.size()), fewer);
+  for (std::size_t i = 0; i < fewer.size(); ++i) ASSERT_EQ(fewer[i].has_value(), packed[i].has_value()) << i;
   std::size_t hits = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     SCOPED_TRACE("ray " + std::to_string(i));
+    if (i < fewer.size() && fewer[i]) {
+      EXPECT_EQ(fewer[i]->material, packed[i]->material);
+      EXPECT_NEAR(fewer[i]->distance, packed[i]->distance, 1e-5 * packed[i]->distance);
+    }
     const std::optional<SurfaceHit> single = geometry.intersect(rays[i]);
     ASSERT_EQ(packed[i].has_value(), single.has_value());
     if (!single) continue;

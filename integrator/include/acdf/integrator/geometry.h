@@ -54,8 +54,9 @@ class Geometry {
   std::optional<SurfaceHit> intersect(const Ray& ray) const;
   // intersect() of each of `rays` into `hits` (as many), traced kPacketSize at a time as Embree's
   // packets of coherent rays: a camera ray costs about half as much so (measured on the spheres'
-  // camera rays, 4 × 4 pixels a packet: 37 against 75 ns).
-  static constexpr std::size_t kPacketSize = 16;
+  // camera rays, 4 × 4 pixels a packet: 37 against 75 ns). A packet pays for all its lanes, so
+  // fewer than kMinPacketRays rays are traced one by one (1-spp renders were slower in packets).
+  static constexpr std::size_t kPacketSize = 16, kMinPacketRays = 4;
   void intersectCoherent(std::span<const Ray> rays, std::span<std::optional<SurfaceHit>> hits) const;
   // True if anything is hit along the ray at a distance in (0, maxDistance).
   bool occluded(const Ray& ray, double maxDistance) const;
