@@ -107,52 +107,11 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray) const {
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
-  return surfaceHit(ray, rh.ray.tfar, rh.hit.geomID, rh.hit.primID);
-}
-
-void Geometry::intersectCoherent(std::span<const Ray> rays, std::span<std::optional<SurfaceHit>> hits) const {
-  if (hits.size() != rays.size()) throw std::invalid_argument("intersectCoherent: as many hits as rays");
-  for (std::size_t first = 0; first < rays.size(); first += kPacketSize) {
-    const std::size_t count = std::min(kPacketSize, rays.size() - first);
-    if (count < kMinPacketRays) {
-      for (std::size_t i = first; i < first + count; ++i) hits[i] = intersect(rays[i]);
-      continue;
-    }
-    alignas(64) int valid[kPacketSize];
-    alignas(64) RTCRayHit16 rh;
-    for (std::size_t i = 0; i < kPacketSize; ++i) {
-      valid[i] = i < count ? -1 : 0;
-      const Ray& ray = rays[first + std::min(i, count - 1)];  // unused lanes repeat a valid ray
-      rh.ray.org_x[i] = static_cast<float>(ray.origin.x);
-      rh.ray.org_y[i] = static_cast<float>(ray.origin.y);
-      rh.ray.org_z[i] = static_cast<float>(ray.origin.z);
-      rh.ray.dir_x[i] = static_cast<float>(ray.direction.x);
-      rh.ray.dir_y[i] = static_cast<float>(ray.direction.y);
-      rh.ray.dir_z[i] = static_cast<float>(ray.direction.z);
-      rh.ray.tnear[i] = 0.0f;
-      rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-      rh.ray.time[i] = 0.0f;
-      rh.ray.mask[i] = ~0u;
-      rh.ray.id[i] = 0;
-      rh.ray.flags[i] = 0;
-      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    rtcIntersect16(valid, scene_, &context, &rh);
-    for (std::size_t i = 0; i < count; ++i)
-      hits[first + i] = surfaceHit(rays[first + i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i]);
-  }
-}
-
-std::optional<SurfaceHit> Geometry::surfaceHit(const Ray& ray, float t, unsigned geometryId,
-                                               unsigned primitiveId) const {
-  if (geometryId == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  if (geometryId == sphereGeometryId_) return sphereHit(ray, t, primitiveId);
-  const auto mesh = std::find(meshGeometryIds_.begin(), meshGeometryIds_.end(), geometryId);
-  return triangleHit(ray, t, static_cast<uint32_t>(mesh - meshGeometryIds_.begin()), primitiveId);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  const double t = rh.ray.tfar;
+  if (rh.hit.geomID == sphereGeometryId_) return sphereHit(ray, t, rh.hit.primID);
+  const auto mesh = std::find(meshGeometryIds_.begin(), meshGeometryIds_.end(), rh.hit.geomID);
+  return triangleHit(ray, t, static_cast<uint32_t>(mesh - meshGeometryIds_.begin()), rh.hit.primID);
 }
 
 bool Geometry::occluded(const Ray& ray, double maxDistance) const {

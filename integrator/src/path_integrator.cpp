@@ -124,16 +124,15 @@ double PathIntegrator::misWeight(double chosen, double other) const {
   return true;
 }
 
-Rgb PathIntegrator::radiance(const Ray& cameraRay, const std::optional<SurfaceHit>& cameraHit, Sampler& sampler,
-                             RayCounts& rays, const PathGuiding& guiding, uint32_t branches) const {
+Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
+                             uint32_t branches) const {
   PathState state(cameraRay, allowsIncompleteLightPdf(scene_.settings));
   PathRecorder recorder(guiding.records, guiding.lightRecords);
-  return walk(state, &cameraHit, 0, branches, sampler, rays, guiding, recorder);
+  return walk(state, 0, branches, sampler, rays, guiding, recorder);
 }
 
-Rgb PathIntegrator::walk(PathState& state, const std::optional<SurfaceHit>* traced, uint32_t firstDepth,
-                         uint32_t branches, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
-                         PathRecorder& recorder) const {
+Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
+                         const PathGuiding& guiding, PathRecorder& recorder) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
@@ -155,8 +154,7 @@ Rgb PathIntegrator::walk(PathState& state, const std::optional<SurfaceHit>* trac
     rays.add(depth);
     const bool weighsEscape = depth > 0 && bsdfSeesLight && sampleLight;
     if (weighsEscape && rays.escapesLikely()) env.prefetch(lightContext, ray.direction);
-    const std::optional<SurfaceHit> hit = traced ? *traced : scene_.geometry->intersect(ray);
-    traced = nullptr;
+    const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (depth > 0) {
       ++rays.continuations;
       rays.escapes += !hit;
@@ -234,7 +232,7 @@ Rgb PathIntegrator::walk(PathState& state, const std::optional<SurfaceHit>* trac
         PathState branchState = state;
         PathRecorder branchRecorder(guiding.records, guiding.lightRecords);
         if (extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
-          result += walk(branchState, nullptr, depth + 1, 1, sampler, rays, guiding, branchRecorder);
+          result += walk(branchState, depth + 1, 1, sampler, rays, guiding, branchRecorder);
       }
       break;
     }

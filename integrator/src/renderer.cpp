@@ -1,14 +1,11 @@
 #include "acdf/integrator/renderer.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
-#include <optional>
-#include <span>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -142,13 +139,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     forEachTile(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
       PassResult& out = tileResults[t];
-      // A pixel's samples go a packet at a time: their camera rays are traced together (Embree's
-      // packets), then each path on its own, with its own sampler.
-      constexpr std::size_t kPacket = Geometry::kPacketSize;
-      std::array<std::unique_ptr<Sampler>, kPacket> samplers;
-      for (auto& sampler : samplers) sampler = samplerPrototype->clone();
-      std::array<Ray, kPacket> cameraRays;
-      std::array<std::optional<SurfaceHit>, kPacket> cameraHits;
+      const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
       RayCounts tileRays;
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
@@ -156,29 +147,22 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
           const bool guided = !plan.compare || (fx + fy) % 2 == 0;
           const uint64_t raysBefore = tileRays.total;
           double sum = 0, sumSquares = 0;
-          for (uint32_t packetFirst = plan.first; packetFirst < plan.last; packetFirst += kPacket) {
-            const std::size_t count = std::min<std::size_t>(kPacket, plan.last - packetFirst);
-            for (std::size_t i = 0; i < count; ++i) {
-              samplers[i]->startPixelSample(fx, fy, packetFirst + static_cast<uint32_t>(i));
-              const auto [jx, jy] = samplers[i]->getPixel2D();
-              cameraRays[i] = camera.generateRay(fx + jx, fy + jy);
-            }
-            scene.geometry->intersectCoherent(std::span(cameraRays).first(count), std::span(cameraHits).first(count));
-            for (std::size_t i = 0; i < count; ++i) {
-              const uint32_t s = packetFirst + static_cast<uint32_t>(i);
-              const uint64_t sampleNumber = (uint64_t{fy} * camera.width() + fx) * passSamples + (s - plan.first);
-              const bool record = sampleNumber % plan.recordStride == 0;
-              out.recordedSamples += record && (plan.recordLight || plan.recordPaths);
-              const Rgb L = integrator.radiance(
-                  cameraRays[i], cameraHits[i], *samplers[i], tileRays,
-                  {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
-                   guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
-                  plan.branches);
-              film.add(x, y, L);
-              const double luminance = L.luminance();
-              sum += luminance;
-              sumSquares += luminance * luminance;
-            }
+          for (uint32_t s = plan.first; s < plan.last; ++s) {
+            sampler->startPixelSample(fx, fy, s);
+            const auto [jx, jy] = sampler->getPixel2D();
+            const Ray ray = camera.generateRay(fx + jx, fy + jy);
+            const uint64_t sampleNumber = (uint64_t{fy} * camera.width() + fx) * passSamples + (s - plan.first);
+            const bool record = sampleNumber % plan.recordStride == 0;
+            out.recordedSamples += record && (plan.recordLight || plan.recordPaths);
+            const Rgb L = integrator.radiance(
+                ray, *sampler, tileRays,
+                {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
+                 guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
+                plan.branches);
+            film.add(x, y, L);
+            const double luminance = L.luminance();
+            sum += luminance;
+            sumSquares += luminance * luminance;
           }
           if (plan.compare && passSamples > 1) {
             const double mean = sum / passSamples;

@@ -142,7 +142,7 @@ TEST(RayCounts, ContinuationsAndTheirEscapes) {
     RayCounts rays;
     for (uint32_t s = 0; s < 64; ++s) {
       sampler.startPixelSample(0, 0, s);
-      (void)integrator.radiance(towardsTheFloor, scene.geometry->intersect(towardsTheFloor), sampler, rays);
+      (void)integrator.radiance(towardsTheFloor, sampler, rays);
     }
     EXPECT_GE(rays.continuations, 64u);
     EXPECT_EQ(rays.escapes, sky ? rays.continuations : 0u);
@@ -162,8 +162,7 @@ TEST(Branching, EachBranchStartsBeforeItsFirstBsdfSample) {
     RecordingSampler sampler;
     sampler.startPixelSample(0, 0, 0);
     RayCounts rays;
-    (void)integrator.radiance(towardsTheFloor, scene.geometry->intersect(towardsTheFloor), sampler, rays, {},
-                            branches);
+    (void)integrator.radiance(towardsTheFloor, sampler, rays, {}, branches);
     std::vector<std::string> started;
     for (std::size_t i = 0; i < sampler.calls.size(); ++i)
       if (sampler.calls[i].starts_with("branch")) {

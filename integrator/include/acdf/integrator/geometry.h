@@ -6,7 +6,6 @@
 #include <array>
 #include <cstdint>
 #include <optional>
-#include <span>
 #include <vector>
 
 #include "acdf/integrator/camera.h"
@@ -52,12 +51,6 @@ class Geometry {
 
   // The closest hit with distance in (0, ∞), if any.
   std::optional<SurfaceHit> intersect(const Ray& ray) const;
-  // intersect() of each of `rays` into `hits` (as many), traced kPacketSize at a time as Embree's
-  // packets of coherent rays: a camera ray costs about half as much so (measured on the spheres'
-  // camera rays, 4 × 4 pixels a packet: 37 against 75 ns). A packet pays for all its lanes, so
-  // fewer than kMinPacketRays rays are traced one by one (1-spp renders were slower in packets).
-  static constexpr std::size_t kPacketSize = 16, kMinPacketRays = 4;
-  void intersectCoherent(std::span<const Ray> rays, std::span<std::optional<SurfaceHit>> hits) const;
   // True if anything is hit along the ray at a distance in (0, maxDistance).
   bool occluded(const Ray& ray, double maxDistance) const;
 
@@ -66,8 +59,6 @@ class Geometry {
   static Vec3d offsetOrigin(const SurfaceHit& hit, const Vec3d& direction);
 
  private:
-  // The hit Embree reported for `ray` (none for an invalid geometry id).
-  std::optional<SurfaceHit> surfaceHit(const Ray& ray, float t, unsigned geometryId, unsigned primitiveId) const;
   SurfaceHit sphereHit(const Ray& ray, double t, uint32_t index) const;
   SurfaceHit triangleHit(const Ray& ray, double t, uint32_t mesh, uint32_t triangle) const;
 

@@ -80,12 +80,11 @@ class PathIntegrator {
  public:
   explicit PathIntegrator(const Scene& scene);
 
-  // Radiance arriving along the camera ray, whose hit `cameraHit` the caller traced (in packets,
-  // Geometry::intersectCoherent), with the sampler started on its pixel sample and its pixel
-  // dimensions taken; it adds the rays it casts to `rays`, the camera ray included. The path
-  // branches `branches` ways at its first vertex (RenderSettings::branches).
-  Rgb radiance(const Ray& cameraRay, const std::optional<SurfaceHit>& cameraHit, Sampler& sampler, RayCounts& rays,
-               const PathGuiding& guiding = {}, uint32_t branches = 1) const;
+  // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
+  // pixel dimensions taken; it adds the rays it casts to `rays`. The path branches
+  // `branches` ways at its first vertex (RenderSettings::branches).
+  Rgb radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding = {},
+               uint32_t branches = 1) const;
 
   // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
@@ -113,10 +112,9 @@ class PathIntegrator {
     Vec3d lastPosition, lastNormal;
   };
   // The path from `state` on, its first vertex at `firstDepth` (branching `branches` ways there if it
-  // is vertex 0): the light it brings to the image. `traced`: the hit of state.ray, when the caller
-  // traced it (null: walk traces it).
-  Rgb walk(PathState& state, const std::optional<SurfaceHit>* traced, uint32_t firstDepth, uint32_t branches,
-           Sampler& sampler, RayCounts& rays, const PathGuiding& guiding, PathRecorder& recorder) const;
+  // is vertex 0): the light it brings to the image.
+  Rgb walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
+           const PathGuiding& guiding, PathRecorder& recorder) const;
   // Continues `state` from its vertex `hit` at `depth` along a BSDF sample, with `share` of its
   // weight, through Russian roulette: false where the path ends.
   bool extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf, uint32_t depth,

@@ -3,8 +3,7 @@
 // `sampleIndex` of a pixel, startPixelSample(), then values in [0, 1) one dimension at a time.
 // The values of a pixel sample depend on the pixel, the sample index and the seed alone — not on
 // the thread, nor on what was asked before — so an image is the same for any thread count, tile
-// order and split into passes. Each path of a packet (a pixel's samples traced together) has its
-// own clone().
+// order and split into passes. Each thread renders with its own clone().
 //
 // Dimensions, in the order PathIntegrator asks for them:
 //   getPixel2D()                  the position in the pixel (the camera ray);
