@@ -132,7 +132,7 @@ LightDirection EnvironmentLight::sampleDirectionWith(const LightSampleContext& c
         if (at < view.power) break;
       }
       const Vec3d w = portals_[chosen]->sample(view, std::clamp(at / view.power, 0.0, 1.0), clampUnit(u1));
-      const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+      const PixelIndex p = pixelOf(w);
       map_->prefetchRadiance(p);
       return {w, mixturePdf(context, seen, w, p), p};
     }
@@ -215,7 +215,7 @@ void EnvironmentLight::moveNormal(LightSampleContext& context, const Vec3d& norm
 }
 
 double EnvironmentLight::pdf(const LightSampleContext& context, const Vec3d& w) const {
-  const PixelIndex p = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  const PixelIndex p = pixelOf(w);
   return withPortalsSeen(context, [&](const PortalsSeen* seen) { return mixturePdf(context, seen, w, p); });
 }
 
@@ -227,14 +227,18 @@ void EnvironmentLight::prefetch(LightSampleContext& context, const Vec3d& w) con
   EscapePixelFound& found = context.escape.emplace();
   found.direction_ = w;
   found.light_ = id_;
-  found.pixel_ = map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  found.pixel_ = pixelOf(w);
   map_->prefetchRadiance(found.pixel_);
+}
+
+PixelIndex EnvironmentLight::pixelOf(const Vec3d& w) const {
+  return map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
 }
 
 PixelIndex EnvironmentLight::pixelOf(const LightSampleContext& context, const Vec3d& w) const {
   const std::optional<EscapePixelFound>& kept = context.escape;
   if (kept && kept->light_ == id_ && kept->direction_ == w) return kept->pixel_;
-  return map_->mapping().pixelOf(options_.worldFromMap.applyInverse(w));
+  return pixelOf(w);
 }
 
 RadianceAndPdf EnvironmentLight::evalWithPdf(const LightSampleContext& context, const Vec3d& w) const {

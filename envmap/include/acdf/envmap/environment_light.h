@@ -232,7 +232,9 @@ class EnvironmentLight {
   void movePosition(LightSampleContext& context, const Vec3d& position) const;
   void moveNormal(LightSampleContext& context, const Vec3d& normal) const;
   Rgb scaled(const Rgb& L) const;
-  // The map pixel of the world direction w, as prefetch() found it into `context` or found now.
+  // The map pixel of the world direction w; the second as prefetch() found it into `context`, or
+  // found now.
+  PixelIndex pixelOf(const Vec3d& w) const;
   PixelIndex pixelOf(const LightSampleContext& context, const Vec3d& w) const;
   // Local's density at map pixel p in a call with a normal (the pixel alone does not give it),
   // else none.
