@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -106,6 +107,8 @@ int runRender(const RenderArgs& args) {
     if (stats.branching.raysBefore) {
       j["rays_before_branching"] = *stats.branching.raysBefore;
       j["rays_per_branch"] = *stats.branching.raysAfter;
+      if (stats.branching.varianceBefore) j["variance_before_branching"] = *stats.branching.varianceBefore;
+      if (stats.branching.varianceAfter) j["variance_per_branch"] = *stats.branching.varianceAfter;
     }
     j["direct"] = toString(scene.settings.direct);
     if (scene.settings.direct == DirectLighting::Product) {
@@ -144,10 +147,13 @@ int runRender(const RenderArgs& args) {
     out += fmt::format("rendered  {} ({} x {}, {} spp) in {:.2f} s, set-up {:.0f} ms\n", args.scene, film.width(),
                        film.height(), stats.spp, stats.seconds, setupMs);
     out += fmt::format("speed     {:.3g} samples/s, {:.3g} rays/s\n", samplesPerSecond, raysPerSecond);
+    constexpr double unmeasured = std::numeric_limits<double>::quiet_NaN();
     if (const BranchingStats& b = stats.branching; b.branches > 1 || b.raysBefore)
       out += fmt::format("branches  {} per camera sample from its first vertex on{}\n", b.branches,
-                         b.raysBefore ? fmt::format(" (auto: {:.2f} rays per camera sample before, {:.2f} per branch)",
-                                                    *b.raysBefore, *b.raysAfter)
+                         b.raysBefore ? fmt::format(" (auto: {:.2f} rays per camera sample before, {:.2f} per branch;"
+                                                    " relative variance {:.3g} before, {:.3g} per branch)",
+                                                    *b.raysBefore, *b.raysAfter, b.varianceBefore.value_or(unmeasured),
+                                                    b.varianceAfter.value_or(unmeasured))
                                       : "");
     if (scene.settings.guiding != GuidingMode::Off) {
       const GuidingStats& g = stats.guiding;
@@ -207,9 +213,10 @@ Command addRender(CLI::App& parent) {
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
       "tables_from_cache, exr, png (and scene, width, height, rays, mis, branches, branched, direct,\n"
-      "guiding, portals, portal_count, sampler, env_sampling; rays_before_branching and\n"
-      "rays_per_branch under auto branching; escaped_share and found_portals, in the scene file's form,\n"
-      "when openings were looked for; candidates and bsdf_fraction under product direct lighting;\n"
+      "guiding, portals, portal_count, sampler, env_sampling; rays_before_branching, rays_per_branch,\n"
+      "variance_before_branching and variance_per_branch under auto branching; escaped_share and\n"
+      "found_portals, in the scene file's form, when openings were looked for; candidates and\n"
+      "bsdf_fraction under product direct lighting;\n"
       "guided, guiding_training_passes, guiding_gain, guiding_spatial_leaves, guiding_field_bytes and\n"
       "guiding_field_seconds unless guiding is off).\n"
       "\n"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <stdexcept>
 
 #include "acdf/integrator/product_direct_light.h"
 
@@ -125,14 +126,17 @@ double PathIntegrator::misWeight(double chosen, double other) const {
 }
 
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
-                             uint32_t branches) const {
+                             uint32_t branches, std::span<Rgb> branchLight) const {
+  if (!branchLight.empty() && branchLight.size() != branches)
+    throw std::invalid_argument("radiance: branchLight needs one entry per branch");
+  std::fill(branchLight.begin(), branchLight.end(), Rgb{});
   PathState state(cameraRay, allowsIncompleteLightPdf(scene_.settings));
   PathRecorder recorder(guiding.records, guiding.lightRecords);
-  return walk(state, 0, branches, sampler, rays, guiding, recorder);
+  return walk(state, 0, branches, sampler, rays, guiding, recorder, branchLight);
 }
 
 Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-                         const PathGuiding& guiding, PathRecorder& recorder) const {
+                         const PathGuiding& guiding, PathRecorder& recorder, std::span<Rgb> branchLight) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
@@ -231,8 +235,11 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
         sampler.startBranch(branch, branches);
         PathState branchState = state;
         PathRecorder branchRecorder(guiding.records, guiding.lightRecords);
-        if (extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
-          result += walk(branchState, depth + 1, 1, sampler, rays, guiding, branchRecorder);
+        if (!extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
+          continue;
+        const Rgb light = walk(branchState, depth + 1, 1, sampler, rays, guiding, branchRecorder);
+        result += light;
+        if (!branchLight.empty()) branchLight[branch] = light;
       }
       break;
     }

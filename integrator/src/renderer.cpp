@@ -1,11 +1,13 @@
 #include "acdf/integrator/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -55,14 +57,14 @@ std::vector<Tile> makeTiles(const Film& film, uint32_t size) {
 
 }  // namespace
 
-uint32_t branchesThatPay(double raysBefore, double raysAfter) {
-  if (!(raysAfter > 0)) return 1;  // nothing after the first vertex to branch
-  // Variance and cost per camera sample, V0 = 1.
-  const auto figure = [&](double k) { return (1.0 + kBranchVarianceRatio / k) * (raysBefore + k * raysAfter); };
+uint32_t branchesThatPay(double raysBefore, double raysAfter, double varianceBefore, double varianceAfter) {
+  if (!(raysAfter > 0) || !(varianceAfter > 0)) return 1;  // nothing after the first vertex to branch
+  const double v0 = std::max(0.0, varianceBefore);
+  const auto figure = [&](double k) { return (v0 + varianceAfter / k) * (raysBefore + k * raysAfter); };
   uint32_t best = 1;
   for (uint32_t k = 2; k <= kMaxAutoBranches; ++k)
     if (figure(k) < figure(best)) best = k;
-  return best;
+  return figure(best) * kBranchingMargin <= figure(1) ? best : 1;
 }
 
 Film makeFilm(const Scene& scene) { return Film(scene.camera->crop().width(), scene.camera->crop().height()); }
@@ -79,7 +81,37 @@ struct PassPlan {
   bool recordPaths = false;  // and about the radiance they carry
   uint64_t recordStride = 1;  // of its pixel samples, keep every this many's records
   uint32_t branches = 1;      // paths per camera sample from the first vertex on
+  bool measuresBranches = false;  // keep the branches' spread (a pass of one sample, kMeasuringBranches)
 };
+
+// What auto branching measures on the first sample of every pixel, rendered with
+// kMeasuringBranches branches, in kSpreadGroups groups of rows (row y in group y mod the count):
+// per group, sums over the camera samples of their luminance X and of (b1 − b2)² / 2 for the
+// branches' full estimates b1, b2 (each branch's light times the branch count), whose mean is the
+// variance of one branch after the first vertex (V1); and over horizontal pairs of neighbouring
+// pixels of (X_p − X_q)² / 2, whose mean is the variance of a camera sample with those branches
+// (V0 + V1 / 2), plus the pair's difference of means, which errs towards fewer branches. The
+// median over the groups decides: a few fireflies decide a mean of squares, and with it the
+// branch count, seed by seed, but only the group they fall in.
+constexpr std::size_t kSpreadGroups = 9;
+struct BranchSpread {
+  struct Group {
+    double sum = 0, branchSquares = 0, pairSquares = 0;
+    uint64_t samples = 0, pairs = 0;
+  };
+  std::array<Group, kSpreadGroups> groups{};
+
+  void add(const BranchSpread& o) {
+    for (std::size_t g = 0; g < kSpreadGroups; ++g) {
+      groups[g].sum += o.groups[g].sum;
+      groups[g].branchSquares += o.groups[g].branchSquares;
+      groups[g].pairSquares += o.groups[g].pairSquares;
+      groups[g].samples += o.groups[g].samples;
+      groups[g].pairs += o.groups[g].pairs;
+    }
+  }
+};
+constexpr uint32_t kMeasuringBranches = 2;
 
 // A half of the pixels of a comparing pass: sums of the pixels' luminance mean and variance.
 struct HalfStats {
@@ -106,6 +138,7 @@ struct PassResult {
   uint64_t recordedSamples = 0;
   HalfStats halves[2];  // guided, unguided (a comparing pass)
   RayCounts rays;
+  BranchSpread spread;  // a measuring pass's
 };
 
 // Records a pass may keep, about 100 MB: beyond it a pass keeps every k-th pixel sample's.
@@ -141,12 +174,14 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       PassResult& out = tileResults[t];
       const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
       RayCounts tileRays;
+      double leftLuminance = 0;  // a measuring pass's last pixel
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
           const bool guided = !plan.compare || (fx + fy) % 2 == 0;
           const uint64_t raysBefore = tileRays.total;
           double sum = 0, sumSquares = 0;
+          std::array<Rgb, kMeasuringBranches> branchLight;
           for (uint32_t s = plan.first; s < plan.last; ++s) {
             sampler->startPixelSample(fx, fy, s);
             const auto [jx, jy] = sampler->getPixel2D();
@@ -158,11 +193,24 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
                 ray, *sampler, tileRays,
                 {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
                  guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
-                plan.branches);
+                plan.branches, plan.measuresBranches ? std::span(branchLight) : std::span<Rgb>{});
             film.add(x, y, L);
             const double luminance = L.luminance();
             sum += luminance;
             sumSquares += luminance * luminance;
+            if (plan.measuresBranches) {
+              BranchSpread::Group& group = out.spread.groups[fy % kSpreadGroups];
+              const double spread = kMeasuringBranches * (branchLight[0].luminance() - branchLight[1].luminance());
+              group.branchSquares += 0.5 * spread * spread;
+              group.sum += luminance;
+              ++group.samples;
+              if ((x - tile.x0) % 2 == 1) {  // the pixel before it in the row, in this tile
+                const double difference = luminance - leftLuminance;
+                group.pairSquares += 0.5 * difference * difference;
+                ++group.pairs;
+              }
+              leftLuminance = luminance;
+            }
           }
           if (plan.compare && passSamples > 1) {
             const double mean = sum / passSamples;
@@ -198,6 +246,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       joined.recordedSamples += r.recordedSamples;
       joined.rays.total += r.rays.total;
       joined.rays.afterFirstVertex += r.rays.afterFirstVertex;
+      joined.spread.add(r.spread);
       rays += r.rays.total;
       for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
     }
@@ -251,15 +300,41 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     guidingStats.measuredGain = guided > 0 ? unguided / guided : 1.0;
     return *guidingStats.measuredGain >= kAutoGuidingGain;
   };
-  // Under auto branching, the first sample of every pixel, unbranched, measures what a branch costs.
+  // Under auto branching, the first sample of every pixel measures what a branch costs and lowers.
   const bool measuresBranches = scene.settings.branches == kAutoBranches;
   stats.branching.branches = measuresBranches ? 1 : scene.settings.branches;
   auto decideBranches = [&](const PassResult& first) {
     const double samples = static_cast<double>(pixels);
     const RayCounts& r = first.rays;
-    stats.branching.raysBefore = static_cast<double>(r.total - r.afterFirstVertex) / samples;
-    stats.branching.raysAfter = static_cast<double>(r.afterFirstVertex) / samples;
-    stats.branching.branches = branchesThatPay(*stats.branching.raysBefore, *stats.branching.raysAfter);
+    BranchingStats& b = stats.branching;
+    b.raysBefore = static_cast<double>(r.total - r.afterFirstVertex) / samples;
+    b.raysAfter = static_cast<double>(r.afterFirstVertex) / (samples * kMeasuringBranches);
+    b.branches = 1;
+    // Each group's variances relative to its squared mean luminance; a group that measured
+    // nothing (black, or tiles one pixel wide: no pairs) has none.
+    std::vector<double> before, after;
+    for (const BranchSpread::Group& g : first.spread.groups) {
+      if (g.samples == 0 || g.pairs == 0 || !(g.sum > 0)) continue;
+      const double mean = g.sum / static_cast<double>(g.samples);
+      const double v1 = g.branchSquares / static_cast<double>(g.samples) / (mean * mean);
+      after.push_back(v1);
+      before.push_back(g.pairSquares / static_cast<double>(g.pairs) / (mean * mean) - v1 / kMeasuringBranches);
+    }
+    if (after.empty()) return;
+    const auto median = [](std::vector<double>& v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    b.varianceBefore = median(before);
+    b.varianceAfter = median(after);
+    b.branches = branchesThatPay(*b.raysBefore, *b.raysAfter, *b.varianceBefore, *b.varianceAfter);
+  };
+  // The first sample of every pixel, branched as the measure needs.
+  auto measuringPlan = [] {
+    PassPlan plan{0, 1};
+    plan.branches = kMeasuringBranches;
+    plan.measuresBranches = true;
+    return plan;
   };
   auto finalPlan = [&](uint32_t first, uint32_t last) {
     PassPlan plan{first, last};
@@ -272,7 +347,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     const double budget = *options.seconds;
     auto fraction = [&] { return std::min(1.0, elapsed() / budget); };
     if (measuresBranches) {
-      decideBranches(renderPass(PassPlan{0, 1}, fraction(), 0.0));
+      decideBranches(renderPass(measuringPlan(), fraction(), 0.0));
       stats.spp = 1;
     }
     if (learns) {
@@ -305,7 +380,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     auto share = [&](uint32_t samples) { return static_cast<double>(samples) / total; };
     uint32_t done = 0;
     if (measuresBranches && total > 1) {
-      decideBranches(renderPass(PassPlan{0, 1}, 0.0, share(1)));
+      decideBranches(renderPass(measuringPlan(), 0.0, share(1)));
       done = 1;
     }
     if (learns && total >= done + 3) {

@@ -318,7 +318,8 @@ TEST(Consistency, BranchedRendersAgreeWithUnbranched) {
 
 // What branching is for: on the sky scene the light after the first vertex (the floor's and the
 // spheres' indirect light) is noisy, so 4 branches lower the image's standard error per camera
-// sample; auto gives it branches (a branch costs fewer rays than the camera sample's own work).
+// sample. Auto measures how much on its first samples: the variances before and after the first
+// vertex predict the ratio of the two renders' errors, and it branches as they say.
 TEST(Consistency, BranchesLowerTheErrorPerCameraSample) {
   const auto render = [](uint32_t branches) {
     SceneOverrides overrides;
@@ -334,11 +335,46 @@ TEST(Consistency, BranchesLowerTheErrorPerCameraSample) {
   EXPECT_LT(b.g, a.g);
   EXPECT_LT(b.b, a.b);
   const BranchingStats& chosen = automatic.stats.branching;
-  std::printf("auto: %u branches (%.2f rays before, %.2f per branch)\n", chosen.branches,
-              chosen.raysBefore.value_or(0), chosen.raysAfter.value_or(0));
-  EXPECT_GT(chosen.branches, 1u);
+  std::printf("auto: %u branches (%.2f rays before, %.2f per branch; variance %.4g before, %.4g per branch)\n",
+              chosen.branches, chosen.raysBefore.value_or(0), chosen.raysAfter.value_or(0),
+              chosen.varianceBefore.value_or(0), chosen.varianceAfter.value_or(0));
+  ASSERT_TRUE(chosen.varianceBefore && chosen.varianceAfter);
+  const double v0 = *chosen.varianceBefore, v1 = *chosen.varianceAfter;
+  EXPECT_GT(v1, 0.0);
+  // Variance with 1 branch over variance with 4, predicted and observed (green: most of the
+  // luminance the variances are measured in).
+  const double predicted = (v0 + v1) / (v0 + v1 / 4), observed = (a.g / b.g) * (a.g / b.g);
+  std::printf("error ratio squared, 1 vs 4 branches: predicted %.3f, observed %.3f\n", predicted, observed);
+  EXPECT_NEAR(predicted / observed, 1.0, 0.15);
+  EXPECT_EQ(chosen.branches, branchesThatPay(*chosen.raysBefore, *chosen.raysAfter, v0, v1));
   EXPECT_EQ(one.stats.branching.branches, 1u);
   EXPECT_FALSE(one.stats.branching.raysBefore);
+}
+
+// Where all of a sample's light comes after its first vertex and each point of it expects the same
+// (a floor far wider than the view, under the sky, lit by BSDF samples alone), the light before the
+// branches varies not at all: auto measures V0 about 0 and V1 positive. (A V0 left without the
+// branches' share of the sample's variance would be about V1 / 2.) Independent samples: Sobol's
+// two measuring branches are stratified against each other, which moves both measures.
+TEST(Consistency, AutoBranchingMeasuresNoVarianceBeforeTheFirstVertexWhereThereIsNone) {
+  nlohmann::json scene = {
+      {"camera", {{"eye", {0, 1, 0}}, {"target", {0.01, 0, 0}}, {"fov", 60}, {"width", 64}, {"height", 48}}},
+      {"render",
+       {{"spp", 2}, {"seed", 5}, {"max_depth", 1}, {"mis", "bsdf-only"}, {"branches", "auto"}, {"sampler", "independent"}}},
+      {"environment", {{"type", "map"}, {"file", smoothSky()}}},
+      {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", 0.5}}}}},
+      {"shapes",
+       {{{"type", "quad"},
+         {"corner", {-1000, 0, -1000}},
+         {"edge_u", {0, 0, 2000}},
+         {"edge_v", {2000, 0, 0}},
+         {"material", "floor"}}}},
+  };
+  const BranchingStats chosen = rendertest::renderScene(scene, {}).stats.branching;
+  ASSERT_TRUE(chosen.varianceBefore && chosen.varianceAfter);
+  std::printf("variance before the branches %.4g, per branch %.4g\n", *chosen.varianceBefore, *chosen.varianceAfter);
+  EXPECT_GT(*chosen.varianceAfter, 0.0);
+  EXPECT_LT(std::abs(*chosen.varianceBefore), 0.15 * *chosen.varianceAfter);
 }
 
 }  // namespace

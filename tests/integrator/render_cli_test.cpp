@@ -248,7 +248,7 @@ TEST_F(RenderCli, GuidingOnTheCommandLine) {
 }
 
 // --branches replaces the scene's choice (1 by default); --json reports the count rendered and,
-// under auto, the rays it was chosen from.
+// under auto, the rays and variances it was chosen from.
 TEST_F(RenderCli, BranchesOnTheCommandLine) {
   nlohmann::json scene = tinyScene();
   scene["environment"]["sampling"] = "uniform-sphere";
@@ -262,8 +262,10 @@ TEST_F(RenderCli, BranchesOnTheCommandLine) {
   EXPECT_EQ(a["branches"], "auto");
   EXPECT_TRUE(a["rays_before_branching"].is_number());
   EXPECT_TRUE(a["rays_per_branch"].is_number());
+  EXPECT_GT(a["variance_per_branch"].get<double>(), 0.0);
   EXPECT_EQ(a["branched"].get<uint32_t>(),
-            branchesThatPay(a["rays_before_branching"].get<double>(), a["rays_per_branch"].get<double>()));
+            branchesThatPay(a["rays_before_branching"].get<double>(), a["rays_per_branch"].get<double>(),
+                            a["variance_before_branching"].get<double>(), a["variance_per_branch"].get<double>()));
   for (const char* bad : {"0", "65", "many", "2.5"})
     expectOneLineFailure(runAcdf({"render", writeScene(scene), "-o", path("x.exr"), "--branches", bad}, dir_),
                          "acdf: render: --branches", "(auto or an integer in [1, 64])");

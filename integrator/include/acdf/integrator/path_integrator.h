@@ -40,6 +40,7 @@
 // the light its own light samples already find would spend the continuations on it again.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "acdf/integrator/camera.h"
@@ -82,9 +83,11 @@ class PathIntegrator {
 
   // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
   // pixel dimensions taken; it adds the rays it casts to `rays`. The path branches
-  // `branches` ways at its first vertex (RenderSettings::branches).
+  // `branches` ways at its first vertex (RenderSettings::branches). `branchLight`, if not empty
+  // (`branches` entries), receives each branch's part of the result (with its 1/branches share;
+  // 0 for a path that ends before branching): what a caller measuring their spread needs.
   Rgb radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding = {},
-               uint32_t branches = 1) const;
+               uint32_t branches = 1, std::span<Rgb> branchLight = {}) const;
 
   // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
@@ -114,7 +117,7 @@ class PathIntegrator {
   // The path from `state` on, its first vertex at `firstDepth` (branching `branches` ways there if it
   // is vertex 0): the light it brings to the image.
   Rgb walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-           const PathGuiding& guiding, PathRecorder& recorder) const;
+           const PathGuiding& guiding, PathRecorder& recorder, std::span<Rgb> branchLight = {}) const;
   // Continues `state` from its vertex `hit` at `depth` along a BSDF sample, with `share` of its
   // weight, through Russian roulette: false where the path ends.
   bool extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf, uint32_t depth,

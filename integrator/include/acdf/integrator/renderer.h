@@ -20,10 +20,12 @@
 // the next would end within half of it, and one-sample passes with the last field fill the rest.
 // Deterministic for a sample count: records are kept per tile and joined in tile order.
 //
-// Branching (RenderSettings::branches). Under auto the first sample of every pixel renders
-// unbranched and counts the rays cast before and after the first vertex's light sample; the rest
-// of the samples branch as branchesThatPay says. Renders of one sample do not branch. This comes
-// before guiding's passes.
+// Branching (RenderSettings::branches). Under auto the first sample of every pixel renders with
+// two branches and measures what a branch costs and what it lowers: the rays cast before and
+// after the first vertex's light sample, the spread of the two branches' estimates (the variance
+// after the first vertex) and that of neighbouring pixels' samples (the whole). The rest of the
+// samples branch as branchesThatPay says. Renders of one sample do not branch. This comes before
+// guiding's passes.
 
 #include <cstddef>
 #include <cstdint>
@@ -57,25 +59,27 @@ struct GuidingStats {
 // The gain `auto` needs to guide: the field's lookups cost time the ray count does not show.
 inline constexpr double kAutoGuidingGain = 1.2;
 
-// Under auto branching, the variance after the first vertex over the variance before it that
-// branchesThatPay assumes (the first samples cannot measure it: Sobol points lower the variance
-// before the first vertex far more with the sample count than the branches'; measured at 16-64
-// spp it is 1-3 in the interiors and on the cluster, 8-10 on the glossy spheres), and the most
-// branches it chooses.
-inline constexpr double kBranchVarianceRatio = 4.0;
+// The most branches auto chooses, and what their figure must promise: one measuring sample
+// decides, and where a few branches would gain less than this the decision flips from seed to
+// seed (the room: 2 branches promised 1.01x on one seed of three, and lose 9 %).
 inline constexpr uint32_t kMaxAutoBranches = 8;
+inline constexpr double kBranchingMargin = 1.05;
 
 // The branch count K in [1, kMaxAutoBranches] that makes variance times cost per camera sample,
-// (V0 + V1 / K)(c0 + K c1), least (about sqrt(V1 c0 / (V0 c1))), for rays per camera sample
-// c0 = `raysBefore` (the camera ray, the first vertex's shadow ray) and c1 = `raysAfter` (the
-// rest of an unbranched path), and V1 / V0 = kBranchVarianceRatio.
-uint32_t branchesThatPay(double raysBefore, double raysAfter);
+// (V0 + V1 / K)(c0 + K c1), least (about sqrt(V1 c0 / (V0 c1))), if that is kBranchingMargin
+// times less than with one branch (else 1), for rays per camera sample
+// c0 = `raysBefore` (the camera ray, the first vertex's shadow ray) and per branch c1 =
+// `raysAfter`, and the variance of the light before the first vertex's continuation
+// V0 = `varianceBefore` (negative counts as 0) and after it, per branch, V1 = `varianceAfter`.
+uint32_t branchesThatPay(double raysBefore, double raysAfter, double varianceBefore, double varianceAfter);
 
 struct BranchingStats {
   uint32_t branches = 1;  // of the last samples
-  // Under auto, rays per camera sample before and after the first vertex's light sample, measured
-  // on the first sample of every pixel.
-  std::optional<double> raysBefore, raysAfter;
+  // Under auto, measured on the first sample of every pixel: rays per camera sample before the
+  // first vertex's light sample and per branch after it, and the relative variances (over the
+  // squared mean luminance) before and after the first vertex's continuation, per sample (none
+  // where a black first sample or tiles one pixel wide leave nothing to measure: one branch then).
+  std::optional<double> raysBefore, raysAfter, varianceBefore, varianceAfter;
 };
 
 struct RenderStats {

@@ -97,8 +97,10 @@ struct RenderSettings {
   // carries 1/branches of its light. Pays where the light after the first bounce is the noisy
   // part and a branch costs less than the camera sample: 1.2-1.4x the efficiency on the open
   // scenes with glossy analytic materials, 1 branch is best in the interiors. Not by default: auto
-  // (renderer.h) counts rays, not what a measured material's vertex costs, and chose 2 branches
-  // where they lost 7-12 % (the demo, product.json; performance.md, "Branching").
+  // (renderer.h) measures the variances on one sample, before Sobol points lower the first
+  // vertex's, so it branches less than pays on the glossy scenes (2 branches, 1.04-1.25x, where 3
+  // give 1.2-1.4x), and its measuring sample costs 1-5 % of a 16-64-spp render where one branch
+  // is best (performance.md, "Auto branching measured").
   uint32_t branches = 1;
   SamplerKind sampler = SamplerKind::Sobol;
   DirectLighting direct = DirectLighting::Mis;
