@@ -25,7 +25,9 @@
 // after the first vertex's light sample, the spread of the two branches' estimates (the variance
 // after the first vertex) and that of neighbouring pixels' samples (the whole). The rest of the
 // samples branch as branchesThatPay says. Renders of one sample do not branch. This comes before
-// guiding's passes.
+// guiding's passes. Under Sobol points the measuring sample's branches read the points of samples
+// 0 and 1 from the first vertex's BSDF sample on (sampler.h), so where one branch follows, sample
+// 1 reads the second branch's again there: the two are correlated, each is unbiased.
 
 #include <cstddef>
 #include <cstdint>
