@@ -28,22 +28,22 @@ struct Tile {
   uint32_t x0, y0, x1, y1;  // in film pixels
 };
 
-// Runs renderTile(t) for every t < tiles, on TBB's workers. Under ThreadSanitizer the same calls
-// run on plain std::threads that take tile indices from an atomic counter, as many as the current
-// task arena allows: libtbb is not instrumented, so TSan cannot see its scheduler's
+// Runs job(i) for every i < count (a tile, a probe row), on TBB's workers. Under ThreadSanitizer
+// the same calls run on plain std::threads that take indices from an atomic counter, as many as
+// the current task arena allows: libtbb is not instrumented, so TSan cannot see its scheduler's
 // synchronisation and reports its reuse of task memory as races, which would bury real ones.
-template <class RenderTile>
-void forEachTile(std::size_t tiles, const RenderTile& renderTile) {
+template <class Job>
+void forEachInParallel(std::size_t count, const Job& job) {
 #ifdef ACDF_THREAD_SANITIZER
   std::atomic<std::size_t> next{0};
   auto work = [&] {
-    for (std::size_t t = next++; t < tiles; t = next++) renderTile(t);
+    for (std::size_t i = next++; i < count; i = next++) job(i);
   };
   std::vector<std::jthread> helpers;
   for (int i = 1; i < tbb::this_task_arena::max_concurrency(); ++i) helpers.emplace_back(work);
   work();
 #else
-  tbb::parallel_for(std::size_t{0}, tiles, renderTile);
+  tbb::parallel_for(std::size_t{0}, count, job);
 #endif
 }
 
@@ -81,37 +81,7 @@ struct PassPlan {
   bool recordPaths = false;  // and about the radiance they carry
   uint64_t recordStride = 1;  // of its pixel samples, keep every this many's records
   uint32_t branches = 1;      // paths per camera sample from the first vertex on
-  bool measuresBranches = false;  // keep the branches' spread (a pass of one sample, kMeasuringBranches)
 };
-
-// What auto branching measures on the first sample of every pixel, rendered with
-// kMeasuringBranches branches, in kSpreadGroups groups of rows (row y in group y mod the count):
-// per group, sums over the camera samples of their luminance X and of (b1 − b2)² / 2 for the
-// branches' full estimates b1, b2 (each branch's light times the branch count), whose mean is the
-// variance of one branch after the first vertex (V1); and over horizontal pairs of neighbouring
-// pixels of (X_p − X_q)² / 2, whose mean is the variance of a camera sample with those branches
-// (V0 + V1 / 2), plus the pair's difference of means, which errs towards fewer branches. The
-// median over the groups decides: a few fireflies decide a mean of squares, and with it the
-// branch count, seed by seed, but only the group they fall in.
-constexpr std::size_t kSpreadGroups = 9;
-struct BranchSpread {
-  struct Group {
-    double sum = 0, branchSquares = 0, pairSquares = 0;
-    uint64_t samples = 0, pairs = 0;
-  };
-  std::array<Group, kSpreadGroups> groups{};
-
-  void add(const BranchSpread& o) {
-    for (std::size_t g = 0; g < kSpreadGroups; ++g) {
-      groups[g].sum += o.groups[g].sum;
-      groups[g].branchSquares += o.groups[g].branchSquares;
-      groups[g].pairSquares += o.groups[g].pairSquares;
-      groups[g].samples += o.groups[g].samples;
-      groups[g].pairs += o.groups[g].pairs;
-    }
-  }
-};
-constexpr uint32_t kMeasuringBranches = 2;
 
 // A half of the pixels of a comparing pass: sums of the pixels' luminance mean and variance.
 struct HalfStats {
@@ -138,7 +108,6 @@ struct PassResult {
   uint64_t recordedSamples = 0;
   HalfStats halves[2];  // guided, unguided (a comparing pass)
   RayCounts rays;
-  BranchSpread spread;  // a measuring pass's
 };
 
 // Records a pass may keep, about 100 MB: beyond it a pass keeps every k-th pixel sample's.
@@ -147,6 +116,100 @@ constexpr uint64_t kMaxRecordsPerPass = uint64_t{1} << 22;
 // and lowered no variance (the room at 256 × 192, 64 spp: relative variance 0.531 from 1.3 M
 // records, 0.532 from 2.6 M, 0.577 from 0.33 M).
 constexpr std::size_t kEnoughRecords = std::size_t{1} << 20;
+
+// Auto branching's measure: one camera sample with kMeasuringBranches branches at each pixel of
+// kProbeRows × kProbeColumns pairs of horizontal neighbours spread over the full frame (not the
+// crop, so every crop of a frame decides alike), from a sampler of the scene's kind with a fixed
+// seed (so every seed does), none of them in the image. Per sample: the rays cast before the first
+// vertex's light sample and after it, and for the branches' full estimates b1, b2 (each branch's
+// light times the branch count) (b1 − b2)² / 2, whose mean is the variance of one branch after
+// the first vertex (V1); per pair, (X_p − X_q)² / 2 of the samples' luminance, whose mean is the
+// variance of a camera sample with those branches (V0 + V1 / 2), plus the pair's difference of
+// means, which errs towards fewer branches. In kSpreadGroups groups of probe rows, whose medians
+// decide: a few fireflies decide a mean of squares, and with it the branch count, but only the
+// group they fall in.
+constexpr uint32_t kMeasuringBranches = 2;
+constexpr uint32_t kProbeRows = 72, kProbeColumns = 96;
+constexpr std::size_t kSpreadGroups = 9;
+constexpr uint64_t kProbeSeed = 0x6272616e6368;
+
+BranchingStats measureBranching(const Scene& scene, const PathIntegrator& integrator) {
+  struct Group {
+    double sum = 0, branchSquares = 0, pairSquares = 0;
+    uint64_t samples = 0, pairs = 0;
+  };
+  const Camera& camera = *scene.camera;
+  BranchingStats stats;
+  if (camera.width() < 2) return stats;  // no neighbours
+  const std::unique_ptr<const Sampler> prototype =
+      makeSampler(scene.settings.sampler, kProbeSeed, camera.width());
+  const uint32_t rows = std::min(kProbeRows, camera.height()), columns = std::min(kProbeColumns, camera.width() / 2);
+  // Each probe row on its own (in parallel), joined in row order: the same sums for any threads.
+  struct Row {
+    Group group;
+    RayCounts rays;
+  };
+  std::vector<Row> probed(rows);
+  forEachInParallel(rows, [&](std::size_t j) {
+    Row& row = probed[j];
+    const std::unique_ptr<Sampler> sampler = prototype->clone();
+    const auto y = static_cast<uint32_t>((2 * j + 1) * camera.height() / (2 * rows));
+    for (uint32_t i = 0; i < columns; ++i) {
+      std::array<double, 2> luminance{};
+      for (uint32_t k = 0; k < 2; ++k) {
+        const uint32_t x = 2 * (i * camera.width() / (2 * columns)) + k;
+        sampler->startPixelSample(x, y, 0);
+        const auto [jx, jy] = sampler->getPixel2D();
+        std::array<Rgb, kMeasuringBranches> branchLight;
+        luminance[k] = integrator
+                           .radiance(camera.generateRay(x + jx, y + jy), *sampler, row.rays, {}, kMeasuringBranches,
+                                     branchLight)
+                           .luminance();
+        const double spread = kMeasuringBranches * (branchLight[0].luminance() - branchLight[1].luminance());
+        row.group.branchSquares += 0.5 * spread * spread;
+        row.group.sum += luminance[k];
+        ++row.group.samples;
+      }
+      const double difference = luminance[0] - luminance[1];
+      row.group.pairSquares += 0.5 * difference * difference;
+      ++row.group.pairs;
+    }
+  });
+  std::array<Group, kSpreadGroups> groups{};
+  RayCounts rays;
+  for (uint32_t j = 0; j < rows; ++j) {
+    Group& group = groups[j % kSpreadGroups];
+    const Row& row = probed[j];
+    group.sum += row.group.sum;
+    group.branchSquares += row.group.branchSquares;
+    group.pairSquares += row.group.pairSquares;
+    group.samples += row.group.samples;
+    group.pairs += row.group.pairs;
+    rays.total += row.rays.total;
+    rays.afterFirstVertex += row.rays.afterFirstVertex;
+  }
+  const double samples = 2.0 * rows * columns;
+  stats.raysBefore = static_cast<double>(rays.total - rays.afterFirstVertex) / samples;
+  stats.raysAfter = static_cast<double>(rays.afterFirstVertex) / (samples * kMeasuringBranches);
+  // Each group's variances relative to its squared mean luminance; a black group measures nothing.
+  std::vector<double> before, after;
+  for (const Group& g : groups) {
+    if (g.samples == 0 || !(g.sum > 0)) continue;
+    const double mean = g.sum / static_cast<double>(g.samples);
+    const double v1 = g.branchSquares / static_cast<double>(g.samples) / (mean * mean);
+    after.push_back(v1);
+    before.push_back(g.pairSquares / static_cast<double>(g.pairs) / (mean * mean) - v1 / kMeasuringBranches);
+  }
+  if (after.empty()) return stats;
+  const auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  stats.varianceBefore = median(before);
+  stats.varianceAfter = median(after);
+  stats.branches = branchesThatPay(*stats.raysBefore, *stats.raysAfter, *stats.varianceBefore, *stats.varianceAfter);
+  return stats;
+}
 
 }  // namespace
 
@@ -169,19 +232,17 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     tilesDone = 0;
     std::vector<PassResult> tileResults(tiles.size());
     const uint32_t passSamples = plan.last - plan.first;
-    forEachTile(tiles.size(), [&](std::size_t t) {
+    forEachInParallel(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
       PassResult& out = tileResults[t];
       const std::unique_ptr<Sampler> sampler = samplerPrototype->clone();
       RayCounts tileRays;
-      double leftLuminance = 0;  // a measuring pass's last pixel
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
           const bool guided = !plan.compare || (fx + fy) % 2 == 0;
           const uint64_t raysBefore = tileRays.total;
           double sum = 0, sumSquares = 0;
-          std::array<Rgb, kMeasuringBranches> branchLight;
           for (uint32_t s = plan.first; s < plan.last; ++s) {
             sampler->startPixelSample(fx, fy, s);
             const auto [jx, jy] = sampler->getPixel2D();
@@ -193,24 +254,11 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
                 ray, *sampler, tileRays,
                 {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
                  guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
-                plan.branches, plan.measuresBranches ? std::span(branchLight) : std::span<Rgb>{});
+                plan.branches);
             film.add(x, y, L);
             const double luminance = L.luminance();
             sum += luminance;
             sumSquares += luminance * luminance;
-            if (plan.measuresBranches) {
-              BranchSpread::Group& group = out.spread.groups[fy % kSpreadGroups];
-              const double spread = kMeasuringBranches * (branchLight[0].luminance() - branchLight[1].luminance());
-              group.branchSquares += 0.5 * spread * spread;
-              group.sum += luminance;
-              ++group.samples;
-              if ((x - tile.x0) % 2 == 1) {  // the pixel before it in the row, in this tile
-                const double difference = luminance - leftLuminance;
-                group.pairSquares += 0.5 * difference * difference;
-                ++group.pairs;
-              }
-              leftLuminance = luminance;
-            }
           }
           if (plan.compare && passSamples > 1) {
             const double mean = sum / passSamples;
@@ -244,9 +292,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       r.lightRecords = {};
       r.pathRecords = {};
       joined.recordedSamples += r.recordedSamples;
-      joined.rays.total += r.rays.total;
-      joined.rays.afterFirstVertex += r.rays.afterFirstVertex;
-      joined.spread.add(r.spread);
       rays += r.rays.total;
       for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
     }
@@ -300,42 +345,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     guidingStats.measuredGain = guided > 0 ? unguided / guided : 1.0;
     return *guidingStats.measuredGain >= kAutoGuidingGain;
   };
-  // Under auto branching, the first sample of every pixel measures what a branch costs and lowers.
-  const bool measuresBranches = scene.settings.branches == kAutoBranches;
-  stats.branching.branches = measuresBranches ? 1 : scene.settings.branches;
-  auto decideBranches = [&](const PassResult& first) {
-    const double samples = static_cast<double>(pixels);
-    const RayCounts& r = first.rays;
-    BranchingStats& b = stats.branching;
-    b.raysBefore = static_cast<double>(r.total - r.afterFirstVertex) / samples;
-    b.raysAfter = static_cast<double>(r.afterFirstVertex) / (samples * kMeasuringBranches);
-    b.branches = 1;
-    // Each group's variances relative to its squared mean luminance; a group that measured
-    // nothing (black, or tiles one pixel wide: no pairs) has none.
-    std::vector<double> before, after;
-    for (const BranchSpread::Group& g : first.spread.groups) {
-      if (g.samples == 0 || g.pairs == 0 || !(g.sum > 0)) continue;
-      const double mean = g.sum / static_cast<double>(g.samples);
-      const double v1 = g.branchSquares / static_cast<double>(g.samples) / (mean * mean);
-      after.push_back(v1);
-      before.push_back(g.pairSquares / static_cast<double>(g.pairs) / (mean * mean) - v1 / kMeasuringBranches);
-    }
-    if (after.empty()) return;
-    const auto median = [](std::vector<double>& v) {
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      return v[v.size() / 2];
-    };
-    b.varianceBefore = median(before);
-    b.varianceAfter = median(after);
-    b.branches = branchesThatPay(*b.raysBefore, *b.raysAfter, *b.varianceBefore, *b.varianceAfter);
-  };
-  // The first sample of every pixel, branched as the measure needs.
-  auto measuringPlan = [] {
-    PassPlan plan{0, 1};
-    plan.branches = kMeasuringBranches;
-    plan.measuresBranches = true;
-    return plan;
-  };
+  stats.branching = scene.settings.branches == kAutoBranches ? measureBranching(scene, integrator)
+                                                              : BranchingStats{scene.settings.branches};
   auto finalPlan = [&](uint32_t first, uint32_t last) {
     PassPlan plan{first, last};
     if (guidingStats.guided) plan.lightField = lightField.get(), plan.pathField = pathField.get();
@@ -346,10 +357,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
   if (options.seconds) {
     const double budget = *options.seconds;
     auto fraction = [&] { return std::min(1.0, elapsed() / budget); };
-    if (measuresBranches) {
-      decideBranches(renderPass(measuringPlan(), fraction(), 0.0));
-      stats.spp = 1;
-    }
     if (learns) {
       // The first two passes, then doubling ones while the next should end within half the budget.
       PassResult first = renderPass(recordingPlan(stats.spp, 1, false, false), fraction(), 0.0);
@@ -379,10 +386,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     const uint32_t total = scene.settings.spp;
     auto share = [&](uint32_t samples) { return static_cast<double>(samples) / total; };
     uint32_t done = 0;
-    if (measuresBranches && total > 1) {
-      decideBranches(renderPass(measuringPlan(), 0.0, share(1)));
-      done = 1;
-    }
     if (learns && total >= done + 3) {
       PassResult first = renderPass(recordingPlan(done, 1, false, false), share(done), share(1));
       learn(first);

@@ -79,21 +79,43 @@ TEST(Determinism, GuidedRendersAreTheSameForAnyThreadCount) {
       << "guiding must change the image";
 }
 
-// Branched paths read their branches' own sample points, and auto decides from ray counts summed
-// per tile: the same image for any thread count, and different from an unbranched one.
+// Branched paths read their branches' own sample points: the same image for any thread count,
+// and different from an unbranched one.
 TEST(Determinism, BranchedRendersAreTheSameForAnyThreadCount) {
-  for (const uint32_t branches : {3u, kAutoBranches}) {
-    for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
-      SceneOverrides overrides;
-      overrides.branches = branches;
-      overrides.sampler = sampler;
-      const Image one = renderWithThreads(1, smallScene(1), overrides);
-      EXPECT_EQ(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << toString(sampler);
-      EXPECT_EQ(one.pixels, renderWithThreads(4, smallScene(1), overrides).pixels) << toString(sampler);
-      overrides.branches = 1;
-      EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << "branching must change it";
-    }
+  for (const SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+    SceneOverrides overrides;
+    overrides.branches = 3;
+    overrides.sampler = sampler;
+    const Image one = renderWithThreads(1, smallScene(1), overrides);
+    EXPECT_EQ(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << toString(sampler);
+    EXPECT_EQ(one.pixels, renderWithThreads(4, smallScene(1), overrides).pixels) << toString(sampler);
+    overrides.branches = 1;
+    EXPECT_NE(one.pixels, renderWithThreads(2, smallScene(1), overrides).pixels) << "branching must change it";
   }
+}
+
+// Auto's probe (renderer.h) has its own seed and ignores the crop: the branch count it chooses is the
+// scene's, the same for any thread count and seed, and the image is the one that count renders.
+TEST(Determinism, AutoBranchingChoosesTheSameForAnyThreadCountAndSeed) {
+  nlohmann::json scene = smallScene(1);
+  scene["render"]["spp"] = 2;
+  SceneOverrides overrides;
+  overrides.branches = kAutoBranches;
+  std::vector<BranchingStats> chosen;
+  for (const int threads : {1, 2, 4}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { chosen.push_back(rendertest::renderScene(scene, overrides).stats.branching); });
+  }
+  chosen.push_back(rendertest::renderScene(smallScene(2), overrides).stats.branching);
+  for (const BranchingStats& b : chosen) {
+    ASSERT_TRUE(b.varianceBefore && b.varianceAfter);
+    EXPECT_EQ(b.branches, chosen[0].branches);
+    EXPECT_EQ(*b.varianceBefore, *chosen[0].varianceBefore);
+    EXPECT_EQ(*b.varianceAfter, *chosen[0].varianceAfter);
+  }
+  const rendertest::Rendered automatic = rendertest::renderScene(scene, overrides);
+  overrides.branches = chosen[0].branches;
+  EXPECT_EQ(automatic.film.image().pixels, rendertest::renderScene(scene, overrides).film.image().pixels);
 }
 
 // The calls a path makes on its sampler, in order, with the values of a Sobol sampler behind them.

@@ -247,7 +247,7 @@ TEST_F(RenderCli, GuidingOnTheCommandLine) {
                        "acdf: render: --guiding", "off, light, paths or auto");
 }
 
-// --branches replaces the scene's choice (1 by default); --json reports the count rendered and,
+// --branches replaces the scene's choice (auto by default); --json reports the count rendered and,
 // under auto, the rays and variances it was chosen from.
 TEST_F(RenderCli, BranchesOnTheCommandLine) {
   nlohmann::json scene = tinyScene();
@@ -257,7 +257,7 @@ TEST_F(RenderCli, BranchesOnTheCommandLine) {
   EXPECT_EQ(j["branches"], "3");
   EXPECT_EQ(j["branched"], 3);
   EXPECT_FALSE(j.contains("rays_per_branch"));
-  EXPECT_EQ(renderSummary(scene, "plain.exr")["branches"], "1");
+  EXPECT_EQ(renderSummary(scene, "plain.exr")["branches"], "auto");
   const auto a = renderSummary(scene, "auto.exr", {"--branches", "auto"});
   EXPECT_EQ(a["branches"], "auto");
   EXPECT_TRUE(a["rays_before_branching"].is_number());

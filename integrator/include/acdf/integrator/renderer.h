@@ -20,14 +20,13 @@
 // the next would end within half of it, and one-sample passes with the last field fill the rest.
 // Deterministic for a sample count: records are kept per tile and joined in tile order.
 //
-// Branching (RenderSettings::branches). Under auto the first sample of every pixel renders with
-// two branches and measures what a branch costs and what it lowers: the rays cast before and
-// after the first vertex's light sample, the spread of the two branches' estimates (the variance
-// after the first vertex) and that of neighbouring pixels' samples (the whole). The rest of the
-// samples branch as branchesThatPay says. Renders of one sample do not branch. This comes before
-// guiding's passes. Under Sobol points the measuring sample's branches read the points of samples
-// 0 and 1 from the first vertex's BSDF sample on (sampler.h), so where one branch follows, sample
-// 1 reads the second branch's again there: the two are correlated, each is unbiased.
+// Branching (RenderSettings::branches). Under auto, before the first pass, a probe of a few
+// thousand camera samples spread over the full frame, each with two branches and none of them in
+// the image, measures what a branch costs and what it lowers: the rays cast before and after the
+// first vertex's light sample, the spread of the two branches' estimates (the variance after the
+// first vertex) and that of neighbouring pixels' samples (the whole). Every sample then branches
+// as branchesThatPay says. The probe's seed is fixed and it ignores the crop, so the choice is the
+// scene's: the same for every seed, crop and time budget.
 
 #include <cstddef>
 #include <cstdint>
@@ -61,9 +60,9 @@ struct GuidingStats {
 // The gain `auto` needs to guide: the field's lookups cost time the ray count does not show.
 inline constexpr double kAutoGuidingGain = 1.2;
 
-// The most branches auto chooses, and what their figure must promise: one measuring sample
-// decides, and where a few branches would gain less than this the decision flips from seed to
-// seed (the room: 2 branches promised 1.01x on one seed of three, and lose 9 %).
+// The most branches auto chooses, and what their figure must promise: where branches would gain
+// less than this the probe's noise decides (the room: 2 branches promised 1.01x in one measure,
+// and lose 9 %).
 inline constexpr uint32_t kMaxAutoBranches = 8;
 inline constexpr double kBranchingMargin = 1.05;
 
@@ -77,10 +76,10 @@ uint32_t branchesThatPay(double raysBefore, double raysAfter, double varianceBef
 
 struct BranchingStats {
   uint32_t branches = 1;  // of the last samples
-  // Under auto, measured on the first sample of every pixel: rays per camera sample before the
-  // first vertex's light sample and per branch after it, and the relative variances (over the
-  // squared mean luminance) before and after the first vertex's continuation, per sample (none
-  // where a black first sample or tiles one pixel wide leave nothing to measure: one branch then).
+  // Under auto, what the probe measured: rays per camera sample before the first vertex's light
+  // sample and per branch after it, and the relative variances (over the squared mean luminance)
+  // before and after the first vertex's continuation, per sample (none where the probe saw only
+  // black, or a frame one pixel wide has no neighbours: one branch then).
   std::optional<double> raysBefore, raysAfter, varianceBefore, varianceAfter;
 };
 

@@ -96,12 +96,11 @@ struct RenderSettings {
   // vertex and that vertex's light sample are shared, each branch has its own BSDF sample and
   // carries 1/branches of its light. Pays where the light after the first bounce is the noisy
   // part and a branch costs less than the camera sample: 1.2-1.4x the efficiency on the open
-  // scenes with glossy analytic materials, 1 branch is best in the interiors. Not by default: auto
-  // (renderer.h) measures the variances on one sample, before Sobol points lower the first
-  // vertex's, so it branches less than pays on the glossy scenes (2 branches, 1.04-1.25x, where 3
-  // give 1.2-1.4x), and its measuring sample costs 1-5 % of a 16-64-spp render where one branch
-  // is best (performance.md, "Auto branching measured").
-  uint32_t branches = 1;
+  // scenes with glossy analytic materials, 1 branch is best in the interiors. Auto by default
+  // (renderer.h: a probe of a few thousand samples measures both): 2 branches on the glossy
+  // spheres (1.25x) and conductors, 1 on the other example scenes (performance.md, "Auto branching
+  // measured").
+  uint32_t branches = kAutoBranches;
   SamplerKind sampler = SamplerKind::Sobol;
   DirectLighting direct = DirectLighting::Mis;
   ProductSamplingOptions product{};  // under DirectLighting::Product
