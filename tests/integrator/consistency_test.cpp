@@ -318,8 +318,8 @@ TEST(Consistency, BranchedRendersAgreeWithUnbranched) {
 
 // What branching is for: on the sky scene the light after the first vertex (the floor's and the
 // spheres' indirect light) is noisy, so 4 branches lower the image's standard error per camera
-// sample. Auto measures how much on its first samples: the variances before and after the first
-// vertex predict the ratio of the two renders' errors, and it branches as they say.
+// sample. Auto's probe measures how much: the variances before and after the first vertex
+// predict the ratio of the two renders' errors, and it branches as they say.
 TEST(Consistency, BranchesLowerTheErrorPerCameraSample) {
   const auto render = [](uint32_t branches) {
     SceneOverrides overrides;

@@ -98,7 +98,7 @@ struct RenderSettings {
   // part and a branch costs less than the camera sample: 1.2-1.4x the efficiency on the open
   // scenes with glossy analytic materials, 1 branch is best in the interiors. Auto by default
   // (renderer.h: a probe of a few thousand samples measures both): 2 branches on the glossy
-  // spheres (1.25x) and conductors, 1 on the other example scenes (performance.md, "Auto branching
+  // spheres (1.24x) and conductors, 1 on the other example scenes (performance.md, "Auto branching
   // measured").
   uint32_t branches = kAutoBranches;
   SamplerKind sampler = SamplerKind::Sobol;
