@@ -7,7 +7,6 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
-#include <span>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -345,8 +344,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     guidingStats.measuredGain = guided > 0 ? unguided / guided : 1.0;
     return *guidingStats.measuredGain >= kAutoGuidingGain;
   };
-  stats.branching = scene.settings.branches == kAutoBranches ? measureBranching(scene, integrator)
-                                                              : BranchingStats{scene.settings.branches};
+  stats.branching.branches = scene.settings.branches;
+  if (scene.settings.branches == kAutoBranches) stats.branching = measureBranching(scene, integrator);
   auto finalPlan = [&](uint32_t first, uint32_t last) {
     PassPlan plan{first, last};
     if (guidingStats.guided) plan.lightField = lightField.get(), plan.pathField = pathField.get();

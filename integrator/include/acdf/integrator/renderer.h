@@ -20,9 +20,9 @@
 // the next would end within half of it, and one-sample passes with the last field fill the rest.
 // Deterministic for a sample count: records are kept per tile and joined in tile order.
 //
-// Branching (RenderSettings::branches). Under auto, before the first pass, a probe of a few
-// thousand camera samples spread over the full frame, each with two branches and none of them in
-// the image, measures what a branch costs and what it lowers: the rays cast before and after the
+// Branching (RenderSettings::branches). Under auto, before the first pass, a probe of 13,824
+// camera samples spread over the full frame, each with two branches and none of them in the
+// image, measures what a branch costs and what it lowers: the rays cast before and after the
 // first vertex's light sample, the spread of the two branches' estimates (the variance after the
 // first vertex) and that of neighbouring pixels' samples (the whole). Every sample then branches
 // as branchesThatPay says. The probe's seed is fixed and it ignores the crop, so the choice is the
