@@ -32,7 +32,7 @@ struct RenderArgs {
   std::optional<uint32_t> spp;
   std::optional<double> seconds;
   std::optional<uint64_t> seed;
-  std::string mis, sampler, bsdfSampling, envSampling, direct, guiding, portals;
+  std::string mis, sampler, bsdfSampling, envSampling, direct, guiding, portals, lightPaths;
   std::optional<uint32_t> candidates;
   std::string branches;
   std::vector<uint32_t> crop;
@@ -56,6 +56,8 @@ int runRender(const RenderArgs& args) {
   if (!args.branches.empty()) overrides.branches = parseOption("render", "--branches", args.branches, parseBranches);
   if (!args.guiding.empty()) overrides.guiding = parseOption("render", "--guiding", args.guiding, parseGuidingMode);
   if (!args.portals.empty()) overrides.portals = parseOption("render", "--portals", args.portals, parsePortalSource);
+  if (!args.lightPaths.empty())
+    overrides.lightPaths = parseOption("render", "--light-paths", args.lightPaths, parseLightPathMode);
   if (!args.sampler.empty()) overrides.sampler = parseOption("render", "--sampler", args.sampler, parseSamplerKind);
   if (!args.bsdfSampling.empty())
     overrides.bsdfSampling = parseOption("render", "--bsdf-sampling", args.bsdfSampling, parseBrdfSampling);
@@ -127,6 +129,9 @@ int runRender(const RenderArgs& args) {
     }
     j["portals"] = toString(scene.settings.portals);
     j["portal_count"] = scene.environment->options().portals.size();
+    j["light_paths"] = toString(scene.settings.lightPaths);
+    j["connects_light_paths"] = stats.connectsLightPaths;
+    j["light_path_gain"] = stats.lightPathGain ? nlohmann::json(*stats.lightPathGain) : nlohmann::json();
     if (scene.openingSearch) {
       j["escaped_share"] = scene.openingSearch->escapedShare();
       j["found_portals"] = nlohmann::json::array();
@@ -207,13 +212,16 @@ Command addRender(CLI::App& parent) {
       "                   sees; paths: also the radiance paths carry; auto: light where it pays)\n"
       "  --portals        auto | declared | none  (auto: the scene's portals, or where it declares none\n"
       "                   the openings found by tracing from what the camera sees)\n"
+      "  --light-paths    auto | on | off  (where the light has portals, every vertex connects to a light\n"
+      "                   path entering through them; auto: where a probe measures that it pays; not\n"
+      "                   under guiding, product direct lighting or one-technique MIS)\n"
       "Outputs: a linear float EXR and an sRGB PNG preview (clamped, no tone mapping), each written to a\n"
       "temporary file and renamed. A progress bar is drawn on a terminal only.\n"
       "Sampling tables are cached in $XDG_CACHE_HOME/acdf (else ~/.cache/acdf; docs/table-cache.md):\n"
       "a corrupt or stale file is rebuilt with a warning; --no-cache bypasses the cache.\n"
       "--json keys: seconds, setup_ms, spp, samples_per_second, rays_per_second, tables_built,\n"
       "tables_from_cache, exr, png (and scene, width, height, rays, mis, branches, branched, direct,\n"
-      "guiding, portals, portal_count, sampler, env_sampling; rays_before_branching, rays_per_branch,\n"
+      "guiding, portals, portal_count, light_paths, connects_light_paths, sampler, env_sampling; rays_before_branching, rays_per_branch,\n"
       "variance_before_branching and variance_per_branch under auto branching; escaped_share and\n"
       "found_portals, in the scene file's form, when openings were looked for; candidates and\n"
       "bsdf_fraction under product direct lighting;\n"
@@ -237,6 +245,7 @@ Command addRender(CLI::App& parent) {
   app->add_option("--sampler", args->sampler, "independent | sobol (the sample source)");
   app->add_option("--guiding", args->guiding, "off | light | paths | auto (guiding learned as it renders)");
   app->add_option("--portals", args->portals, "auto | declared | none (the environment's portals)");
+  app->add_option("--light-paths", args->lightPaths, "auto | on | off (connections to light paths through the portals)");
   app->add_option("--bsdf-sampling", args->bsdfSampling, "cosine | uniform | adaptive | rgl");
   app->add_option("--env-sampling", args->envSampling, environmentSamplingNames(" | "));
   app->add_option("--crop", args->crop, "Render only pixels x0,y0,x1,y1 of the frame (x1, y1 exclusive)")

@@ -87,14 +87,47 @@ GuidedMixture<LightTechnique> PathIntegrator::guidedLight(const LightSampleConte
   return {LightTechnique(*scene_.environment, context), field, kGuidedLightShare};
 }
 
-double PathIntegrator::misWeight(double chosen, double other) const {
+double PathIntegrator::misWeight(double chosen, double other, double third) const {
   switch (scene_.settings.mis) {
-    case MisMode::Power: return chosen * chosen / (chosen * chosen + other * other);
-    case MisMode::Balance: return chosen / (chosen + other);
+    case MisMode::Power: return chosen * chosen / (chosen * chosen + other * other + third * third);
+    case MisMode::Balance: return chosen / (chosen + other + third);
     case MisMode::BsdfOnly:
     case MisMode::LightOnly: break;
   }
   return 1.0;  // single-strategy modes never combine
+}
+
+double PathIntegrator::misWeightBesideConnection(double chosen, double other, double reached,
+                                                 double connection) const {
+  if (!(reached > 0) || !(connection > 0)) return misWeight(chosen, other);
+  return misWeight(reached * chosen, reached * other, connection);
+}
+
+Rgb PathIntegrator::connect(const SurfaceHit& hit, const BrdfVertex& material, const Frame& frame,
+                            const GuidedMixture<BsdfTechnique>& bsdf, const LightVertex& light, double successShare,
+                            RayCounts& rays, uint32_t depth) const {
+  const Vec3d toLightVertex = light.hit.position - hit.position;
+  const double distanceSquared = dot(toLightVertex, toLightVertex);
+  const Vec3d direction = toLightVertex * (1.0 / std::sqrt(distanceSquared));
+  const Vec3d wi = frame.toLocal(direction);
+  const double cosineThere = -dot(light.hit.normal, direction);
+  if (!(wi.z > 0) || !(cosineThere > 0)) return {};
+  const Rgb f = material.eval(wi);
+  if (f.isBlack()) return {};
+  const Frame lightFrame(light.hit.normal, light.hit.tangentHint);
+  const BrdfVertex there = scene_.bsdfSamplers[light.hit.material]->vertex(lightFrame.toLocal(-direction));
+  const Vec3d wiThere = lightFrame.toLocal(light.toLight);
+  const Rgb fThere = there.eval(wiThere);
+  if (fThere.isBlack()) return {};
+  rays.add(depth);
+  const Vec3d from = Geometry::offsetOrigin(hit, direction), to = Geometry::offsetOrigin(light.hit, -direction);
+  const Vec3d shadow = to - from;
+  const double shadowLength = length(shadow);
+  if (scene_.geometry->occluded({from, shadow * (1.0 / shadowLength)}, shadowLength)) return {};
+  const double geometry = wi.z * cosineThere / distanceSquared;
+  const double reached = bsdf.pdf(direction) * cosineThere / distanceSquared;
+  const double weight = misWeight(light.density, reached * light.lightPdf, reached * there.pdf(wiThere));
+  return f * fThere * light.radianceOverPdf * static_cast<float>(geometry * successShare * weight);
 }
 
 [[gnu::always_inline]] inline bool PathIntegrator::extend(PathState& state, const SurfaceHit& hit,
@@ -126,22 +159,26 @@ double PathIntegrator::misWeight(double chosen, double other) const {
 }
 
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
-                             uint32_t branches, std::span<Rgb> branchLight) const {
+                             uint32_t branches, std::span<Rgb> branchLight, const LightPathPool* lightPaths) const {
   if (!branchLight.empty() && branchLight.size() != branches)
     throw std::invalid_argument("radiance: branchLight needs one entry per branch");
   std::fill(branchLight.begin(), branchLight.end(), Rgb{});
   PathState state(cameraRay, allowsIncompleteLightPdf(scene_.settings));
   PathRecorder recorder(guiding.records, guiding.lightRecords);
-  return walk(state, 0, branches, sampler, rays, guiding, recorder, branchLight);
+  return walk(state, 0, branches, sampler, rays, guiding, lightPaths, recorder, branchLight);
 }
 
 Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-                         const PathGuiding& guiding, PathRecorder& recorder, std::span<Rgb> branchLight) const {
+                         const PathGuiding& guiding, const LightPathPool* lightPaths, PathRecorder& recorder,
+                         std::span<Rgb> branchLight) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
   const bool sampleLight = drawsLightSamples(scene_.settings);
   const bool bsdfSeesLight = !product && mis != MisMode::LightOnly;
+  // Connections need all three densities: a light sample, an escape that sees the light, no field.
+  const bool connects = lightPaths && sampleLight && bsdfSeesLight && !guiding.field && !guiding.lightField;
+  if (lightPaths && !connects) throw std::invalid_argument("radiance: light paths need unguided MIS light sampling");
   // The normal and position are those of the vertex being lit; after a BSDF sample they stay those
   // of the vertex the sample left, for the pdf of the light the sample may reach.
   LightSampleContext& lightContext = state.lightContext;
@@ -171,7 +208,10 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
       } else if (weighsEscape) {
         const ValueAndPdf light = guidedLight(lightContext, state.lightField).along(ray.direction);
         seen = light.value;
-        weight = static_cast<float>(misWeight(state.bsdfPdf, light.pdf));
+        const double connection = connects && state.reachedDensity > 0
+                                      ? lightPaths->source().density(state.lastPosition, state.lastNormal, ray.direction)
+                                      : 0.0;
+        weight = static_cast<float>(misWeightBesideConnection(state.bsdfPdf, light.pdf, state.reachedDensity, connection));
       } else if (bsdfSeesLight || recorder.recordsLight()) {
         seen = env.eval(ray.direction);
         weight = bsdfSeesLight ? 1.0f : 0.0f;
@@ -183,6 +223,11 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
     }
     if (depth >= scene_.settings.maxDepth) break;
     sampler.startVertex(depth);
+    // Per unit area, reached by the previous vertex's BSDF sample, which that vertex's connection
+    // covers too (it connected: this vertex is within the maximum depth).
+    const double reached = connects && depth > 0 ? state.bsdfPdf * std::abs(dot(hit->normal, ray.direction)) /
+                                                       (hit->distance * hit->distance)
+                                                 : 0.0;
 
     const Frame frame(hit->normal, hit->tangentHint);
     // The material at ωo, found once for the direct light's calls and the continuation.
@@ -220,13 +265,23 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
           arriving = light.value();
           const Rgb f = material.eval(wi);
           if (!f.isBlack() && !arriving.isBlack()) {
-            const double weight = bsdfSeesLight ? misWeight(light.pdf, bsdf.pdf(light.direction)) : 1.0;
+            const double connection =
+                reached > 0 ? lightPaths->source().density(hit->position, hit->normal, light.direction) : 0.0;
+            const double weight =
+                bsdfSeesLight ? misWeightBesideConnection(light.pdf, bsdf.pdf(light.direction), reached, connection)
+                              : 1.0;
             add(f * arriving * static_cast<float>(wi.z * weight / light.pdf));
           }
         }
       }
       recorder.light(hit->position, hit->normal, light.direction, arriving, light.pdf);
+      // The light sample's second value picks the light path vertex too: the two estimates are
+      // each unbiased, whatever their correlation.
+      if (connects && depth + 1 < scene_.settings.maxDepth)
+        if (const LightVertex* vertex = lightPaths->pick(u1))
+          add(connect(*hit, material, frame, bsdf, *vertex, lightPaths->successShare(), rays, depth));
     }
+    state.reachedDensity = reached;
 
     if (depth == 0 && branches > 1) {
       // Branched at the first vertex: each branch continues a copy of the path with its own BSDF
@@ -237,7 +292,7 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
         PathRecorder branchRecorder(guiding.records, guiding.lightRecords);
         if (!extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
           continue;
-        const Rgb light = walk(branchState, depth + 1, 1, sampler, rays, guiding, branchRecorder);
+        const Rgb light = walk(branchState, depth + 1, 1, sampler, rays, guiding, lightPaths, branchRecorder);
         result += light;
         if (!branchLight.empty()) branchLight[branch] = light;
       }

@@ -7,17 +7,13 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
-#include <tbb/parallel_for.h>
-#ifdef ACDF_THREAD_SANITIZER
-#include <thread>
-
-#include <tbb/task_arena.h>
-#endif
-
+#include "acdf/integrator/light_paths.h"
 #include "acdf/integrator/path_integrator.h"
 #include "acdf/integrator/sampler.h"
+#include "parallel.h"
 
 namespace acdf {
 
@@ -26,25 +22,6 @@ namespace {
 struct Tile {
   uint32_t x0, y0, x1, y1;  // in film pixels
 };
-
-// Runs job(i) for every i < count (a tile, a probe row), on TBB's workers. Under ThreadSanitizer
-// the same calls run on plain std::threads that take indices from an atomic counter, as many as
-// the current task arena allows: libtbb is not instrumented, so TSan cannot see its scheduler's
-// synchronisation and reports its reuse of task memory as races, which would bury real ones.
-template <class Job>
-void forEachInParallel(std::size_t count, const Job& job) {
-#ifdef ACDF_THREAD_SANITIZER
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t i = next++; i < count; i = next++) job(i);
-  };
-  std::vector<std::jthread> helpers;
-  for (int i = 1; i < tbb::this_task_arena::max_concurrency(); ++i) helpers.emplace_back(work);
-  work();
-#else
-  tbb::parallel_for(std::size_t{0}, count, job);
-#endif
-}
 
 std::vector<Tile> makeTiles(const Film& film, uint32_t size) {
   std::vector<Tile> tiles;
@@ -75,37 +52,69 @@ struct PassPlan {
   uint32_t first = 0, last = 0;            // its samples of every pixel
   const GuidingField* lightField = nullptr;  // light sampled with (none: the light's own tables)
   const GuidingField* pathField = nullptr;   // paths continued with (none: the BSDF alone)
-  bool compare = false;      // guide only the pixels with x + y even, and measure both halves
+  // Guide, or connect, only the pixels with x + y even, and measure both halves.
+  bool compare = false;
   bool recordLight = false;  // keep what its paths learn about the light
   bool recordPaths = false;  // and about the radiance they carry
   uint64_t recordStride = 1;  // of its pixel samples, keep every this many's records
   uint32_t branches = 1;      // paths per camera sample from the first vertex on
+  bool connects = false;      // to light paths (light_paths.h)
 };
 
-// A half of the pixels of a comparing pass: sums of the pixels' luminance mean and variance.
+// One pixel of a comparing pass: its samples' luminance mean and variance, and the rays they cast.
+struct PixelSpread {
+  double mean = 0, variance = 0;
+  uint64_t rays = 0;
+};
+
+// A half of the pixels of a comparing pass: each pixel's variance relative to the squared mean of
+// its 3 × 3 neighbourhood (both halves) plus the squared image mean, summed; and the rays and samples.
+// A pixel's own mean would hide its fireflies (they raise it too), and the image mean alone
+// would let the bright pixels' variance decide for all.
 struct HalfStats {
-  double variance = 0, mean = 0;
+  double relativeVariance = 0;
   uint64_t pixels = 0, rays = 0, samples = 0;
 
-  void add(const HalfStats& o) {
-    variance += o.variance;
-    mean += o.mean;
-    pixels += o.pixels;
-    rays += o.rays;
-    samples += o.samples;
-  }
   // Relative variance per sample times rays per sample; 0 for a black half, which measures nothing.
   double cost() const {
-    if (!(mean > 0)) return 0;
-    const double m = mean / pixels;
-    return (variance / pixels) / (m * m) * (static_cast<double>(rays) / samples);
+    if (pixels == 0 || samples == 0) return 0;
+    return relativeVariance / static_cast<double>(pixels) * (static_cast<double>(rays) / samples);
   }
 };
+
+// The halves of a comparing pass (pixels with x + y even in the full frame first) from its pixels'
+// spreads, row-major over the film of `width` × `height` whose pixel (0, 0) is full-frame (x0, y0).
+std::array<HalfStats, 2> compareHalves(const std::vector<PixelSpread>& pixels, uint32_t width, uint32_t height,
+                                       uint32_t x0, uint32_t y0, uint32_t samplesPerPixel) {
+  std::array<HalfStats, 2> halves{};
+  double imageMean = 0;
+  for (const PixelSpread& p : pixels) imageMean += p.mean;
+  imageMean /= static_cast<double>(pixels.size());
+  const double guard = imageMean * imageMean;
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      double around = 0;
+      uint32_t count = 0;
+      for (uint32_t ny = y > 0 ? y - 1 : 0; ny <= std::min(y + 1, height - 1); ++ny)
+        for (uint32_t nx = x > 0 ? x - 1 : 0; nx <= std::min(x + 1, width - 1); ++nx, ++count)
+          around += pixels[std::size_t{ny} * width + nx].mean;
+      around /= count;
+      const double scale = around * around + guard;
+      if (!(scale > 0)) continue;  // black: measures nothing
+      const PixelSpread& p = pixels[std::size_t{y} * width + x];
+      HalfStats& half = halves[(x0 + x + y0 + y) % 2];
+      half.relativeVariance += p.variance / scale;
+      ++half.pixels;
+      half.rays += p.rays;
+      half.samples += samplesPerPixel;
+    }
+  return halves;
+}
 
 struct PassResult {
   std::vector<GuidingRecord> lightRecords, pathRecords;
   uint64_t recordedSamples = 0;
-  HalfStats halves[2];  // guided, unguided (a comparing pass)
+  std::array<HalfStats, 2> halves{};  // guided or connected, and not (a comparing pass)
   RayCounts rays;
 };
 
@@ -128,6 +137,14 @@ constexpr std::size_t kEnoughRecords = std::size_t{1} << 20;
 // decide: a few fireflies decide a mean of squares, and with it the branch count, but only the
 // group they fall in.
 constexpr uint32_t kMeasuringBranches = 2;
+
+// Light paths per sample index (light_paths.h): one per kPixelsPerLightPath pixels of the full
+// frame, at least kLeastLightPathsPerSample; the camera's paths of a sample index share them.
+constexpr uint32_t kPixelsPerLightPath = 8;
+constexpr uint32_t kLeastLightPathsPerSample = 1024;
+// The samples of a pass with light paths: its pools are kept together.
+constexpr uint32_t kLightPathPassSamples = 8;
+constexpr double kLightPathMargin = 1.1;
 constexpr uint32_t kProbeRows = 72, kProbeColumns = 96;
 constexpr std::size_t kSpreadGroups = 9;
 constexpr uint64_t kProbeSeed = 0x6272616e6368;
@@ -226,11 +243,26 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
   uint64_t rays = 0;  // of every pass, joined
   std::atomic<std::size_t> tilesDone{0};
   std::mutex progressMutex;
+  std::optional<LightPathSource> lightSource;
+  if (connectsLightPaths(scene.settings)) lightSource.emplace(scene);
+  if (lightSource && lightSource->empty()) lightSource.reset();
+  bool connects = lightSource.has_value();  // until the probe says whether it pays
+  const uint32_t lightPathsPerSample =
+      std::max(kLeastLightPathsPerSample, camera.width() * camera.height() / kPixelsPerLightPath);
 
   auto renderPass = [&](const PassPlan& plan, double doneBefore, double passShare) {
     tilesDone = 0;
     std::vector<PassResult> tileResults(tiles.size());
+    std::vector<PixelSpread> spreads(plan.compare ? std::size_t{film.width()} * film.height() : 0);
     const uint32_t passSamples = plan.last - plan.first;
+    // One pool of light paths per sample index, whatever the pass: an image is the same for any
+    // split into passes.
+    std::vector<LightPathPool> lightPaths;
+    if (plan.connects) {
+      lightPaths.reserve(passSamples);
+      for (uint32_t s = plan.first; s < plan.last; ++s)
+        lightPaths.emplace_back(*lightSource, scene.settings.seed, s, lightPathsPerSample);
+    }
     forEachInParallel(tiles.size(), [&](std::size_t t) {
       const Tile& tile = tiles[t];
       PassResult& out = tileResults[t];
@@ -239,7 +271,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       for (uint32_t y = tile.y0; y < tile.y1; ++y)
         for (uint32_t x = tile.x0; x < tile.x1; ++x) {
           const uint32_t fx = crop.x0 + x, fy = crop.y0 + y;
-          const bool guided = !plan.compare || (fx + fy) % 2 == 0;
+          // Whether the pixel gets what a comparing pass tries (guiding, connections).
+          const bool tried = !plan.compare || (fx + fy) % 2 == 0;
           const uint64_t raysBefore = tileRays.total;
           double sum = 0, sumSquares = 0;
           for (uint32_t s = plan.first; s < plan.last; ++s) {
@@ -251,9 +284,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
             out.recordedSamples += record && (plan.recordLight || plan.recordPaths);
             const Rgb L = integrator.radiance(
                 ray, *sampler, tileRays,
-                {guided ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
-                 guided ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
-                plan.branches);
+                {tried ? plan.pathField : nullptr, record && plan.recordPaths ? &out.pathRecords : nullptr,
+                 tried ? plan.lightField : nullptr, record && plan.recordLight ? &out.lightRecords : nullptr},
+                plan.branches, {}, plan.connects && tried ? &lightPaths[s - plan.first] : nullptr);
             film.add(x, y, L);
             const double luminance = L.luminance();
             sum += luminance;
@@ -261,12 +294,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
           }
           if (plan.compare && passSamples > 1) {
             const double mean = sum / passSamples;
-            HalfStats& half = out.halves[guided ? 0 : 1];
-            half.variance += std::max(0.0, (sumSquares - passSamples * mean * mean) / (passSamples - 1));
-            half.mean += mean;
-            ++half.pixels;
-            half.rays += tileRays.total - raysBefore;
-            half.samples += passSamples;
+            spreads[std::size_t{y} * film.width() + x] = {
+                mean, std::max(0.0, (sumSquares - passSamples * mean * mean) / (passSamples - 1)),
+                tileRays.total - raysBefore};
           }
         }
       out.rays = tileRays;
@@ -278,6 +308,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       }
     });
     PassResult joined;
+    if (plan.compare && passSamples > 1)
+      joined.halves = compareHalves(spreads, film.width(), film.height(), crop.x0, crop.y0, passSamples);
     std::size_t lightRecords = 0, pathRecords = 0;
     for (const PassResult& r : tileResults) {
       lightRecords += r.lightRecords.size();
@@ -292,7 +324,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
       r.pathRecords = {};
       joined.recordedSamples += r.recordedSamples;
       rays += r.rays.total;
-      for (int h = 0; h < 2; ++h) joined.halves[h].add(r.halves[h]);
     }
     return joined;
   };
@@ -350,7 +381,22 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
     PassPlan plan{first, last};
     if (guidingStats.guided) plan.lightField = lightField.get(), plan.pathField = pathField.get();
     plan.branches = stats.branching.branches;
+    plan.connects = connects;
     return plan;
+  };
+  // Under auto, the first samples (at most kLightPathPassSamples) connect the pixels with x + y even
+  // and not the others, and connections go on where that half's relative variance times rays per
+  // sample is kLightPathMargin times less than the other's (passes of one sample measure nothing).
+  const bool comparesConnections = connects && scene.settings.lightPaths == LightPathMode::Auto;
+  auto comparingPlan = [&](uint32_t first, uint32_t last) {
+    PassPlan plan = finalPlan(first, last);
+    plan.compare = true;
+    return plan;
+  };
+  auto decideConnections = [&](const PassResult& pass) {
+    const double connected = pass.halves[0].cost(), unconnected = pass.halves[1].cost();
+    stats.lightPathGain = connected > 0 ? unconnected / connected : 1.0;
+    connects = *stats.lightPathGain >= kLightPathMargin;
   };
 
   if (options.seconds) {
@@ -376,6 +422,10 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
         }
       }
     }
+    if (comparesConnections) {
+      decideConnections(renderPass(comparingPlan(0, kLightPathPassSamples), fraction(), 0.0));
+      stats.spp = kLightPathPassSamples;
+    }
     while (stats.spp == 0 || elapsed() < budget) {
       renderPass(finalPlan(stats.spp, stats.spp + 1), fraction(), 0.0);
       ++stats.spp;
@@ -400,9 +450,20 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& options)
         }
       }
     }
-    renderPass(finalPlan(done, total), share(done), share(total - done));
+    if (comparesConnections) {
+      const uint32_t last = std::min(total, kLightPathPassSamples);
+      decideConnections(renderPass(comparingPlan(0, last), 0.0, share(last)));
+      done = last;
+    }
+    // With light paths, in passes of at most kLightPathPassSamples: their pools are megabytes.
+    const uint32_t passSize = connects ? kLightPathPassSamples : total;
+    for (uint32_t first = done; first < total; first += passSize) {
+      const uint32_t last = std::min(total, first + passSize);
+      renderPass(finalPlan(first, last), share(first), share(last - first));
+    }
     stats.spp = total;
   }
+  stats.connectsLightPaths = connects;
   stats.paths = pixels * stats.spp;
   stats.rays = rays;
   stats.seconds = elapsed();

@@ -8,20 +8,8 @@
 
 namespace acdf {
 
-namespace {
-
-// SplitMix64's finaliser: decorrelates the seeds of consecutive sample indices and pixels.
-uint64_t mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
-
 void IndependentSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
-  rng_ = Pcg32(mix(seed_ ^ mix(sampleIndex)), uint64_t{y} * frameWidth_ + x);
+  rng_ = Pcg32(mixSeed(seed_ ^ mixSeed(sampleIndex)), uint64_t{y} * frameWidth_ + x);
 }
 
 std::array<float, 2> CandidateValues::point(uint32_t i) {
@@ -37,11 +25,11 @@ double CandidateValues::resamplingValue() {
 
 CandidateValues IndependentSampler::getCandidates(uint32_t) {
   const uint64_t seed = uint64_t{rng_.nextUint()} << 32 | rng_.nextUint();
-  return CandidateValues(Pcg32(mix(seed), seed));
+  return CandidateValues(Pcg32(mixSeed(seed), seed));
 }
 
 void SobolSampler::startPixelSample(uint32_t x, uint32_t y, uint32_t sampleIndex) {
-  pixelSeed_ = mix(mix(seed_) ^ (uint64_t{y} * frameWidth_ + x));
+  pixelSeed_ = mixSeed(mixSeed(seed_) ^ (uint64_t{y} * frameWidth_ + x));
   pixelSampleIndex_ = sampleIndex;
   sampleIndex_ = sampleIndex;
   paddedIndex_ = PaddedSobolIndex(sampleIndex);
@@ -61,7 +49,7 @@ std::array<float, 2> SobolSampler::get2D() { return paddedSobol2D(paddedIndex_, 
 
 CandidateValues SobolSampler::getCandidates(uint32_t count) {
   const uint32_t component = component_++;
-  return CandidateValues(Pcg32(mix(pixelSeed_ ^ mix(uint64_t{sampleIndex_} << 32 | component)), pixelSeed_),
+  return CandidateValues(Pcg32(mixSeed(pixelSeed_ ^ mixSeed(uint64_t{sampleIndex_} << 32 | component)), pixelSeed_),
                          pixelSeed_, sampleIndex_, count, component);
 }
 

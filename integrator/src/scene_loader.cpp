@@ -459,6 +459,8 @@ constexpr EnumName<GuidingMode> kGuidingModeNames[] = {
     {GuidingMode::Auto, "auto"}};
 constexpr EnumName<PortalSource> kPortalSourceNames[] = {
     {PortalSource::Auto, "auto"}, {PortalSource::Declared, "declared"}, {PortalSource::None, "none"}};
+constexpr EnumName<LightPathMode> kLightPathModeNames[] = {
+    {LightPathMode::Auto, "auto"}, {LightPathMode::On, "on"}, {LightPathMode::Off, "off"}};
 }  // namespace
 
 std::string branchesName(uint32_t branches) {
@@ -478,6 +480,12 @@ uint32_t parseBranches(std::string_view name) {
 std::string_view toString(PortalSource source) { return nameOf(kPortalSourceNames, source); }
 
 PortalSource parsePortalSource(std::string_view name) { return valueNamed(kPortalSourceNames, name, "portal source"); }
+
+std::string_view toString(LightPathMode mode) { return nameOf(kLightPathModeNames, mode); }
+
+LightPathMode parseLightPathMode(std::string_view name) {
+  return valueNamed(kLightPathModeNames, name, "light path mode");
+}
 
 std::string_view toString(GuidingMode mode) { return nameOf(kGuidingModeNames, mode); }
 
@@ -523,7 +531,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (root.has("render")) {
     const Node r = root["render"];
     r.object({"spp", "seed", "max_depth", "roulette_depth", "mis", "branches", "sampler", "direct", "candidates",
-              "bsdf_fraction", "guiding", "portals"});
+              "bsdf_fraction", "guiding", "portals", "light_paths"});
     if (r.has("spp")) settings.spp = r["spp"].count(1);
     if (r.has("seed")) settings.seed = r["seed"].count(0);
     if (r.has("max_depth")) settings.maxDepth = r["max_depth"].count(1);
@@ -539,6 +547,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
     if (r.has("bsdf_fraction")) settings.product.bsdfFraction = r["bsdf_fraction"].number();
     if (r.has("guiding")) settings.guiding = r["guiding"].parsed(parseGuidingMode);
     if (r.has("portals")) settings.portals = r["portals"].parsed(parsePortalSource);
+    if (r.has("light_paths")) settings.lightPaths = r["light_paths"].parsed(parseLightPathMode);
     r.validated(settings.product);
   }
   if (overrides.mis) settings.mis = *overrides.mis;
@@ -547,6 +556,7 @@ Scene loadSceneText(const std::string& text, const fs::path& file, const SceneOv
   if (overrides.branches) settings.branches = *overrides.branches;
   if (overrides.guiding) settings.guiding = *overrides.guiding;
   if (overrides.portals) settings.portals = *overrides.portals;
+  if (overrides.lightPaths) settings.lightPaths = *overrides.lightPaths;
   if (settings.guiding == GuidingMode::Light && !drawsLightSamples(settings))
     throw FileError(name, settings.direct == DirectLighting::Product
                               ? "$.render.guiding: 'light' guides light samples, which product direct lighting does "

@@ -268,6 +268,28 @@ TEST(Consistency, PortalsAgreeUnderMisAndAlone) {
   }
 }
 
+// Connections to light paths through the window add a technique, not light: the room renders the
+// same with every vertex connected as with none, under both MIS heuristics (each of the three
+// weights of a path through a lit point must sum to one), with the window declared or found, and
+// branched (the branches' vertices weigh against the connection made before them).
+TEST(Consistency, LightPathConnectionsAgreeWithNone) {
+  for (MisMode mis : {MisMode::Power, MisMode::Balance})
+    for (uint32_t branches : {1u, 3u}) {
+      SceneOverrides overrides;
+      overrides.sampler = SamplerKind::Independent;
+      overrides.mis = mis;
+      overrides.branches = branches;
+      overrides.lightPaths = LightPathMode::Off;
+      const bool declared = branches == 1;
+      const auto plain = rendertest::imageMean(rendertest::renderScene(room(declared), overrides).film);
+      overrides.lightPaths = LightPathMode::On;
+      const rendertest::Rendered connected = rendertest::renderScene(room(declared), overrides);
+      EXPECT_TRUE(connected.stats.connectsLightPaths);
+      expectAgree(plain, rendertest::imageMean(connected.film),
+                  "connected vs not, " + std::string(toString(mis)) + ", " + std::to_string(branches) + " branches");
+    }
+}
+
 // Guiding learns where light comes from and adds none: the room renders the same guided by what
 // it learned of the light, and of the paths' radiance too, under MIS (the compensated table,
 // incomplete, with the window's portal found) and with light sampling alone (the learned light

@@ -79,6 +79,25 @@ TEST(Determinism, GuidedRendersAreTheSameForAnyThreadCount) {
       << "guiding must change the image";
 }
 
+// Light paths are traced per sample index from its own seed, and auto decides from sums made per
+// pixel: the same image for any thread count, and connections change it.
+TEST(Determinism, LightPathsAreTheSameForAnyThreadCount) {
+  nlohmann::json scene = smallScene(1);
+  scene["environment"]["portals"] = {{{"corner", {-1, 3, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}}};
+  for (const LightPathMode mode : {LightPathMode::On, LightPathMode::Auto}) {
+    SceneOverrides overrides;
+    overrides.lightPaths = mode;
+    overrides.spp = 10;
+    const Image one = renderWithThreads(1, scene, overrides);
+    EXPECT_EQ(one.pixels, renderWithThreads(2, scene, overrides).pixels) << toString(mode);
+    EXPECT_EQ(one.pixels, renderWithThreads(4, scene, overrides).pixels) << toString(mode);
+    if (mode == LightPathMode::On) {
+      overrides.lightPaths = LightPathMode::Off;
+      EXPECT_NE(one.pixels, renderWithThreads(2, scene, overrides).pixels) << "connections must change the image";
+    }
+  }
+}
+
 // Branched paths read their branches' own sample points: the same image for any thread count,
 // and different from an unbranched one.
 TEST(Determinism, BranchedRendersAreTheSameForAnyThreadCount) {

@@ -333,6 +333,32 @@ TEST_F(RenderCli, PortalsOnTheCommandLine) {
                        "acdf: render: --portals", "auto, declared or none");
 }
 
+// --light-paths replaces the scene's choice, and the render says what it did: `auto` measures in a
+// room with portals and connects where that paid, `on` connects without measuring, `off` never
+// does, and a scene with no portals has nothing to connect to.
+TEST_F(RenderCli, LightPathsOnTheCommandLine) {
+  const auto run = [&](const nlohmann::json& scene, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", writeScene(scene), "-o", path("room.exr"), "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto result = runAcdf(args, dir_);
+    EXPECT_EQ(result.exitCode, 0) << apptest::describe(result);
+    return nlohmann::json::parse(result.out);
+  };
+  const auto automatic = run(tinyRoom(), {"--spp", "8"});
+  EXPECT_EQ(automatic["light_paths"], "auto");
+  EXPECT_TRUE(automatic["light_path_gain"].is_number());
+  const auto on = run(tinyRoom(), {"--light-paths", "on"});
+  EXPECT_TRUE(on["connects_light_paths"].get<bool>());
+  EXPECT_TRUE(on["light_path_gain"].is_null());
+  EXPECT_FALSE(run(tinyRoom(), {"--light-paths", "off"})["connects_light_paths"].get<bool>());
+  const auto open = run(tinyScene(), {"--light-paths", "on"});
+  EXPECT_FALSE(open["connects_light_paths"].get<bool>());
+  EXPECT_TRUE(open["light_path_gain"].is_null());
+  expectOneLineFailure(
+      runAcdf({"render", writeScene(tinyRoom()), "-o", path("x.exr"), "--light-paths", "always"}, dir_),
+      "acdf: render: --light-paths", "auto, on or off");
+}
+
 TEST_F(RenderCli, UnknownKeyNamesItsPath) {
   nlohmann::json scene = tinyScene();
   scene["shapes"][0]["radious"] = 2;
@@ -434,6 +460,8 @@ TEST_F(RenderCli, RejectedOptionNamesItsKey) {
   failure(scene, "$.render.branches: must be an integer in [1, 64]");
   scene["render"] = {{"branches", "some"}};
   failure(scene, "$.render.branches: unknown branch count 'some' (auto or an integer in [1, 64])");
+  scene["render"] = {{"light_paths", "sometimes"}};
+  failure(scene, "$.render.light_paths: unknown light path mode 'sometimes' (auto, on or off)");
   expectNoOutputs();
 }
 

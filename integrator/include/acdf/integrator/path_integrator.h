@@ -15,6 +15,13 @@
 // Branched at the first vertex into K paths (after its light sample), each branch continues with
 // its own BSDF sample and a 1/K share: the mean of K unbiased estimates of the light after vertex
 // 0, so unbiased for any K; the MIS weights are per sample, as without branches.
+// Connected to light paths (light_paths.h), each vertex x within the maximum depth also connects to
+// one vertex y of its sample's pool (picked by its light sample's second value): a third technique
+// for the paths x → y → ω whose last bounce the sun lights through a portal. Those paths' three
+// weights are the MIS heuristic over a · p_light,y(ω), a · p_bsdf,y(ω) and p_C(y, ω), with
+// a = p_bsdf,x(x → y) cosθ_y / |x − y|² the density per unit area of x's BSDF sample reaching y:
+// the light sample and the escape at y use them in place of the two-way weights wherever the
+// vertex before y connected (y not the camera's first vertex).
 // Russian roulette from RenderSettings::rouletteDepth on: survive with probability
 // min(0.95, max throughput channel), dividing the throughput by it. Light sampling may use an
 // incomplete pdf (a compensated table) exactly when BSDF samples see the light too
@@ -47,6 +54,7 @@
 #include "acdf/integrator/direction_techniques.h"
 #include "acdf/integrator/geometry.h"
 #include "acdf/integrator/guiding_field.h"
+#include "acdf/integrator/light_paths.h"
 #include "acdf/integrator/sampler.h"
 #include "acdf/integrator/scene.h"
 #include "acdf/sampling/frame.h"
@@ -86,8 +94,11 @@ class PathIntegrator {
   // `branches` ways at its first vertex (RenderSettings::branches). `branchLight`, if not empty
   // (`branches` entries), receives each branch's part of the result (with its 1/branches share;
   // 0 for a path that ends before branching): what a caller measuring their spread needs.
+  // `lightPaths`, if given (the pool of the sample's index), is what each vertex connects to
+  // (light_paths.h); only under balance or power MIS with light samples, unguided.
   Rgb radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding = {},
-               uint32_t branches = 1, std::span<Rgb> branchLight = {}) const;
+               uint32_t branches = 1, std::span<Rgb> branchLight = {},
+               const LightPathPool* lightPaths = nullptr) const;
 
   // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
@@ -113,19 +124,33 @@ class PathIntegrator {
     // The learned light at the vertex `ray` left, and that vertex.
     DirectionalDistribution lightField;
     Vec3d lastPosition, lastNormal;
+    // Per unit area at that vertex, the density of its being reached from the vertex before it by
+    // that vertex's BSDF sample, where a connection from there covers it too (else 0).
+    double reachedDensity = 0;
   };
   // The path from `state` on, its first vertex at `firstDepth` (branching `branches` ways there if it
   // is vertex 0): the light it brings to the image.
   Rgb walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-           const PathGuiding& guiding, PathRecorder& recorder, std::span<Rgb> branchLight = {}) const;
+           const PathGuiding& guiding, const LightPathPool* lightPaths, PathRecorder& recorder,
+           std::span<Rgb> branchLight = {}) const;
+  // The light a connection from vertex `hit` (its material, frame and continuation `bsdf`) to the
+  // light path vertex `light` brings, before the path's throughput (0 where blocked).
+  Rgb connect(const SurfaceHit& hit, const BrdfVertex& material, const Frame& frame,
+              const GuidedMixture<BsdfTechnique>& bsdf, const LightVertex& light, double successShare,
+              RayCounts& rays, uint32_t depth) const;
   // Continues `state` from its vertex `hit` at `depth` along a BSDF sample, with `share` of its
   // weight, through Russian roulette: false where the path ends.
   bool extend(PathState& state, const SurfaceHit& hit, const GuidedMixture<BsdfTechnique>& bsdf, uint32_t depth,
               float share, Sampler& sampler, PathRecorder& recorder) const;
   // The light at a vertex seen from `context`, mixed with the light field there (none: the light alone).
   GuidedMixture<LightTechnique> guidedLight(const LightSampleContext& context, DirectionalDistribution field) const;
-  // The MIS weight of a strategy with density `chosen` against one with density `other`.
-  double misWeight(double chosen, double other) const;
+  // The MIS weight of a strategy with density `chosen` against others with densities `other` and
+  // `third` (all in one measure).
+  double misWeight(double chosen, double other, double third = 0) const;
+  // The weight of a light or BSDF sample with density `chosen` (against `other`, the vertex's other
+  // technique, per steradian) at a vertex reached with density `reached` per unit area, where a
+  // connection from the vertex before has density `connection` (light_paths.h; 0: none).
+  double misWeightBesideConnection(double chosen, double other, double reached, double connection) const;
 
   const Scene& scene_;
   std::vector<bool> guided_;  // per material

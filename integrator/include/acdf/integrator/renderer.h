@@ -90,6 +90,10 @@ struct RenderStats {
   double seconds = 0;  // wall-clock render time
   GuidingStats guiding;
   BranchingStats branching;
+  bool connectsLightPaths = false;  // whether the paths connected to light paths (light_paths.h)
+  // Where the scene could, the probe's variance times rays per sample without connections over
+  // with them.
+  std::optional<double> lightPathGain;
 };
 
 // The film has the crop window's size.

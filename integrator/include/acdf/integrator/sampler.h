@@ -9,6 +9,8 @@
 //   getPixel2D()                  the position in the pixel (the camera ray);
 //   per surface vertex, depth d:  startVertex(d), then
 //                        get2D()   the light sample (next-event estimation; not under bsdf-only),
+//                                  whose second value also picks the light path vertex the
+//                                  vertex connects to (light_paths.h),
 //                                  or getCandidates() under product direct lighting: the values of
 //                                  its candidates (their number is an option),
 //                        get2D()   the BSDF sample,

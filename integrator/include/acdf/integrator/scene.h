@@ -74,6 +74,14 @@ enum class PortalSource { Auto, Declared, None };
 std::string_view toString(PortalSource source);
 PortalSource parsePortalSource(std::string_view name);
 
+// Whether the camera's paths connect to light paths started at the portals (light_paths.h), where
+// the light has portals and the render draws unguided MIS light samples: where the renderer's
+// probe measures that they pay (renderer.h), always, or never.
+enum class LightPathMode { Auto, On, Off };
+// "auto", "on", "off"; parse throws std::invalid_argument.
+std::string_view toString(LightPathMode mode);
+LightPathMode parseLightPathMode(std::string_view name);
+
 // RenderSettings::branches: at most this many, or auto (renderer.h).
 inline constexpr uint32_t kMaxBranches = 64;
 inline constexpr uint32_t kAutoBranches = 0;
@@ -106,6 +114,10 @@ struct RenderSettings {
   ProductSamplingOptions product{};  // under DirectLighting::Product
   GuidingMode guiding = GuidingMode::Off;
   PortalSource portals = PortalSource::Auto;
+  // Auto: in scenes/room.json connections gave 1.50x the efficiency of none at equal time, behind
+  // the door ajar 0.93x, and auto's measure keeps them there only (performance.md, "Light paths
+  // through the portals").
+  LightPathMode lightPaths = LightPathMode::Auto;
 };
 
 // Whether the render's light samples may have an incomplete pdf: under product sampling when the
@@ -121,6 +133,13 @@ inline bool drawsLightSamples(const RenderSettings& settings) {
   return settings.direct == DirectLighting::Mis && settings.mis != MisMode::BsdfOnly;
 }
 
+// Whether a render with these settings may connect its paths to light paths, given portals: unless
+// off, where paths draw light samples, weigh escapes against them by MIS and are not guided.
+inline bool connectsLightPaths(const RenderSettings& settings) {
+  return settings.lightPaths != LightPathMode::Off && drawsLightSamples(settings) &&
+         (settings.mis == MisMode::Balance || settings.mis == MisMode::Power) && settings.guiding == GuidingMode::Off;
+}
+
 // Command-line choices that replace the scene file's.
 struct SceneOverrides {
   std::optional<MisMode> mis = std::nullopt;
@@ -130,6 +149,7 @@ struct SceneOverrides {
   std::optional<uint32_t> branches = std::nullopt;
   std::optional<GuidingMode> guiding = std::nullopt;
   std::optional<PortalSource> portals = std::nullopt;
+  std::optional<LightPathMode> lightPaths = std::nullopt;
   std::optional<BrdfSampling> bsdfSampling = std::nullopt;  // every measured material
   std::optional<EnvironmentSampling> envSampling = std::nullopt;
   std::optional<uint32_t> spp = std::nullopt;

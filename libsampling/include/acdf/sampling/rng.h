@@ -6,6 +6,15 @@
 
 namespace acdf {
 
+// SplitMix64's finaliser: decorrelates seeds that differ in a few bits (consecutive sample
+// indices, pixels, paths) before they seed a generator.
+constexpr uint64_t mixSeed(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
 class Pcg32 {
  public:
   explicit Pcg32(uint64_t seed = 0x853c49e6748fea9bULL, uint64_t stream = 0xda3e39cb94b95bdbULL) {
