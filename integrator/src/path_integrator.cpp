@@ -252,6 +252,10 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
       }
     } else if (sampleLight) {
       const auto [u0, u1] = sampler.get2D();
+      // The light sample's second value picks the light path vertex too: the two estimates are
+      // each unbiased, whatever their correlation. Picked now, it loads during the shadow ray.
+      const LightVertex* connection =
+          connects && depth + 1 < scene_.settings.maxDepth ? lightPaths->pick(u1) : nullptr;
       const TechniqueSample light = guidedLight(lightContext, state.lightField).sample(u0, u1);
       const Vec3d wi = frame.toLocal(light.direction);
       Rgb arriving;  // 0 where blocked
@@ -275,11 +279,7 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
         }
       }
       recorder.light(hit->position, hit->normal, light.direction, arriving, light.pdf);
-      // The light sample's second value picks the light path vertex too: the two estimates are
-      // each unbiased, whatever their correlation.
-      if (connects && depth + 1 < scene_.settings.maxDepth)
-        if (const LightVertex* vertex = lightPaths->pick(u1))
-          add(connect(*hit, material, frame, bsdf, *vertex, lightPaths->successShare(), rays, depth));
+      if (connection) add(connect(*hit, material, frame, bsdf, *connection, lightPaths->successShare(), rays, depth));
     }
     state.reachedDensity = reached;
 
