@@ -114,8 +114,8 @@ struct RenderSettings {
   ProductSamplingOptions product{};  // under DirectLighting::Product
   GuidingMode guiding = GuidingMode::Off;
   PortalSource portals = PortalSource::Auto;
-  // Auto: in scenes/room.json connections gave 1.50x the efficiency of none at equal time, behind
-  // the door ajar 0.93x, and auto's measure keeps them there only (performance.md, "Light paths
+  // Auto: in scenes/room.json connections gave 1.72x the efficiency of none at equal time, behind
+  // the door ajar 0.97x, and auto's measure keeps them there only (performance.md, "Light paths
   // through the portals").
   LightPathMode lightPaths = LightPathMode::Auto;
 };
