@@ -20,6 +20,13 @@
 // the next would end within half of it, and one-sample passes with the last field fill the rest.
 // Deterministic for a sample count: records are kept per tile and joined in tile order.
 //
+// Light paths (RenderSettings::lightPaths, light_paths.h). Where the light has portals, each sample
+// index has its own pool of light paths, traced before the samples of that index from the seed and
+// the index alone (so passes of any size give the same image), and the paths connect to it. Under
+// auto the first 8 samples (fewer if the render has fewer) connect the pixels with x + y even and
+// not the others, as guiding's comparing pass does, and the rest connect only if the connected
+// half's figure was 1.1 times lower. A time-limited render renders those first samples in one pass.
+//
 // Branching (RenderSettings::branches). Under auto, before the first pass, a probe of 13,824
 // camera samples spread over the full frame, each with two branches and none of them in the
 // image, measures what a branch costs and what it lowers: the rays cast before and after the
