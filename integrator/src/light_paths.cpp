@@ -17,7 +17,7 @@ LightPathSource::LightPathSource(const Scene& scene) : scene_(scene) {
     const double area = length(cross(portals[i].edgeU, portals[i].edgeV));
     if (!(power > 0) || !(area > 0)) continue;
     total_ += power * area;
-    portals_.push_back({i, portals[i], power, total_});
+    portals_.push_back({i, power, total_});
   }
 }
 
@@ -46,7 +46,8 @@ std::optional<LightVertex> LightPathSource::trace(uint64_t seed, uint32_t sample
   const EnvironmentLight& light = *scene_.environment;
   const PortalTable& table = light.portalTable(e.index);
   const double s = random.nextDouble(), t = random.nextDouble();
-  const Vec3d start = e.portal.corner + e.portal.edgeU * s + e.portal.edgeV * t;
+  const Portal& portal = light.options().portals[e.index];
+  const Vec3d start = portal.corner + portal.edgeU * s + portal.edgeV * t;
   const double a = random.nextDouble(), b = random.nextDouble();
   const Vec3d toLight = table.sample({{0, 1, 0, 1}, e.power}, a, b);
   if (scene_.geometry->occluded({start, toLight}, std::numeric_limits<double>::infinity())) return std::nullopt;

@@ -28,6 +28,7 @@
 // such path and the estimate is unbiased whatever the pool holds.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -63,7 +64,6 @@ class LightPathSource {
  private:
   struct Entry {
     std::size_t index;  // in the light's portals
-    Portal portal;
     double power;       // P_i: the light through the whole plane
     double cumulative;  // Σ_{j <= i} P_j A_j
   };

@@ -75,8 +75,8 @@ std::string_view toString(PortalSource source);
 PortalSource parsePortalSource(std::string_view name);
 
 // Whether the camera's paths connect to light paths started at the portals (light_paths.h), where
-// the light has portals and the render draws unguided MIS light samples: where the renderer's
-// probe measures that they pay (renderer.h), always, or never.
+// the light has portals and the render draws unguided MIS light samples: where the render's first
+// samples measure that they pay (renderer.h), always, or never.
 enum class LightPathMode { Auto, On, Off };
 // "auto", "on", "off"; parse throws std::invalid_argument.
 std::string_view toString(LightPathMode mode);
