@@ -68,17 +68,20 @@ Vec3d PortalTable::directionAt(double a, double b) const {
   return normalize(axisU_ * x + axisV_ * y - normal_);
 }
 
-PortalTable::View PortalTable::viewFrom(const Vec3d& position) const {
+std::optional<WindowedTable2D::Window> PortalTable::windowFrom(const Vec3d& position) const {
   const Vec3d toCorner = corner_ - position;
   const double h = -dot(toCorner, normal_);
-  if (!(h > 0)) return {};
+  if (!(h > 0)) return std::nullopt;
   const double u0 = dot(toCorner, axisU_), v0 = dot(toCorner, axisV_);
   auto coordinate = [h](double d) { return 0.5 * (1.0 + d / std::sqrt(d * d + h * h)); };
-  View view;
-  view.window = {coordinate(u0), coordinate(u0 + lengthU_), coordinate(v0), coordinate(v0 + lengthV_)};
-  const double power = table_.mass(view.window);
-  view.power = power > minPower_ ? power : 0.0;
-  return view;
+  return WindowedTable2D::Window{coordinate(u0), coordinate(u0 + lengthU_), coordinate(v0), coordinate(v0 + lengthV_)};
+}
+
+PortalTable::View PortalTable::viewFrom(const Vec3d& position) const {
+  const std::optional<WindowedTable2D::Window> window = windowFrom(position);
+  if (!window) return {};
+  const double power = table_.mass(*window);
+  return {*window, power > minPower_ ? power : 0.0};
 }
 
 Vec3d PortalTable::sample(const View& view, double u0, double u1) const {

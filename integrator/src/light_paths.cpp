@@ -26,13 +26,11 @@ double LightPathSource::density(const Vec3d& position, const Vec3d& normal, cons
   double sum = 0;
   for (const Entry& e : portals_) {
     const PortalTable& table = light.portalTable(e.index);
-    const double height = dot(position - table.corner(), table.normal());
-    const double cosine = -dot(toLight, table.normal());
-    if (!(height > 0) || !(cosine > 0)) continue;
-    const Vec3d crossing = position + toLight * (height / cosine) - table.corner();
-    const double s = dot(crossing, table.axisU()), t = dot(crossing, table.axisV());
-    if (!(s >= 0 && s <= table.lengthU() && t >= 0 && t <= table.lengthV())) continue;
-    sum += table.densityThrough({0, 1, 0, 1}, toLight) / cosine;
+    const std::optional<WindowedTable2D::Window> window = table.windowFrom(position);
+    if (!window) continue;
+    // Positive only for a direction leaving through the rectangle, whose cosine is then positive.
+    const double through = table.densityThrough(*window, toLight);
+    if (through > 0) sum += through / -dot(toLight, table.normal());
   }
   return sum * std::abs(dot(normal, toLight)) / total_;
 }

@@ -202,6 +202,31 @@ TEST(Portals, ASunThroughTheWindowTakesItsShareOfThePortalSamples) {
   EXPECT_LE(static_cast<double>(hits) / n, share);
 }
 
+TEST(Portals, AWindowHoldsTheDirectionsThatCrossThePortalFromThere) {
+  const EnvironmentLight light = lightWith(EnvironmentSampling::Compensated, {kWindow});
+  const PortalTable& table = light.portalTable(0);
+  EXPECT_FALSE(table.windowFrom(kBehindBoth));
+  Pcg32 rng(11);
+  int crossing = 0;
+  for (const Vec3d& from : kInside) {
+    const std::optional<WindowedTable2D::Window> window = table.windowFrom(from);
+    ASSERT_TRUE(window);
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3d w = sampleUniformSphere(rng.nextDouble(), rng.nextDouble());
+      // The ray from `from` along w meets the window's rectangle.
+      const Vec3d n = cross(kWindow.edgeU, kWindow.edgeV);
+      const double t = dot(kWindow.corner - from, n) / dot(w, n);
+      const Vec3d q = from + w * t - kWindow.corner;
+      const double s = dot(q, kWindow.edgeU) / dot(kWindow.edgeU, kWindow.edgeU);
+      const double r = dot(q, kWindow.edgeV) / dot(kWindow.edgeV, kWindow.edgeV);
+      const bool crosses = t > 0 && s >= 0 && s <= 1 && r >= 0 && r <= 1;
+      crossing += crosses;
+      ASSERT_EQ(crosses, table.densityThrough(*window, w) > 0) << "from point " << &from - kInside << ", k " << k;
+    }
+  }
+  EXPECT_GT(crossing, 500);
+}
+
 TEST(Portals, BehindEveryPortalOrWithoutAPositionTheLightIsUnchanged) {
   const EnvironmentLight plain = lightWith(EnvironmentSampling::Compensated, {});
   const EnvironmentLight portals = lightWith(EnvironmentSampling::Compensated, {kWindow});

@@ -125,7 +125,8 @@ void cascades() {
 void environment() {
   const uint32_t width = 128, height = 64;
   const std::vector<float> luminance = fixtures::sunAndSky(width, height);
-  Image image{.width = width, .height = height, .channels = 3};
+  Image image;
+  image.width = width, image.height = height, image.channels = 3;
   for (float l : luminance) image.pixels.insert(image.pixels.end(), {l, 0.8f * l, 0.6f * l});
   writeExr((out / "sky.exr").string(), image);
   auto map = std::make_shared<const EnvironmentMap>(EnvironmentMap::load((out / "sky.exr").string()));

@@ -47,6 +47,9 @@ class PortalTable {
   // window holds less than kMinShare of the light through the whole plane: the summed-area
   // table's differences have no correct digit left there.
   View viewFrom(const Vec3d& position) const;
+  // The window alone: the square's directions that leave from `position` through the portal's
+  // rectangle; none behind the portal or in its plane.
+  std::optional<WindowedTable2D::Window> windowFrom(const Vec3d& position) const;
   static constexpr double kMinShare = 1e-12;
 
   // A world direction through the view's window with density ∝ luminance; its density per
