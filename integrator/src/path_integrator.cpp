@@ -159,18 +159,15 @@ Rgb PathIntegrator::connect(const SurfaceHit& hit, const BrdfVertex& material, c
 }
 
 Rgb PathIntegrator::radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding,
-                             uint32_t branches, std::span<Rgb> branchLight, const LightPathPool* lightPaths) const {
-  if (!branchLight.empty() && branchLight.size() != branches)
-    throw std::invalid_argument("radiance: branchLight needs one entry per branch");
-  std::fill(branchLight.begin(), branchLight.end(), Rgb{});
+                             uint32_t branches, const LightPathPool* lightPaths) const {
   PathState state(cameraRay, allowsIncompleteLightPdf(scene_.settings));
   PathRecorder recorder(guiding.records, guiding.lightRecords);
-  return walk(state, 0, branches, sampler, rays, guiding, lightPaths, recorder, branchLight);
+  return walk(state, 0, branches, sampler, rays, guiding, lightPaths, recorder);
 }
 
 Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-                         const PathGuiding& guiding, const LightPathPool* lightPaths, PathRecorder& recorder,
-                         std::span<Rgb> branchLight) const {
+                         const PathGuiding& guiding, const LightPathPool* lightPaths,
+                         PathRecorder& recorder) const {
   const EnvironmentLight& env = *scene_.environment;
   const MisMode mis = scene_.settings.mis;
   const bool product = scene_.settings.direct == DirectLighting::Product;
@@ -292,9 +289,7 @@ Rgb PathIntegrator::walk(PathState& state, uint32_t firstDepth, uint32_t branche
         PathRecorder branchRecorder(guiding.records, guiding.lightRecords);
         if (!extend(branchState, *hit, bsdf, depth, 1.0f / static_cast<float>(branches), sampler, branchRecorder))
           continue;
-        const Rgb light = walk(branchState, depth + 1, 1, sampler, rays, guiding, lightPaths, branchRecorder);
-        result += light;
-        if (!branchLight.empty()) branchLight[branch] = light;
+        result += walk(branchState, depth + 1, 1, sampler, rays, guiding, lightPaths, branchRecorder);
       }
       break;
     }

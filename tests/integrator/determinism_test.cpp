@@ -263,38 +263,6 @@ TEST(Branching, AutoTakesTheCountThatMinimisesVarianceTimesCost) {
   EXPECT_EQ(branchesThatPay(2.0, 1.0, -0.05, 0.3), kMaxAutoBranches);
 }
 
-// Each branch's part of a path's light (PathIntegrator::radiance's branchLight) is what the
-// branches add to the first vertex's own light: the rest is the same for any branch count.
-TEST(Branching, BranchLightIsTheLightAfterTheFirstVertex) {
-  const SmallScenePaths paths;
-  const PathIntegrator& integrator = paths.integrator;
-  const Ray& towardsTheFloor = paths.towardsTheFloor;
-  const std::unique_ptr<Sampler> sampler = makeSampler(SamplerKind::Sobol, 7, 1);
-  int branchesWithLight = 0;
-  for (uint32_t s = 0; s < 32; ++s) {
-    std::vector<std::array<double, 3>> firstVertex;
-    for (const uint32_t branches : {2u, 3u}) {
-      sampler->startPixelSample(0, 0, s);
-      (void)sampler->getPixel2D();
-      RayCounts rays;
-      std::vector<Rgb> branchLight(branches, Rgb{-1, -1, -1});
-      const Rgb all = integrator.radiance(towardsTheFloor, *sampler, rays, {}, branches, branchLight);
-      std::array<double, 3> rest{all.r, all.g, all.b};
-      for (const Rgb& light : branchLight) {
-        rest[0] -= light.r, rest[1] -= light.g, rest[2] -= light.b;
-        branchesWithLight += !light.isBlack();
-      }
-      firstVertex.push_back(rest);
-    }
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(firstVertex[0][c], firstVertex[1][c], 1e-5 * (1 + firstVertex[1][c]));
-  }
-  EXPECT_GT(branchesWithLight, 32);
-  sampler->startPixelSample(0, 0, 0);
-  RayCounts rays;
-  std::vector<Rgb> tooFew(1);
-  EXPECT_THROW((void)integrator.radiance(towardsTheFloor, *sampler, rays, {}, 2, tooFew), std::invalid_argument);
-}
-
 // Where paths draw no light samples (product direct lighting, bsdf-only MIS) auto has no light to
 // guide: it learns nothing and renders what off renders.
 TEST(Determinism, AutoWithoutLightSamplesLearnsNothing) {

@@ -47,7 +47,6 @@
 // the light its own light samples already find would spend the continuations on it again.
 
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "acdf/integrator/camera.h"
@@ -91,14 +90,11 @@ class PathIntegrator {
 
   // Radiance arriving along the camera ray, with the sampler started on its pixel sample and its
   // pixel dimensions taken; it adds the rays it casts to `rays`. The path branches
-  // `branches` ways at its first vertex (RenderSettings::branches). `branchLight`, if not empty
-  // (`branches` entries), receives each branch's part of the result (with its 1/branches share;
-  // 0 for a path that ends before branching): what a caller measuring their spread needs.
+  // `branches` ways at its first vertex (RenderSettings::branches).
   // `lightPaths`, if given (the pool of the sample's index), is what each vertex connects to
   // (light_paths.h); only under balance or power MIS with light samples, unguided.
   Rgb radiance(const Ray& cameraRay, Sampler& sampler, RayCounts& rays, const PathGuiding& guiding = {},
-               uint32_t branches = 1, std::span<Rgb> branchLight = {},
-               const LightPathPool* lightPaths = nullptr) const;
+               uint32_t branches = 1, const LightPathPool* lightPaths = nullptr) const;
 
   // The BSDF's share of guided continuations, and the light's tables' share of guided light samples.
   static constexpr double kGuidedBsdfShare = 0.5;
@@ -131,8 +127,7 @@ class PathIntegrator {
   // The path from `state` on, its first vertex at `firstDepth` (branching `branches` ways there if it
   // is vertex 0): the light it brings to the image.
   Rgb walk(PathState& state, uint32_t firstDepth, uint32_t branches, Sampler& sampler, RayCounts& rays,
-           const PathGuiding& guiding, const LightPathPool* lightPaths, PathRecorder& recorder,
-           std::span<Rgb> branchLight = {}) const;
+           const PathGuiding& guiding, const LightPathPool* lightPaths, PathRecorder& recorder) const;
   // The light a connection from vertex `hit` (its material, frame and continuation `bsdf`) to the
   // light path vertex `light` brings, before the path's throughput (0 where blocked).
   Rgb connect(const SurfaceHit& hit, const BrdfVertex& material, const Frame& frame,
