@@ -131,9 +131,9 @@ constexpr std::size_t kEnoughRecords = std::size_t{1} << 20;
 // kind with two fixed seeds (so every seed and sample count decides alike), none of them in the
 // image. A pixel's value is a mean of samples whose points stratify each other, and Sobol points
 // lower the variance of what comes before the first vertex's continuation (the pixel's position,
-// the first hit) faster with their count than that of the branches' deeper light: single samples
-// (an earlier probe) measured V0 / V1 = 0.37 on the spheres, 8 samples measure 0.19, and 16 seeds
-// of 64-spp renders give 0.02. Per pixel and branch count K, with m_A and m_B the two runs' mean
+// the first hit: V0) and of the branches' light (V1) by amounts that differ by scene: on the
+// spheres, whose caustic they hardly stratify, single samples (an earlier probe) measured
+// V0 / V1 = 0.37, 8 samples measure 0.19, and 16 seeds of 64-spp renders give 0.02. Per pixel and branch count K, with m_A and m_B the two runs' mean
 // luminances, n (m_A − m_B)² / 2 measures V0 + V1 / K as n samples leave them (the same pixel: no
 // neighbour's difference of means in it); the two counts give V0 and V1. The runs of one seed share
 // their camera samples, so the difference of the two measures holds little but the branches. In

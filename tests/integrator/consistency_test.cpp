@@ -374,11 +374,29 @@ TEST(Consistency, BranchesLowerTheErrorPerCameraSample) {
   EXPECT_FALSE(one.stats.branching.raysBefore);
 }
 
+// Why the probe measures 8-sample means: a pixel's Sobol points stratify each other and lower the
+// variance of its mean, before and after the branches, by how much the scene decides (on the smooth
+// sky scene both parts drop 5-30x). A probe of single samples sees the same variance under either
+// sampler (a pixel's first point is as random as an independent one).
+TEST(Consistency, AutoBranchingMeasuresTheVarianceOfItsSamplersMeans) {
+  const auto measured = [](SamplerKind sampler) {
+    SceneOverrides overrides;
+    overrides.sampler = sampler;
+    overrides.spp = 1;
+    const BranchingStats chosen = rendertest::renderScene(skyScene("adaptive"), overrides).stats.branching;
+    EXPECT_TRUE(chosen.varianceBefore && chosen.varianceAfter);
+    std::printf("%s: V0 %.4g, V1 %.4g\n", sampler == SamplerKind::Sobol ? "sobol" : "independent",
+                chosen.varianceBefore.value_or(0), chosen.varianceAfter.value_or(0));
+    return chosen.varianceBefore.value_or(0) + chosen.varianceAfter.value_or(0);
+  };
+  EXPECT_LT(measured(SamplerKind::Sobol), 0.5 * measured(SamplerKind::Independent));
+}
+
 // Where all of a sample's light comes after its first vertex and each point of it expects the same
 // (a floor far wider than the view, under the sky, lit by BSDF samples alone), the light before the
-// branches varies not at all: auto measures V0 about 0 and V1 positive. (A V0 left without the
-// branches' share of the sample's variance would be about V1 / 2.) Independent samples: Sobol's
-// two measuring branches are stratified against each other, which moves both measures.
+// branches varies not at all: auto measures V0 about 0 and V1 positive. (V1 taken as the drop in
+// variance from 1 to 4 branches, without its factor 4/3, would leave V0 about V1 / 3.) Independent
+// samples: the measure alone, without Sobol points stratifying either part.
 TEST(Consistency, AutoBranchingMeasuresNoVarianceBeforeTheFirstVertexWhereThereIsNone) {
   nlohmann::json scene = {
       {"camera", {{"eye", {0, 1, 0}}, {"target", {0.01, 0, 0}}, {"fov", 60}, {"width", 64}, {"height", 48}}},
