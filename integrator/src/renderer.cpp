@@ -133,13 +133,14 @@ constexpr std::size_t kEnoughRecords = std::size_t{1} << 20;
 // lower the variance of what comes before the first vertex's continuation (the pixel's position,
 // the first hit: V0) and of the branches' light (V1) by amounts that differ by scene: on the
 // spheres, whose caustic they hardly stratify, single samples (an earlier probe) measured
-// V0 / V1 = 0.37, 8 samples measure 0.19, and 16 seeds of 64-spp renders give 0.02. Per pixel and branch count K, with m_A and m_B the two runs' mean
-// luminances, n (m_A − m_B)² / 2 measures V0 + V1 / K as n samples leave them (the same pixel: no
-// neighbour's difference of means in it); the two counts give V0 and V1. The runs of one seed share
-// their camera samples, so the difference of the two measures holds little but the branches. In
-// kSpreadGroups groups of probe rows, whose medians decide: a few fireflies decide a mean of
-// squares, and with it the branch count, but only the group they fall in (and the medians of
-// groups of fewer pixels with more samples each measure V1 too low: its fireflies fall in few).
+// V0 / V1 = 0.37, 8 samples measure 0.19, and 16 seeds of 64-spp renders give 0.02. Per pixel
+// and branch count K, with m_A and m_B the two runs' mean luminances, n (m_A − m_B)² / 2 measures
+// V0 + V1 / K as n samples leave them (the same pixel: no neighbour's difference of means in it);
+// the two counts give V0 and V1. The runs of one seed share their camera samples, so the
+// difference of the two measures holds little but the branches. In kSpreadGroups groups of probe
+// rows, whose medians decide: a few fireflies decide a mean of squares, and with it the branch
+// count, but only the group they fall in (and the medians of groups of fewer pixels with more
+// samples each measure V1 too low: its fireflies fall in few).
 constexpr uint32_t kMeasuringBranches = 4;
 constexpr uint32_t kProbeSamples = 8;  // n
 constexpr uint32_t kProbeRows = 24, kProbeColumns = 36;
@@ -166,7 +167,8 @@ BranchingStats measureBranching(const Scene& scene, const PathIntegrator& integr
   const Camera& camera = *scene.camera;
   BranchingStats stats;
   std::array<std::unique_ptr<const Sampler>, 2> prototypes;
-  for (std::size_t r = 0; r < 2; ++r) prototypes[r] = makeSampler(scene.settings.sampler, kProbeSeeds[r], camera.width());
+  for (std::size_t r = 0; r < 2; ++r)
+    prototypes[r] = makeSampler(scene.settings.sampler, kProbeSeeds[r], camera.width());
   const uint32_t rows = std::min(kProbeRows, camera.height()), columns = std::min(kProbeColumns, camera.width());
   constexpr std::array<uint32_t, 2> kBranches = {1, kMeasuringBranches};
   // Each probe row on its own (in parallel), joined in row order: the same sums for any threads.

@@ -86,7 +86,7 @@ struct BranchingStats {
   // Under auto, what the probe measured: rays per camera sample before the first vertex's light
   // sample and per branch after it, and the relative variances (over the squared mean luminance)
   // before and after the first vertex's continuation, per sample of a pixel's first
-  // kProbeSamples (none where the probe saw only black: one branch then).
+  // 8 samples (none where the probe saw only black: one branch then).
   std::optional<double> raysBefore, raysAfter, varianceBefore, varianceAfter;
 };
 
